@@ -1,0 +1,145 @@
+//! Gate-equivalent (GE) cost model: one primitive cost table shared by every unit.
+//!
+//! 1 GE is the area of a 2-input NAND. The cell figures come from a public 45 nm standard-cell
+//! library (cell area / NAND2 area, `shared/facts/hardware-facts.md`); the composite figures
+//! (ripple adder, array multiplier, squarer, register with enable) are derived from them. Every
+//! figure and its source is listed in `docs/gates.md`, with a comparison against yosys.
+
+use serde::{Deserialize, Serialize};
+
+/// Primitive costs in gate equivalents. All fields can be overridden in a config.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct CostTable {
+    /// Inverter.
+    pub inv: f64,
+    /// 2-input AND.
+    pub and2: f64,
+    /// 2-input XOR.
+    pub xor2: f64,
+    /// 2:1 multiplexer.
+    pub mux2: f64,
+    /// Half adder.
+    pub half_adder: f64,
+    /// Full adder.
+    pub full_adder: f64,
+    /// D flip-flop.
+    pub dff: f64,
+    /// Register bit with load enable (a D flip-flop and a 2:1 mux).
+    pub reg_bit: f64,
+    /// Mask ROM / hard-wired table, per bit (from yosys: 256x8 ROM ~ 820 GE).
+    pub rom_bit: f64,
+    /// Loadable SRAM table (colour-LUT style), per bit.
+    pub sram_bit: f64,
+}
+
+impl Default for CostTable {
+    fn default() -> Self {
+        CostTable {
+            inv: 0.67,
+            and2: 1.33,
+            xor2: 2.0,
+            mux2: 2.33,
+            half_adder: 3.33,
+            full_adder: 5.33,
+            dff: 5.67,
+            reg_bit: 8.0,
+            rom_bit: 0.4,
+            sram_bit: 1.5,
+        }
+    }
+}
+
+impl CostTable {
+    /// n-bit ripple-carry adder or subtractor.
+    pub fn adder(&self, n: u32) -> f64 {
+        self.full_adder * n as f64
+    }
+    /// n x m array multiplier: n*m partial-product ANDs and n*(m-1) full adders.
+    pub fn multiplier(&self, n: u32, m: u32) -> f64 {
+        let (n, m) = (n as f64, m as f64);
+        self.and2 * n * m + self.full_adder * n * (m - 1.0).max(0.0)
+    }
+    /// n-bit squarer: about half an n x n multiplier (the partial-product array folds).
+    pub fn squarer(&self, n: u32) -> f64 {
+        0.5 * self.multiplier(n, n)
+    }
+    /// n-bit k:1 multiplexer, built from 2:1 muxes.
+    pub fn mux(&self, n: u32, k: u32) -> f64 {
+        self.mux2 * n as f64 * k.saturating_sub(1) as f64
+    }
+    /// n-bit register with load enable.
+    pub fn register(&self, n: u32) -> f64 {
+        self.reg_bit * n as f64
+    }
+    /// n-bit magnitude comparator (a subtractor's carry chain).
+    pub fn comparator(&self, n: u32) -> f64 {
+        self.adder(n)
+    }
+    /// Hard-wired table of `entries` words of `bits` bits.
+    pub fn rom(&self, entries: u64, bits: u32) -> f64 {
+        self.rom_bit * entries as f64 * bits as f64
+    }
+    /// Loadable table of `entries` words of `bits` bits.
+    pub fn sram(&self, entries: u64, bits: u32) -> f64 {
+        self.sram_bit * entries as f64 * bits as f64
+    }
+    /// Saturation / clamp logic on n bits: an OR-reduction of the overflow bits and a mux.
+    pub fn clamp(&self, n: u32) -> f64 {
+        self.mux2 * n as f64 + self.and2 * n as f64
+    }
+}
+
+/// One line of a unit's gate estimate.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GateItem {
+    pub what: String,
+    pub ge: f64,
+}
+
+/// A unit's itemised gate estimate.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct GateBudget {
+    pub items: Vec<GateItem>,
+}
+
+impl GateBudget {
+    pub fn new() -> Self {
+        Self::default()
+    }
+    /// Add `count` copies of a primitive costing `ge` each.
+    pub fn add(&mut self, what: impl Into<String>, count: u32, ge: f64) -> &mut Self {
+        if count > 0 && ge > 0.0 {
+            self.items.push(GateItem { what: what.into(), ge: ge * count as f64 });
+        }
+        self
+    }
+    pub fn total(&self) -> f64 {
+        self.items.iter().map(|i| i.ge).sum()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn derived_figures_follow_the_cell_table() {
+        let t = CostTable::default();
+        assert!((t.adder(16) - 85.28).abs() < 1e-9);
+        // 8x8: 64 ANDs + 56 full adders
+        assert!((t.multiplier(8, 8) - (64.0 * 1.33 + 56.0 * 5.33)).abs() < 1e-9);
+        assert!((t.squarer(8) - 0.5 * t.multiplier(8, 8)).abs() < 1e-9);
+        assert!((t.mux(8, 4) - 8.0 * 3.0 * 2.33).abs() < 1e-9);
+        assert!((t.rom(256, 8) - 819.2).abs() < 1e-9);
+    }
+
+    #[test]
+    fn budget_sums_items() {
+        let t = CostTable::default();
+        let mut b = GateBudget::new();
+        b.add("adder 8", 3, t.adder(8)).add("reg 8", 1, t.register(8)).add("nothing", 0, 5.0);
+        assert_eq!(b.items.len(), 2);
+        assert!((b.total() - (3.0 * 42.64 + 64.0)).abs() < 1e-9);
+    }
+}

@@ -1,0 +1,13 @@
+//! bumpsim-hw: the unit library. Number formats, the clocked-unit contract, the gate-cost
+//! model, and one module per hardware unit. Knows nothing of scenes or configs.
+
+pub mod format;
+pub mod gates;
+pub mod stage;
+pub mod unit;
+pub mod units;
+
+pub use format::{Codec, Encoding, Format, Overflow, Quant};
+pub use gates::{CostTable, GateBudget};
+pub use stage::{Counters, CycleState, Fifo, Probe, Stage, Token};
+pub use unit::{Mode, PortSpec, Sample, Unit, Word};

@@ -1,0 +1,134 @@
+//! The unit contract: what every modelled hardware block provides.
+//!
+//! A unit is a functional block with typed input and output ports (each a vector of 1 to 4
+//! lanes of one [`Encoding`]), a pipeline latency, an initiation interval, a gate estimate
+//! from its configured widths, and two evaluation modes behind one interface:
+//!
+//! * [`Mode::Exact`]: the algorithm in f64, without quantization. Inputs and outputs are read
+//!   and written through [`Sample::x`].
+//! * [`Mode::BitAccurate`]: the hardware in fixed point. Inputs and outputs are raw words in
+//!   their port encodings ([`Sample::raw`]); `x` carries the decoded value for traces.
+//!
+//! Timing (latency, interval, valid/ready, counters, probes) is not the unit's business: the
+//! clocked shell [`crate::stage::Stage`] wraps any unit and provides it, so a unit only states
+//! its numbers.
+
+use crate::format::Encoding;
+use crate::gates::{CostTable, GateBudget};
+
+/// Largest number of lanes a port carries (RGBA, xyz + w).
+pub const MAX_LANES: usize = 4;
+
+/// Evaluation mode of a unit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+pub enum Mode {
+    /// The algorithm in f64: no quantization anywhere inside the unit.
+    Exact,
+    /// The hardware: every port and internal register holds a word of its configured format.
+    BitAccurate,
+}
+
+/// One lane of a port: the real value and the raw word.
+///
+/// In bit-accurate mode `raw` is authoritative and `x == encoding.decode(raw)`. In exact mode
+/// `x` is authoritative and `raw == encoding.encode(x)` is kept for traces only.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Sample {
+    pub x: f64,
+    pub raw: i64,
+}
+
+/// The value on a port: up to [`MAX_LANES`] lanes.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Word {
+    pub lanes: [Sample; MAX_LANES],
+}
+
+impl Word {
+    /// Real values of the first `n` lanes.
+    pub fn xs<const N: usize>(&self) -> [f64; N] {
+        std::array::from_fn(|i| self.lanes[i].x)
+    }
+    /// Raw words of the first `n` lanes.
+    pub fn raws<const N: usize>(&self) -> [i64; N] {
+        std::array::from_fn(|i| self.lanes[i].raw)
+    }
+    /// A word from real values, with raw words encoded for traces (exact mode).
+    pub fn from_exact(enc: &Encoding, xs: &[f64]) -> Word {
+        let mut w = Word::default();
+        for (l, &x) in w.lanes.iter_mut().zip(xs) {
+            *l = Sample { x, raw: enc.encode(x) };
+        }
+        w
+    }
+    /// A word from raw words, decoded (bit-accurate mode).
+    pub fn from_raw(enc: &Encoding, raws: &[i64]) -> Word {
+        let mut w = Word::default();
+        for (l, &raw) in w.lanes.iter_mut().zip(raws) {
+            *l = Sample { x: enc.decode(raw), raw };
+        }
+        w
+    }
+    /// Quantize real values into a port's encoding: the bit-accurate way to produce a word
+    /// from a value computed in f64 (used at interfaces such as the attribute interpolator).
+    pub fn quantize(enc: &Encoding, xs: &[f64]) -> Word {
+        let mut w = Word::default();
+        for (l, &x) in w.lanes.iter_mut().zip(xs) {
+            let raw = enc.encode(x);
+            *l = Sample { x: enc.decode(raw), raw };
+        }
+        w
+    }
+    /// Build a word for `mode`: exact keeps `xs`, bit-accurate quantizes them.
+    pub fn for_mode(mode: Mode, enc: &Encoding, xs: &[f64]) -> Word {
+        match mode {
+            Mode::Exact => Word::from_exact(enc, xs),
+            Mode::BitAccurate => Word::quantize(enc, xs),
+        }
+    }
+}
+
+/// A port: its name, its number of lanes and the encoding of each lane.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct PortSpec {
+    pub name: String,
+    pub lanes: u8,
+    pub enc: Encoding,
+}
+
+impl PortSpec {
+    pub fn new(name: &str, lanes: u8, enc: Encoding) -> Self {
+        assert!((1..=MAX_LANES as u8).contains(&lanes));
+        PortSpec { name: name.to_string(), lanes, enc }
+    }
+    /// Bits carried by the port per transfer.
+    pub fn bits(&self) -> u32 {
+        self.lanes as u32 * self.enc.width()
+    }
+}
+
+/// What every hardware unit provides. See the module documentation.
+pub trait Unit: Send {
+    /// The unit's kind, e.g. `"dot3"`; instance names are given by the pipeline.
+    fn kind(&self) -> &'static str;
+    fn inputs(&self) -> &[PortSpec];
+    fn outputs(&self) -> &[PortSpec];
+    /// Cycles from accepting an input to presenting its result (>= 1).
+    fn latency(&self) -> u32;
+    /// Cycles between two accepted inputs (>= 1); e.g. n for n lights on one datapath.
+    fn interval(&self) -> u32;
+    /// Gate-equivalent estimate from the configured widths, itemised.
+    fn gates(&self, table: &CostTable) -> GateBudget;
+    /// Cycles of work before each frame (table builds, LUT loads). Default none.
+    fn frame_cycles(&self) -> u64 {
+        0
+    }
+    /// Compute the outputs for one set of inputs. `ins` follow [`Unit::inputs`] and `outs`
+    /// follow [`Unit::outputs`].
+    fn eval(&mut self, mode: Mode, ins: &[Word], outs: &mut [Word]);
+}
+
+/// Index of a port by name, for wiring.
+pub fn port_index(ports: &[PortSpec], name: &str) -> Option<usize> {
+    ports.iter().position(|p| p.name == name)
+}

@@ -1,0 +1,138 @@
+//! Scenes: meshes with tangent frames, bump maps (height fields and normal maps), lights,
+//! camera and material. Knows nothing of hardware units.
+
+pub mod bumpmap;
+pub mod camera;
+pub mod mesh;
+pub mod normals;
+
+use glam::{DMat4, DVec3};
+use serde::{Deserialize, Serialize};
+
+pub use bumpmap::{BumpMap, BumpSpec, HeightField};
+pub use camera::Camera;
+pub use mesh::{Mesh, MeshSpec, Vertex};
+pub use normals::{NormalMap, NormalMethod};
+
+/// A reason a scene cannot be built. Each names the field or file and what was expected.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    #[error("{field}: {message}")]
+    Invalid { field: String, message: String },
+    #[error("{path}: {message}")]
+    File { path: String, message: String },
+}
+
+impl SceneError {
+    pub fn invalid(field: impl Into<String>, message: impl Into<String>) -> Self {
+        SceneError::Invalid { field: field.into(), message: message.into() }
+    }
+    pub fn file(path: impl std::fmt::Display, message: impl Into<String>) -> Self {
+        SceneError::File { path: path.to_string(), message: message.into() }
+    }
+}
+
+/// A light. Directions point from the surface toward the light (OpenGL convention).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Light {
+    pub kind: LightKind,
+    /// Linear RGB colour, each component in [0, 1].
+    pub color: [f64; 3],
+    /// Whether the bump engine shades with this light. A light with `bump: false` only
+    /// contributes to the per-vertex Gouraud colour (Gouraud bump paper §5.4.1, Fig. 6).
+    #[serde(default = "yes")]
+    pub bump: bool,
+}
+
+fn yes() -> bool {
+    true
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum LightKind {
+    /// A distant light; `dir` points toward the light, in world space.
+    Directional { dir: [f64; 3] },
+    /// A point light at `pos`, in world space.
+    Point { pos: [f64; 3] },
+}
+
+impl Light {
+    /// Unit vector from `p` toward the light.
+    pub fn dir_from(&self, p: DVec3) -> DVec3 {
+        match self.kind {
+            LightKind::Directional { dir } => DVec3::from(dir).normalize(),
+            LightKind::Point { pos } => (DVec3::from(pos) - p).normalize(),
+        }
+    }
+    pub fn color(&self) -> DVec3 {
+        DVec3::from(self.color)
+    }
+    /// Check a light from a config: finite, non-zero direction, colour in [0, 1].
+    pub fn validate(&self, field: &str) -> Result<(), SceneError> {
+        match self.kind {
+            LightKind::Directional { dir } => {
+                let d = DVec3::from(dir);
+                if !d.is_finite() || d.length() < 1e-12 {
+                    return Err(SceneError::invalid(
+                        format!("{field}.kind.dir"),
+                        format!("expected a finite non-zero direction, found {dir:?}"),
+                    ));
+                }
+            }
+            LightKind::Point { pos } => {
+                if !DVec3::from(pos).is_finite() {
+                    return Err(SceneError::invalid(
+                        format!("{field}.kind.pos"),
+                        format!("expected a finite position, found {pos:?}"),
+                    ));
+                }
+            }
+        }
+        for (i, c) in self.color.iter().enumerate() {
+            if !(0.0..=1.0).contains(c) {
+                return Err(SceneError::invalid(
+                    format!("{field}.color[{i}]"),
+                    format!("expected a value in [0, 1], found {c}"),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Surface material (OpenGL-style coefficients, linear RGB in [0, 1]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Material {
+    pub ambient: [f64; 3],
+    pub diffuse: [f64; 3],
+    pub specular: [f64; 3],
+    pub shininess: f64,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Material {
+            ambient: [0.1; 3],
+            diffuse: [0.8; 3],
+            specular: [0.5; 3],
+            shininess: 32.0,
+        }
+    }
+}
+
+/// A built scene, ready for the rasterizer, the engines and the float reference.
+pub struct Scene {
+    pub mesh: Mesh,
+    /// Object-to-world transform.
+    pub model: DMat4,
+    pub camera: Camera,
+    pub lights: Vec<Light>,
+    pub material: Material,
+    pub bump: BumpMap,
+    /// Optional colour texture (linear RGB, rows top to bottom, u right, v down).
+    pub color_texture: Option<image::RgbImage>,
+    pub width: u32,
+    pub height: u32,
+}
