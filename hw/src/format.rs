@@ -50,7 +50,9 @@ pub enum Overflow {
     Sat,
     /// AC_SAT_ZERO / SC_SAT_ZERO: an overflowing value becomes zero.
     SatZero,
-    /// AC_SAT_SYM / SC_SAT_SYM: clamp symmetrically, to `-max` rather than `min`.
+    /// AC_SAT_SYM / SC_SAT_SYM: clamp symmetrically, to `-max` rather than `min`. As in
+    /// `ac_fixed`, a signed result equal to `min` also becomes `-max`, so `min` is never
+    /// produced (SystemC's SC_SAT_SYM only acts on overflow).
     SatSym,
 }
 
@@ -167,7 +169,8 @@ impl Format {
     /// Apply the overflow mode to an integer already at this format's scale.
     pub fn overflow(&self, v: i128, o: Overflow) -> i64 {
         let (lo, hi) = (self.min_raw() as i128, self.max_raw() as i128);
-        if v >= lo && v <= hi {
+        let sym_min = o == Overflow::SatSym && self.signed && v == lo; // ac_fixed: MIN -> -MAX
+        if v >= lo && v <= hi && !sym_min {
             return v as i64;
         }
         match o {

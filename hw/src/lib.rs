@@ -1,6 +1,7 @@
 //! bumpsim-hw: the unit library. Number formats, the clocked-unit contract, the gate-cost
 //! model, and one module per hardware unit. Knows nothing of scenes or configs.
 
+pub mod arith;
 pub mod format;
 pub mod gates;
 pub mod stage;

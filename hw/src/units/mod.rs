@@ -1,1 +1,15 @@
-//! One module per hardware unit.
+//! One module per hardware unit. Each cites the paper section it models.
+
+pub mod dot3;
+pub mod emboss;
+pub mod fetch;
+pub mod normalize;
+pub mod power;
+pub mod shade;
+
+pub use dot3::{Clamp, Dot3};
+pub use emboss::EmbossFilter;
+pub use fetch::{Filter, TexFetch, Texels};
+pub use normalize::Normalize;
+pub use power::PowerTable;
+pub use shade::{Shade, ShadeInputs, ShadeParams};

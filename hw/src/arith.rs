@@ -1,0 +1,154 @@
+//! Full-precision fixed-point intermediates shared by every unit's bit-accurate datapath.
+//!
+//! An [`Acc`] is a raw integer with a number of fraction bits, held in `i128` so that sums of
+//! products of 32-bit words are exact. Units read port words into `Acc`s, compute exactly,
+//! and cast the result into an output [`Encoding`] once, with that encoding's quantization and
+//! overflow modes: the behaviour of an `ac_fixed` datapath whose intermediate types are wide
+//! enough. Where a unit narrows an intermediate on purpose (a LUT index, a filter weight) it
+//! says so.
+
+use crate::format::{shift_round, Codec, Encoding, Format, Quant};
+
+/// An exact intermediate value `raw / 2^frac`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Acc {
+    pub raw: i128,
+    pub frac: u32,
+}
+
+impl Acc {
+    pub const ZERO: Acc = Acc { raw: 0, frac: 0 };
+
+    pub fn new(raw: i128, frac: u32) -> Acc {
+        Acc { raw, frac }
+    }
+
+    /// Read a port word into the datapath.
+    ///
+    /// Fixed and `UnitSigned` codes are dyadic and read exactly. The `c / (2^n - 1)` codecs are
+    /// read the way texture hardware expands them, by bit replication to 2n bits:
+    /// `c / (2^n - 1) ~ c (2^n + 1) / 2^2n`, an error below `2^-2n`.
+    pub fn from_code(raw: i64, enc: &Encoding) -> Acc {
+        let n = enc.format.width as u32;
+        let raw = raw as i128;
+        match enc.codec {
+            Codec::Fixed => Acc::new(raw, enc.format.frac as u32),
+            Codec::UnitSigned => Acc::new(raw, n - 1),
+            Codec::UnitUnsigned => Acc::new(raw * ((1i128 << n) + 1), 2 * n),
+            Codec::UnitSymmetric => Acc::new((2 * raw + 1) * ((1i128 << n) + 1), 2 * n),
+        }
+    }
+
+    /// Exact product.
+    pub fn mul(self, o: Acc) -> Acc {
+        Acc::new(self.raw * o.raw, self.frac + o.frac)
+    }
+
+    /// Exact sum (aligned to the larger number of fraction bits).
+    pub fn add(self, o: Acc) -> Acc {
+        let f = self.frac.max(o.frac);
+        Acc::new((self.raw << (f - self.frac)) + (o.raw << (f - o.frac)), f)
+    }
+
+    pub fn sub(self, o: Acc) -> Acc {
+        self.add(o.neg())
+    }
+
+    pub fn neg(self) -> Acc {
+        Acc::new(-self.raw, self.frac)
+    }
+
+    /// Multiply by an integer constant.
+    pub fn scale(self, k: i128) -> Acc {
+        Acc::new(self.raw * k, self.frac)
+    }
+
+    /// Multiply by `2^-k` (a wire shift: exact).
+    pub fn shr(self, k: u32) -> Acc {
+        Acc::new(self.raw, self.frac + k)
+    }
+
+    /// Clamp into `[lo, hi]` (given as values at any scale).
+    pub fn clamp(self, lo: Acc, hi: Acc) -> Acc {
+        if self.lt(lo) {
+            lo
+        } else if hi.lt(self) {
+            hi
+        } else {
+            self
+        }
+    }
+
+    /// Exact comparison.
+    pub fn lt(self, o: Acc) -> bool {
+        let f = self.frac.max(o.frac);
+        (self.raw << (f - self.frac)) < (o.raw << (f - o.frac))
+    }
+
+    /// The real value (for tests and traces; rounding only beyond 53 bits).
+    pub fn to_f64(self) -> f64 {
+        self.raw as f64 * (-(self.frac as f64)).exp2()
+    }
+
+    /// Round to an integer with mode `q`.
+    pub fn round_int(self, q: Quant) -> i128 {
+        shift_round(self.raw, self.frac, q)
+    }
+
+    /// Cast into a port encoding with its quantization and overflow modes.
+    pub fn to_code(self, enc: &Encoding) -> i64 {
+        let n = enc.format.width as u32;
+        let int = Format { signed: enc.format.signed, width: enc.format.width, frac: 0 };
+        let (q, o) = (enc.quant, enc.overflow);
+        match enc.codec {
+            Codec::Fixed => enc.format.cast(self.raw, self.frac, q, o),
+            Codec::UnitSigned => int.cast(self.raw, self.frac + 1 - n, q, o),
+            // c = x (2^n - 1)
+            Codec::UnitUnsigned => int.cast(self.raw * ((1i128 << n) - 1), self.frac, q, o),
+            // c = (x (2^n - 1) - 1) / 2
+            Codec::UnitSymmetric => {
+                let v = self.raw * ((1i128 << n) - 1) - (1i128 << self.frac);
+                int.cast(v, self.frac + 1, q, o)
+            }
+        }
+    }
+}
+
+/// Smallest number of bits that holds `v` unsigned (0 for 0).
+pub fn bit_length(v: u128) -> u32 {
+    128 - v.leading_zeros()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::format::{Codec, Encoding, Format};
+
+    #[test]
+    fn codes_read_and_write_back_exactly_for_every_8_bit_code() {
+        for (codec, signed) in [
+            (Codec::UnitUnsigned, false),
+            (Codec::UnitSigned, true),
+            (Codec::UnitSymmetric, true),
+        ] {
+            let enc = Encoding::texel(codec, signed, 8);
+            let f = enc.format;
+            for c in f.min_raw()..=f.max_raw() {
+                let a = Acc::from_code(c, &enc);
+                assert!((a.to_f64() - enc.decode(c)).abs() <= 2f64.powi(-16), "{codec:?} {c}");
+                assert_eq!(a.to_code(&enc), c, "{codec:?} {c}");
+            }
+        }
+    }
+
+    #[test]
+    fn products_and_sums_are_exact() {
+        let a = Acc::new(3, 2); // 0.75
+        let b = Acc::new(-5, 3); // -0.625
+        assert_eq!(a.mul(b).to_f64(), -0.46875);
+        assert_eq!(a.add(b).to_f64(), 0.125);
+        assert_eq!(a.sub(b).to_f64(), 1.375);
+        let out = Encoding::fixed(Format::s(8, 4));
+        assert_eq!(a.mul(b).to_code(&out), -7); // -0.46875 * 16 = -7.5 -> Rnd -> -7
+    }
+}

@@ -1,0 +1,160 @@
+//! Vector normalisation unit: `v / |v|` through a reciprocal-square-root table.
+//!
+//! Lambertian shading needs `N . L / (|N| |L|)` (Lingard, "An Example: Embossing"); the
+//! Texram construction needs `N = N_i / |N_i|` (Gouraud bump paper §3.1). Hardware of the
+//! period did this with a table: the squared length `s = x^2 + y^2 + z^2` is computed exactly
+//! (three squarers, two adders), a leading-one detector shifts it by an even amount into a
+//! mantissa `m` in [1/4, 1), a table of `2^table_bits` entries gives `1/sqrt(m)` (sampled at
+//! the centre of each bin, `value_bits` wide, in u2.(value_bits-2)), and three multipliers and
+//! a shifter scale the vector. The zero vector gives zero. Exact mode divides by `sqrt` in f64.
+
+use crate::arith::{bit_length, Acc};
+use crate::format::{Encoding, Format, Quant};
+use crate::gates::{CostTable, GateBudget};
+use crate::unit::{Mode, PortSpec, Unit, Word};
+
+pub struct Normalize {
+    inputs: Vec<PortSpec>,
+    outputs: Vec<PortSpec>,
+    table_bits: u32,
+    value_bits: u32,
+    table: Vec<i64>,
+}
+
+impl Normalize {
+    pub fn new(input: Encoding, table_bits: u32, value_bits: u32, out: Encoding) -> Result<Self, String> {
+        if !(2..=16).contains(&table_bits) {
+            return Err(format!("table_bits {table_bits}: expected 2 to 16"));
+        }
+        if !(4..=32).contains(&value_bits) {
+            return Err(format!("value_bits {value_bits}: expected 4 to 32"));
+        }
+        let vf = Format::u(value_bits as u8, value_bits as u8 - 2);
+        let n = 1u64 << table_bits;
+        // entry i covers m in [i / n, (i + 1) / n); entries below 1/4 are never read
+        let table = (0..n)
+            .map(|i| {
+                let m = ((i as f64 + 0.5) / n as f64).max(0.25);
+                vf.from_f64(1.0 / m.sqrt(), Quant::Rnd, crate::format::Overflow::Sat)
+            })
+            .collect();
+        Ok(Normalize {
+            inputs: vec![PortSpec::new("v", 3, input)],
+            outputs: vec![PortSpec::new("n", 3, out)],
+            table_bits,
+            value_bits,
+            table,
+        })
+    }
+}
+
+impl Unit for Normalize {
+    fn kind(&self) -> &'static str {
+        "normalize"
+    }
+    fn inputs(&self) -> &[PortSpec] {
+        &self.inputs
+    }
+    fn outputs(&self) -> &[PortSpec] {
+        &self.outputs
+    }
+    fn latency(&self) -> u32 {
+        4
+    }
+    fn interval(&self) -> u32 {
+        1
+    }
+    fn gates(&self, t: &CostTable) -> GateBudget {
+        let w = self.inputs[0].enc.width();
+        let wo = self.outputs[0].enc.width();
+        let vb = self.value_bits;
+        let levels = bit_length(2 * w as u128);
+        let mut g = GateBudget::new();
+        g.add(format!("squarer {w}"), 3, t.squarer(w));
+        g.add(format!("adder {}", 2 * w + 1), 2, t.adder(2 * w + 1));
+        g.add(format!("leading-one detector {}", 2 * w + 2), 1, t.mux(2 * w + 2, 2));
+        g.add(format!("mantissa shifter {}x{levels}", 2 * w + 2), 1, t.mux(2 * w + 2, 2) * levels as f64);
+        g.add(format!("rsqrt table {}x{vb}", self.table.len()), 1, t.rom(self.table.len() as u64, vb));
+        g.add(format!("multiplier {w}x{vb}"), 3, t.multiplier(w, vb));
+        g.add(format!("output shifter {}x{levels}", w + vb), 3, t.mux(w + vb, 2) * levels as f64);
+        g.add(format!("pipeline registers {}", 3 * w + 2 * w + 3 * wo), 1, t.register(3 * w + 2 * w + 3 * wo));
+        g
+    }
+    fn eval(&mut self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
+        let out = self.outputs[0].enc;
+        let v = &ins[0];
+        match mode {
+            Mode::Exact => {
+                let x: [f64; 3] = v.xs();
+                let len = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
+                let n = if len > 0.0 { x.map(|c| c / len) } else { [0.0; 3] };
+                outs[0] = Word::from_exact(&out, &n);
+            }
+            Mode::BitAccurate => {
+                let enc = &self.inputs[0].enc;
+                let c: [Acc; 3] = std::array::from_fn(|i| Acc::from_code(v.lanes[i].raw, enc));
+                let s = c.iter().fold(Acc::ZERO, |s, a| s.add(a.mul(*a)));
+                if s.raw == 0 {
+                    outs[0] = Word::from_raw(&out, &[0, 0, 0]);
+                    return;
+                }
+                // s = raw / 2^f. Shift by an even amount so that m = s * 4^k is in [1/4, 1).
+                let len = bit_length(s.raw as u128) as i64; // s.raw in [2^(len-1), 2^len)
+                let f = s.frac as i64;
+                // s in [2^(e-1), 2^e) with e = len - f; m = s 4^k in [1/4, 1) for
+                // k = -ceil(e / 2), and 1/|v| = rsqrt(m) 2^k.
+                let e = len - f;
+                let k = -(e.div_euclid(2) + e.rem_euclid(2));
+                let mbits = f - 2 * k; // m = raw / 2^mbits
+                let tb = self.table_bits as i64;
+                let idx = if mbits >= tb { s.raw >> (mbits - tb) } else { s.raw << (tb - mbits) };
+                let r = Acc::new(self.table[idx as usize] as i128, self.value_bits - 2);
+                let scale = |a: Acc| {
+                    let p = a.mul(r);
+                    if k >= 0 { p.scale(1i128 << k) } else { p.shr((-k) as u32) }
+                };
+                let n: Vec<i64> = c.iter().map(|a| scale(*a).to_code(&out)).collect();
+                outs[0] = Word::from_raw(&out, &n);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn unit_vectors_within_the_table_bound_over_a_wide_range_of_lengths() {
+        let input = Encoding::fixed(Format::s(16, 4));
+        let out = Encoding::fixed(Format::s(12, 10));
+        let mut u = Normalize::new(input, 8, 12, out).unwrap();
+        let mut o = [Word::default()];
+        let mut worst: f64 = 0.0;
+        for k in 1..3000i64 {
+            let raw = [(k * 7919) % 30000 - 15000, (k * 104729) % 20000 - 10000, (k * 31) % 900 + 1];
+            let w = Word::from_raw(&input, &raw);
+            u.eval(Mode::BitAccurate, &[w], &mut o);
+            let x: [f64; 3] = w.xs();
+            let len = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
+            for l in 0..3 {
+                worst = worst.max((o[0].lanes[l].x - x[l] / len).abs());
+            }
+        }
+        // table step: m bins of 1/256 over [1/4,1): relative rsqrt error <= 0.5 * (1/256) / (2 * 0.25)
+        // = 0.39 %, plus value and output rounding
+        assert!(worst < 0.004 + out.max_error() + 2f64.powi(-10), "worst {worst}");
+        assert!(worst > 1e-4, "the table must show some error: {worst}");
+    }
+
+    #[test]
+    fn zero_stays_zero_and_exact_mode_is_exact() {
+        let e = Encoding::fixed(Format::s(10, 4));
+        let mut u = Normalize::new(e, 6, 10, Encoding::fixed(Format::s(10, 8))).unwrap();
+        let mut o = [Word::default()];
+        u.eval(Mode::BitAccurate, &[Word::from_raw(&e, &[0, 0, 0])], &mut o);
+        assert_eq!(o[0].raws::<3>(), [0, 0, 0]);
+        u.eval(Mode::Exact, &[Word::from_exact(&e, &[3.0, 0.0, 4.0])], &mut o);
+        assert_eq!(o[0].xs::<3>(), [0.6, 0.0, 0.8]);
+    }
+}

@@ -1,0 +1,136 @@
+//! Specular power unit: `y_i = x_i^n` through a loadable table (a "power table").
+//!
+//! Ernst et al. 1998 §4.2: "The material shininess is held constant over the triangle and is
+//! implemented as a simple power table for one shininess at a time. The table can be loaded
+//! similar to a color LUT". The table has `2^index_bits` entries of `value_bits`; entry `i`
+//! holds `(i / (2^index_bits - 1))^n` so that 0 and 1 are exact, and the input is rounded to the
+//! nearest index. Loading it costs one clock per entry before the frame (when the material
+//! changes). The same unit serves the SGI engine's specular term (§3.4).
+//!
+//! Exact mode evaluates `x^n` with `powf`.
+
+use crate::arith::Acc;
+use crate::format::{Codec, Encoding, Quant};
+use crate::gates::{CostTable, GateBudget};
+use crate::unit::{Mode, PortSpec, Unit, Word};
+
+pub struct PowerTable {
+    inputs: Vec<PortSpec>,
+    outputs: Vec<PortSpec>,
+    index_bits: u32,
+    shininess: f64,
+    parallel: u32,
+    table: Vec<i64>,
+}
+
+impl PowerTable {
+    /// `input` is the encoding of the incoming intensities; `k` how many per fragment.
+    /// The output encoding is `UnitUnsigned` with `value_bits` (so 1.0 is all ones).
+    pub fn new(input: Encoding, k: u32, index_bits: u32, value_bits: u32, shininess: f64, parallel: u32) -> Self {
+        let out = Encoding::texel(Codec::UnitUnsigned, false, value_bits as u8);
+        let inputs = (0..k).map(|i| PortSpec::new(&format!("x{i}"), 1, input)).collect();
+        let outputs = (0..k).map(|i| PortSpec::new(&format!("y{i}"), 1, out)).collect();
+        let last = (1u64 << index_bits) - 1;
+        let table = (0..=last).map(|i| out.encode((i as f64 / last as f64).powf(shininess))).collect();
+        PowerTable { inputs, outputs, index_bits, shininess, parallel: parallel.clamp(1, k.max(1)), table }
+    }
+
+    /// The table contents (raw output words), for tests and studies.
+    pub fn table(&self) -> &[i64] {
+        &self.table
+    }
+
+    /// Table index for an input word: `round(x (2^b - 1))`, clamped to the table.
+    pub fn index(&self, raw: i64, enc: &Encoding) -> usize {
+        let last = (1i128 << self.index_bits) - 1;
+        let i = Acc::from_code(raw, enc).scale(last).round_int(Quant::Rnd);
+        i.clamp(0, last) as usize
+    }
+}
+
+impl Unit for PowerTable {
+    fn kind(&self) -> &'static str {
+        "power_table"
+    }
+    fn inputs(&self) -> &[PortSpec] {
+        &self.inputs
+    }
+    fn outputs(&self) -> &[PortSpec] {
+        &self.outputs
+    }
+    fn latency(&self) -> u32 {
+        self.interval() + 1
+    }
+    fn interval(&self) -> u32 {
+        (self.outputs.len() as u32).div_ceil(self.parallel).max(1)
+    }
+    fn frame_cycles(&self) -> u64 {
+        self.table.len() as u64
+    }
+    fn gates(&self, t: &CostTable) -> GateBudget {
+        let wi = self.inputs.first().map_or(8, |p| p.enc.width());
+        let vb = self.outputs.first().map_or(8, |p| p.enc.width());
+        let mut g = GateBudget::new();
+        g.add(format!("power table {}x{vb} (loadable)", self.table.len()), self.parallel, t.sram(self.table.len() as u64, vb));
+        g.add(format!("index rounding {wi}"), self.parallel, t.adder(wi) + t.clamp(self.index_bits));
+        g.add(format!("result register {vb}"), self.outputs.len() as u32, t.register(vb));
+        if self.interval() > 1 {
+            g.add(format!("input mux {}:1 x{wi}", self.interval()), self.parallel, t.mux(wi, self.interval()));
+        }
+        g
+    }
+    fn eval(&mut self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
+        let out = self.outputs[0].enc;
+        for (i, o) in outs.iter_mut().enumerate() {
+            let s = ins[i].lanes[0];
+            *o = match mode {
+                Mode::Exact => Word::from_exact(&out, &[s.x.clamp(0.0, 1.0).powf(self.shininess)]),
+                Mode::BitAccurate => {
+                    let idx = self.index(s.raw, &self.inputs[i].enc);
+                    Word::from_raw(&out, &[self.table[idx]])
+                }
+            };
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::format::Format;
+
+    #[test]
+    fn table_endpoints_and_hand_values() {
+        let input = Encoding::fixed(Format::u(9, 8));
+        let u = PowerTable::new(input, 1, 4, 8, 2.0, 1);
+        assert_eq!(u.table().len(), 16);
+        assert_eq!(u.table()[0], 0);
+        assert_eq!(u.table()[15], 255);
+        // entry 5: (5/15)^2 = 0.1111 -> 28.33 -> 28
+        assert_eq!(u.table()[5], 28);
+        // x = 0.5 (raw 128): 0.5*15 = 7.5 -> rounds half up to 8
+        assert_eq!(u.index(128, &input), 8);
+        assert_eq!(u.index(511, &input), 15); // 1.996 clamps
+        assert_eq!(u.frame_cycles(), 16);
+    }
+
+    #[test]
+    fn every_index_width_to_12_bits_is_monotone_and_within_its_bound() {
+        let input = Encoding::fixed(Format::u(16, 15));
+        for bits in 1..=12u32 {
+            let mut u = PowerTable::new(input, 1, bits, 12, 16.0, 1);
+            let t = u.table().to_vec();
+            assert!(t.windows(2).all(|w| w[0] <= w[1]), "bits {bits}");
+            let last = (1u32 << bits) - 1;
+            // the input reaches every entry, and the entry is the rounded power at its centre
+            for (i, &v) in t.iter().enumerate() {
+                let x = i as f64 / last as f64;
+                let raw = (x * 32768.0).round() as i64;
+                let mut o = [Word::default()];
+                u.eval(Mode::BitAccurate, &[Word::from_raw(&input, &[raw])], &mut o);
+                assert_eq!(o[0].lanes[0].raw, v, "bits {bits} entry {i}");
+                assert!((o[0].lanes[0].x - x.powf(16.0)).abs() <= 0.5 / 4095.0 + 1e-12);
+            }
+        }
+    }
+}

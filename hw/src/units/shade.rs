@@ -1,0 +1,225 @@
+//! Light combiner: sums per-light diffuse and specular intensities into a colour.
+//!
+//! `C = C_src + ka (*) base + sum_i Lc_i (*) (kd (*) base d_i + ks s_i)`, clamped by the output
+//! encoding. This is the blending equation of Ernst et al. 1998 §4.2,
+//! `C_new = C_src + sum_i (fd_i + fs_i) k_i L_i` (with `k_i = 1`, their sample implementation),
+//! extended with the material's diffuse and specular colours and an optional base colour
+//! (a texel) so that the same unit finishes the SGI tangent-space engine (§3.4) and the
+//! emboss shader (Lingard: "the shading result can be used for a grey scale image or applied
+//! against another texture image").
+//!
+//! Lights are accumulated over `ceil(k / parallel)` clocks by `parallel` multiply-add
+//! datapaths ("n light sources are blended in n clock cycles, avoiding n times the hardware").
+//! The per-light products `kd (*) Lc_i` and `ks (*) Lc_i` are held in registers loaded by the
+//! host once per frame, quantized to the coefficient encoding. The sum is exact and cast once
+//! into the output encoding.
+
+use crate::arith::Acc;
+use crate::format::Encoding;
+use crate::gates::{CostTable, GateBudget};
+use crate::unit::{Mode, PortSpec, Unit, Word};
+
+/// Constant inputs of the combiner, in f64 (quantized by the unit in bit-accurate mode).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ShadeParams {
+    pub ambient: [f64; 3],
+    pub diffuse: [f64; 3],
+    pub specular: [f64; 3],
+    pub light_colors: Vec<[f64; 3]>,
+}
+
+/// Which optional inputs the combiner has.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ShadeInputs {
+    pub specular: bool,
+    /// A 3-lane base colour (texel); white when absent.
+    pub base: Option<Encoding>,
+    /// A 3-lane source colour added unchanged (the Gouraud colour `C_src`).
+    pub src: Option<Encoding>,
+}
+
+pub struct Shade {
+    inputs: Vec<PortSpec>,
+    outputs: Vec<PortSpec>,
+    params: ShadeParams,
+    has: ShadeInputs,
+    coef: Encoding,
+    parallel: u32,
+    /// Quantized coefficients: ka, then kd*Lc_i and ks*Lc_i per light.
+    ka: [Acc; 3],
+    kdl: Vec<[Acc; 3]>,
+    ksl: Vec<[Acc; 3]>,
+}
+
+impl Shade {
+    /// `intensity` is the encoding of the d_i and s_i inputs.
+    pub fn new(intensity: Encoding, has: ShadeInputs, params: ShadeParams, coef: Encoding, parallel: u32, out: Encoding) -> Self {
+        let k = params.light_colors.len() as u32;
+        let mut inputs: Vec<PortSpec> = (0..k).map(|i| PortSpec::new(&format!("d{i}"), 1, intensity)).collect();
+        if has.specular {
+            inputs.extend((0..k).map(|i| PortSpec::new(&format!("s{i}"), 1, intensity)));
+        }
+        if let Some(e) = has.base {
+            inputs.push(PortSpec::new("base", 3, e));
+        }
+        if let Some(e) = has.src {
+            inputs.push(PortSpec::new("src", 3, e));
+        }
+        let q = |x: f64| Acc::from_code(coef.encode(x), &coef);
+        let ka = params.ambient.map(q);
+        let kdl = params.light_colors.iter().map(|lc| std::array::from_fn(|c| q(params.diffuse[c] * lc[c]))).collect();
+        let ksl = params.light_colors.iter().map(|lc| std::array::from_fn(|c| q(params.specular[c] * lc[c]))).collect();
+        Shade {
+            inputs,
+            outputs: vec![PortSpec::new("color", 3, out)],
+            params,
+            has,
+            coef,
+            parallel: parallel.clamp(1, k.max(1)),
+            ka,
+            kdl,
+            ksl,
+        }
+    }
+
+    fn k(&self) -> usize {
+        self.params.light_colors.len()
+    }
+
+    fn port(&self, name: &str) -> Option<usize> {
+        crate::unit::port_index(&self.inputs, name)
+    }
+}
+
+impl Unit for Shade {
+    fn kind(&self) -> &'static str {
+        "shade"
+    }
+    fn inputs(&self) -> &[PortSpec] {
+        &self.inputs
+    }
+    fn outputs(&self) -> &[PortSpec] {
+        &self.outputs
+    }
+    fn latency(&self) -> u32 {
+        self.interval() + 2
+    }
+    fn interval(&self) -> u32 {
+        (self.k() as u32).div_ceil(self.parallel).max(1)
+    }
+    fn gates(&self, t: &CostTable) -> GateBudget {
+        let wi = self.inputs.first().map_or(8, |p| p.enc.width());
+        let wb = self.has.base.map_or(0, |e| e.width());
+        let wc = self.coef.width();
+        let wo = self.outputs[0].enc.width();
+        let acc = wo + 4;
+        let p = self.parallel;
+        let mut g = GateBudget::new();
+        if wb > 0 {
+            g.add(format!("base x intensity multiplier {wi}x{wb}"), 3 * p, t.multiplier(wi, wb));
+            g.add(format!("ambient multiplier {wb}x{wc}"), 3, t.multiplier(wb, wc));
+        }
+        let wd = if wb > 0 { wo + 2 } else { wi };
+        g.add(format!("diffuse coefficient multiplier {wd}x{wc}"), 3 * p, t.multiplier(wd, wc));
+        if self.has.specular {
+            g.add(format!("specular coefficient multiplier {wi}x{wc}"), 3 * p, t.multiplier(wi, wc));
+            g.add(format!("adder {acc}"), 3 * p, t.adder(acc));
+        }
+        g.add(format!("accumulator adder {acc}"), 3 * p, t.adder(acc));
+        g.add(format!("accumulator register {acc}"), 3, t.register(acc));
+        if self.has.src.is_some() {
+            g.add(format!("source colour adder {acc}"), 3, t.adder(acc));
+        }
+        g.add(format!("output clamp {wo}"), 3, t.clamp(wo));
+        let coefs = 3 + 3 * self.k() as u32 * (1 + self.has.specular as u32);
+        g.add(format!("coefficient registers {coefs}x{wc}"), 1, t.register(coefs * wc));
+        if self.interval() > 1 {
+            g.add(format!("light mux {}:1 x{}", self.interval(), 2 * wi), p, t.mux(2 * wi, self.interval()));
+        }
+        g
+    }
+    fn eval(&mut self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
+        let out = self.outputs[0].enc;
+        let k = self.k();
+        let spec = |i: usize| if self.has.specular { Some(&ins[k + i]) } else { None };
+        let base = self.port("base").map(|i| &ins[i]);
+        let src = self.port("src").map(|i| &ins[i]);
+        match mode {
+            Mode::Exact => {
+                let p = &self.params;
+                let c: [f64; 3] = std::array::from_fn(|c| {
+                    let b = base.map_or(1.0, |w| w.lanes[c].x);
+                    let mut v = src.map_or(0.0, |w| w.lanes[c].x) + p.ambient[c] * b;
+                    for (i, lc) in p.light_colors.iter().enumerate() {
+                        let s = spec(i).map_or(0.0, |w| w.lanes[0].x);
+                        v += lc[c] * (p.diffuse[c] * b * ins[i].lanes[0].x + p.specular[c] * s);
+                    }
+                    v
+                });
+                outs[0] = Word::from_exact(&out, &c);
+            }
+            Mode::BitAccurate => {
+                let rd = |w: &Word, l: usize, e: &Encoding| Acc::from_code(w.lanes[l].raw, e);
+                let ie = self.inputs[0].enc;
+                let codes: Vec<i64> = (0..3)
+                    .map(|c| {
+                        let b = base.map_or(Acc::new(1, 0), |w| rd(w, c, &self.has.base.unwrap()));
+                        let mut v = src.map_or(Acc::ZERO, |w| rd(w, c, &self.has.src.unwrap()));
+                        v = v.add(self.ka[c].mul(b));
+                        for i in 0..k {
+                            v = v.add(self.kdl[i][c].mul(b.mul(rd(&ins[i], 0, &ie))));
+                            if let Some(s) = spec(i) {
+                                v = v.add(self.ksl[i][c].mul(rd(s, 0, &ie)));
+                            }
+                        }
+                        v.to_code(&out)
+                    })
+                    .collect();
+                outs[0] = Word::from_raw(&out, &codes);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::format::{Codec, Format};
+
+    fn unit(parallel: u32) -> Shade {
+        let i = Encoding::fixed(Format::u(9, 8));
+        let params = ShadeParams {
+            ambient: [0.1, 0.1, 0.1],
+            diffuse: [0.8, 0.6, 0.4],
+            specular: [0.5, 0.5, 0.5],
+            light_colors: vec![[1.0, 1.0, 1.0], [0.5, 0.0, 0.5]],
+        };
+        let has = ShadeInputs { specular: true, base: None, src: None };
+        let out = Encoding::texel(Codec::UnitUnsigned, false, 8);
+        Shade::new(i, has, params, Encoding::texel(Codec::UnitUnsigned, false, 8), parallel, out)
+    }
+
+    #[test]
+    fn two_lights_hand_computed() {
+        let mut u = unit(1);
+        assert_eq!((u.interval(), u.latency()), (2, 4));
+        let e = Encoding::fixed(Format::u(9, 8));
+        let w = |x: f64| Word::quantize(&e, &[x]);
+        let ins = [w(0.5), w(0.25), w(0.125), w(0.0)];
+        let mut o = [Word::default()];
+        u.eval(Mode::Exact, &ins, &mut o);
+        // r = 0.1 + 1*(0.8*0.5 + 0.5*0.125) + 0.5*(0.8*0.25) = 0.6625
+        // g = 0.1 + (0.6*0.5 + 0.0625) + 0 = 0.4625
+        // b = 0.1 + (0.4*0.5 + 0.0625) + 0.5*(0.4*0.25) = 0.4125
+        let x: [f64; 3] = o[0].xs();
+        for (a, b) in x.iter().zip([0.6625, 0.4625, 0.4125]) {
+            assert!((a - b).abs() < 1e-12);
+        }
+        u.eval(Mode::BitAccurate, &ins, &mut o);
+        // coefficients rounded to 8 bits (bit-replicated on read), sum cast to 8 bits
+        // b: 26/255 + 0.4*0.5 + 128/255*0.125 + 51/255*0.25 = 0.4147 -> 105.75 -> 106
+        assert_eq!(o[0].raws::<3>(), [169, 118, 106]);
+        assert_eq!(unit(2).interval(), 1);
+        assert!(unit(2).gates(&CostTable::default()).total() > unit(1).gates(&CostTable::default()).total());
+    }
+}
