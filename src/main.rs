@@ -1,1 +1,200 @@
-fn main() {}
+//! The `bumpsim` command line. Exit codes: 0 success, 2 bad config or input, 1 internal error.
+
+use bumpsim_pipeline::config::{self, InputError};
+use bumpsim_pipeline::output::{write_atomic, OutputSet};
+use bumpsim_pipeline::run::{self, TraceRequest};
+use clap::{Parser, Subcommand, ValueEnum};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "bumpsim",
+    version,
+    about = "Cycle-level, bit-accurate models of 1990s bump-mapping hardware"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(clap::Args)]
+struct ConfigArgs {
+    /// A RON pipeline config (see configs/).
+    config: PathBuf,
+    /// Override a config field: --set path.to.field=value (repeatable).
+    #[arg(long = "set", value_name = "PATH=VALUE")]
+    sets: Vec<String>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a config: writes image.png, reference.png, error.png and report.json into DIR.
+    Render {
+        #[command(flatten)]
+        args: ConfigArgs,
+        #[arg(long)]
+        out: PathBuf,
+    },
+    /// Run a config and print its report (a table, or JSON with --json).
+    Report {
+        #[command(flatten)]
+        args: ConfigArgs,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Write a cycle trace of a config's engine.
+    Trace {
+        #[command(flatten)]
+        args: ConfigArgs,
+        /// Half-open cycle window A..B.
+        #[arg(long)]
+        cycles: String,
+        /// Comma-separated unit names (default: all).
+        #[arg(long, value_delimiter = ',')]
+        units: Option<Vec<String>>,
+        #[arg(long, value_enum, default_value = "text")]
+        format: TraceFormat,
+        #[arg(long)]
+        out: PathBuf,
+    },
+    /// Validate a config (parse, scene, wiring) without rendering.
+    Check {
+        #[command(flatten)]
+        args: ConfigArgs,
+    },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum TraceFormat {
+    Text,
+    Vcd,
+}
+
+enum Failure {
+    Input(InputError),
+    Internal(String),
+}
+
+impl From<InputError> for Failure {
+    fn from(e: InputError) -> Self {
+        Failure::Input(e)
+    }
+}
+
+fn parse_cycles(s: &str) -> Result<(u64, u64), InputError> {
+    let bad = || {
+        InputError::new(
+            "--cycles",
+            "",
+            format!("{s:?}: expected A..B with A < B, e.g. 100..140"),
+        )
+    };
+    let (a, b) = s.split_once("..").ok_or_else(bad)?;
+    let (a, b): (u64, u64) = (
+        a.trim().parse().map_err(|_| bad())?,
+        b.trim().parse().map_err(|_| bad())?,
+    );
+    if a >= b || b - a > 1_000_000 {
+        return Err(bad());
+    }
+    Ok((a, b))
+}
+
+fn execute(cmd: Command) -> Result<(), Failure> {
+    match cmd {
+        Command::Render { args, out } => {
+            let l = config::load(&args.config, &args.sets)?;
+            let r = run::run(&l, None)?;
+            let mut set = OutputSet::new(&out);
+            set.add_png("image.png", &r.image)
+                .map_err(Failure::Internal)?;
+            set.add_png("reference.png", &r.reference)
+                .map_err(Failure::Internal)?;
+            set.add_png("error.png", &r.error)
+                .map_err(Failure::Internal)?;
+            set.add("report.json", r.report.to_json().into_bytes());
+            set.commit().map_err(|e| {
+                Failure::Input(InputError::new(out.display().to_string(), "--out", e))
+            })?;
+            print!("{}", r.report.to_table());
+            println!(
+                "\nwrote {}/{{image,reference,error}}.png and report.json",
+                out.display()
+            );
+        }
+        Command::Report { args, json } => {
+            let l = config::load(&args.config, &args.sets)?;
+            let r = run::run(&l, None)?;
+            if json {
+                print!("{}", r.report.to_json());
+            } else {
+                print!("{}", r.report.to_table());
+            }
+        }
+        Command::Trace {
+            args,
+            cycles,
+            units,
+            format,
+            out,
+        } => {
+            let cycles = parse_cycles(&cycles)?;
+            let l = config::load(&args.config, &args.sets)?;
+            let req = TraceRequest { cycles, units };
+            let r = run::run(&l, Some(&req))?;
+            let trace = r
+                .trace
+                .ok_or_else(|| Failure::Internal("no trace was recorded".into()))?;
+            let bytes = match format {
+                TraceFormat::Text => trace.to_text().into_bytes(),
+                TraceFormat::Vcd => {
+                    let mut v = Vec::new();
+                    trace
+                        .write_vcd(&mut v)
+                        .map_err(|e| Failure::Internal(e.to_string()))?;
+                    v
+                }
+            };
+            write_atomic(&out, &bytes).map_err(|e| {
+                Failure::Input(InputError::new(out.display().to_string(), "--out", e))
+            })?;
+            println!("wrote {} ({} records)", out.display(), trace.records.len());
+        }
+        Command::Check { args } => {
+            let l = config::load(&args.config, &args.sets)?;
+            let scene = run::build_scene(&l)?;
+            for mode in [bumpsim_hw::Mode::Exact, bumpsim_hw::Mode::BitAccurate] {
+                bumpsim_pipeline::engine::build(&l, &scene, mode)?;
+            }
+            println!(
+                "ok: {} ({} triangles, {} units, hash {})",
+                l.config.name,
+                scene.mesh.triangles.len(),
+                l.config.engine.units.len(),
+                &l.hash[..16]
+            );
+        }
+    }
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| execute(cli.command)));
+    match outcome {
+        Ok(Ok(())) => ExitCode::SUCCESS,
+        Ok(Err(Failure::Input(e))) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+        Ok(Err(Failure::Internal(e))) => {
+            eprintln!("internal error: {e}");
+            ExitCode::from(1)
+        }
+        Err(_) => {
+            eprintln!("internal error: bumpsim panicked (a bug: please report it with the config)");
+            ExitCode::from(1)
+        }
+    }
+}

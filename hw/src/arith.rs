@@ -98,7 +98,11 @@ impl Acc {
     /// Cast into a port encoding with its quantization and overflow modes.
     pub fn to_code(self, enc: &Encoding) -> i64 {
         let n = enc.format.width as u32;
-        let int = Format { signed: enc.format.signed, width: enc.format.width, frac: 0 };
+        let int = Format {
+            signed: enc.format.signed,
+            width: enc.format.width,
+            frac: 0,
+        };
         let (q, o) = (enc.quant, enc.overflow);
         match enc.codec {
             Codec::Fixed => enc.format.cast(self.raw, self.frac, q, o),
@@ -135,7 +139,10 @@ mod tests {
             let f = enc.format;
             for c in f.min_raw()..=f.max_raw() {
                 let a = Acc::from_code(c, &enc);
-                assert!((a.to_f64() - enc.decode(c)).abs() <= 2f64.powi(-16), "{codec:?} {c}");
+                assert!(
+                    (a.to_f64() - enc.decode(c)).abs() <= 2f64.powi(-16),
+                    "{codec:?} {c}"
+                );
                 assert_eq!(a.to_code(&enc), c, "{codec:?} {c}");
             }
         }

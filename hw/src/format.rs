@@ -71,12 +71,30 @@ pub enum Codec {
     UnitSymmetric,
 }
 
-/// A fixed-point format: `ac_fixed<width, width - frac, signed>`.
+/// A fixed-point format: `ac_fixed<width, width - frac, signed>`. Deserialisation checks the
+/// width (1 to 32) and the fraction bits (0 to width), so a config cannot hold a bad format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(try_from = "FormatSpec")]
 pub struct Format {
     pub signed: bool,
     pub width: u8,
     pub frac: u8,
+}
+
+/// The unchecked form of a [`Format`] as written in a config.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FormatSpec {
+    signed: bool,
+    width: u32,
+    frac: u32,
+}
+
+impl TryFrom<FormatSpec> for Format {
+    type Error = FormatError;
+    fn try_from(s: FormatSpec) -> Result<Self, FormatError> {
+        Format::new(s.signed, s.width, s.frac)
+    }
 }
 
 /// A reason a format cannot be built.
@@ -97,17 +115,29 @@ impl Format {
         if frac > width {
             return Err(FormatError::Frac { width, frac });
         }
-        Ok(Format { signed, width: width as u8, frac: frac as u8 })
+        Ok(Format {
+            signed,
+            width: width as u8,
+            frac: frac as u8,
+        })
     }
     /// Unsigned format. Panics on a bad width: for formats fixed in code, not user input.
     pub const fn u(width: u8, frac: u8) -> Self {
         assert!(width >= 1 && width <= MAX_WIDTH && frac <= width);
-        Format { signed: false, width, frac }
+        Format {
+            signed: false,
+            width,
+            frac,
+        }
     }
     /// Signed format. Panics on a bad width: for formats fixed in code, not user input.
     pub const fn s(width: u8, frac: u8) -> Self {
         assert!(width >= 1 && width <= MAX_WIDTH && frac <= width);
-        Format { signed: true, width, frac }
+        Format {
+            signed: true,
+            width,
+            frac,
+        }
     }
     /// Re-check a format that came from deserialisation.
     pub fn validate(&self) -> Result<(), FormatError> {
@@ -160,7 +190,13 @@ impl Format {
     pub fn cast(&self, raw: i128, from_frac: u32, q: Quant, o: Overflow) -> i64 {
         let to = self.frac as u32;
         let v = if from_frac <= to {
-            raw << (to - from_frac)
+            let up = to - from_frac;
+            match o {
+                // Keeps the low 128 bits, all that wrapping to `width` bits needs.
+                Overflow::Wrap => raw << up,
+                // Beyond i128 every format overflows: keep the side.
+                _ => raw.saturating_mul(1i128 << up),
+            }
         } else {
             shift_round(raw, from_frac - to, q)
         };
@@ -272,10 +308,20 @@ pub fn shift_round(v: i128, by: u32, q: Quant) -> i128 {
     if by == 0 {
         return v;
     }
-    if by >= 127 {
-        let rem = if v == 0 { Rem::Zero } else { Rem::BelowHalf };
-        let floor = if v < 0 { -1 } else { 0 };
-        return round_with_remainder(floor, rem, q);
+    if by >= 128 {
+        // |v| <= 2^127 <= 2^(by-1): the value lies in [-1/2, 1/2).
+        return match v.signum() {
+            0 => 0,
+            1 => round_with_remainder(0, Rem::BelowHalf, q),
+            _ => {
+                let rem = if by == 128 && v == i128::MIN {
+                    Rem::Half
+                } else {
+                    Rem::AboveHalf
+                };
+                round_with_remainder(-1, rem, q)
+            }
+        };
     }
     let floor = v >> by;
     let low = v - (floor << by); // 0 <= low < 2^by
@@ -294,21 +340,57 @@ pub fn shift_round(v: i128, by: u32, q: Quant) -> i128 {
 
 /// A number format at a port or memory interface: a fixed-point format, the codec that reads
 /// it, and the modes used when a real number is written into it.
+///
+/// In a config: `(format: (signed: true, width: 10, frac: 8), codec: Fixed, quant: Rnd,
+/// overflow: Sat)`; `codec`, `quant` and `overflow` may be left out (Fixed, Rnd, Sat).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(try_from = "EncodingSpec")]
 pub struct Encoding {
     pub format: Format,
-    #[serde(default)]
     pub codec: Codec,
-    #[serde(default)]
     pub quant: Quant,
-    #[serde(default)]
     pub overflow: Overflow,
+}
+
+/// The unchecked form of an [`Encoding`] as written in a config.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct EncodingSpec {
+    format: Format,
+    #[serde(default)]
+    codec: Codec,
+    #[serde(default = "round_half_up")]
+    quant: Quant,
+    #[serde(default)]
+    overflow: Overflow,
+}
+
+fn round_half_up() -> Quant {
+    Quant::Rnd
+}
+
+impl TryFrom<EncodingSpec> for Encoding {
+    type Error = String;
+    fn try_from(s: EncodingSpec) -> Result<Self, String> {
+        let e = Encoding {
+            format: s.format,
+            codec: s.codec,
+            quant: s.quant,
+            overflow: s.overflow,
+        };
+        e.validate().map(|_| e)
+    }
 }
 
 impl Encoding {
     /// Plain fixed point with round-half-up and saturation: the datapath default.
     pub const fn fixed(format: Format) -> Self {
-        Encoding { format, codec: Codec::Fixed, quant: Quant::Rnd, overflow: Overflow::Sat }
+        Encoding {
+            format,
+            codec: Codec::Fixed,
+            quant: Quant::Rnd,
+            overflow: Overflow::Sat,
+        }
     }
     /// A texel component with one of the unit codecs, rounded to nearest and saturated.
     pub const fn texel(codec: Codec, signed: bool, width: u8) -> Self {
@@ -317,7 +399,11 @@ impl Encoding {
             _ => 0,
         };
         Encoding {
-            format: Format { signed, width, frac },
+            format: Format {
+                signed,
+                width,
+                frac,
+            },
             codec,
             quant: Quant::Rnd,
             overflow: Overflow::Sat,
@@ -356,13 +442,19 @@ impl Encoding {
     pub fn encode(&self, x: f64) -> i64 {
         let n = self.format.width as i32;
         let f = &self.format;
-        let int = Format { signed: f.signed, width: f.width, frac: 0 };
+        let int = Format {
+            signed: f.signed,
+            width: f.width,
+            frac: 0,
+        };
         match self.codec {
             Codec::Fixed => f.from_f64(x, self.quant, self.overflow),
             Codec::UnitUnsigned => {
                 int.from_f64(x * ((1u64 << n) - 1) as f64, self.quant, self.overflow)
             }
-            Codec::UnitSigned => int.from_f64(x * (1u64 << (n - 1)) as f64, self.quant, self.overflow),
+            Codec::UnitSigned => {
+                int.from_f64(x * (1u64 << (n - 1)) as f64, self.quant, self.overflow)
+            }
             Codec::UnitSymmetric => {
                 // c = (x (2^n - 1) - 1) / 2; the division by two is exact in f64.
                 let c = (x * ((1u64 << n) - 1) as f64 - 1.0) * 0.5;
@@ -455,7 +547,10 @@ mod tests {
     fn bad_formats_are_rejected() {
         assert_eq!(Format::new(true, 0, 0), Err(FormatError::Width(0)));
         assert_eq!(Format::new(true, 33, 0), Err(FormatError::Width(33)));
-        assert_eq!(Format::new(true, 8, 9), Err(FormatError::Frac { width: 8, frac: 9 }));
+        assert_eq!(
+            Format::new(true, 8, 9),
+            Err(FormatError::Frac { width: 8, frac: 9 })
+        );
         assert!(Format::new(false, 32, 32).is_ok());
     }
 }

@@ -110,7 +110,10 @@ impl GateBudget {
     /// Add `count` copies of a primitive costing `ge` each.
     pub fn add(&mut self, what: impl Into<String>, count: u32, ge: f64) -> &mut Self {
         if count > 0 && ge > 0.0 {
-            self.items.push(GateItem { what: what.into(), ge: ge * count as f64 });
+            self.items.push(GateItem {
+                what: what.into(),
+                ge: ge * count as f64,
+            });
         }
         self
     }
@@ -138,7 +141,9 @@ mod tests {
     fn budget_sums_items() {
         let t = CostTable::default();
         let mut b = GateBudget::new();
-        b.add("adder 8", 3, t.adder(8)).add("reg 8", 1, t.register(8)).add("nothing", 0, 5.0);
+        b.add("adder 8", 3, t.adder(8))
+            .add("reg 8", 1, t.register(8))
+            .add("nothing", 0, 5.0);
         assert_eq!(b.items.len(), 2);
         assert!((b.total() - (3.0 * 42.64 + 64.0)).abs() < 1e-9);
     }

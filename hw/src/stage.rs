@@ -43,7 +43,10 @@ pub struct Fifo {
 
 impl Fifo {
     pub fn new(depth: usize) -> Self {
-        Fifo { items: VecDeque::with_capacity(depth.max(1)), depth: depth.max(1) }
+        Fifo {
+            items: VecDeque::with_capacity(depth.max(1)),
+            depth: depth.max(1),
+        }
     }
     pub fn has_room(&self) -> bool {
         self.items.len() < self.depth
@@ -223,7 +226,12 @@ impl Stage {
             CycleState::Busy => self.counters.busy += 1,
             CycleState::Idle => self.counters.idle += 1,
         }
-        probe.then(|| Probe { cycle, state, accepted, emitted })
+        probe.then(|| Probe {
+            cycle,
+            state,
+            accepted,
+            emitted,
+        })
     }
 }
 
@@ -268,7 +276,11 @@ mod tests {
 
     fn inc(latency: u32, interval: u32) -> Box<dyn Unit> {
         let enc = Encoding::fixed(Format::s(16, 0));
-        Box::new(Inc { ports: vec![PortSpec::new("v", 1, enc)], latency, interval })
+        Box::new(Inc {
+            ports: vec![PortSpec::new("v", 1, enc)],
+            latency,
+            interval,
+        })
     }
 
     /// Run `n` tokens through a chain of stages; returns the cycle each token left the last
@@ -277,7 +289,9 @@ mod tests {
         let mut stages: Vec<Stage> = units
             .into_iter()
             .enumerate()
-            .map(|(i, (l, ii))| Stage::new(format!("s{i}"), inc(l, ii), vec![0], vec![0], Mode::Exact))
+            .map(|(i, (l, ii))| {
+                Stage::new(format!("s{i}"), inc(l, ii), vec![0], vec![0], Mode::Exact)
+            })
             .collect();
         let mut fifos: Vec<Fifo> = (0..=stages.len()).map(|_| Fifo::new(fifo)).collect();
         let mut next = 0;
@@ -295,7 +309,12 @@ mod tests {
             if next < n && fifos[0].has_room() {
                 let mut slots = vec![Word::default()];
                 slots[0].lanes[0].x = next as f64;
-                fifos[0].push(Token { id: next, x: 0, y: 0, slots });
+                fifos[0].push(Token {
+                    id: next,
+                    x: 0,
+                    y: 0,
+                    slots,
+                });
                 next += 1;
             }
             cycle += 1;
@@ -310,7 +329,10 @@ mod tests {
         // token 0 enters fifo0 at cycle 0, accepted by s0 at 1, out at 2, s1 accepts 3,
         // emits at 6, s2 accepts 7, emits at 9, drained at 10.
         assert_eq!(out[0], 10);
-        assert_eq!(out.windows(2).map(|w| w[1] - w[0]).collect::<Vec<_>>(), vec![1; 9]);
+        assert_eq!(
+            out.windows(2).map(|w| w[1] - w[0]).collect::<Vec<_>>(),
+            vec![1; 9]
+        );
         assert_eq!(stages[1].counters.accepted, 10);
     }
 
@@ -319,7 +341,10 @@ mod tests {
         let (out, stages) = run(vec![(1, 1), (2, 3), (1, 1)], 12, 1);
         let gaps: Vec<u64> = out.windows(2).map(|w| w[1] - w[0]).collect();
         assert_eq!(gaps, vec![3; 11]);
-        assert!(stages[0].counters.stall > 0, "upstream unit must see back-pressure");
+        assert!(
+            stages[0].counters.stall > 0,
+            "upstream unit must see back-pressure"
+        );
         let c = stages[1].counters;
         assert_eq!(c.accepted, 12);
         // the 3-cycle unit is busy 3 cycles per token except for its last token's tail

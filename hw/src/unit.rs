@@ -57,7 +57,10 @@ impl Word {
     pub fn from_exact(enc: &Encoding, xs: &[f64]) -> Word {
         let mut w = Word::default();
         for (l, &x) in w.lanes.iter_mut().zip(xs) {
-            *l = Sample { x, raw: enc.encode(x) };
+            *l = Sample {
+                x,
+                raw: enc.encode(x),
+            };
         }
         w
     }
@@ -65,7 +68,10 @@ impl Word {
     pub fn from_raw(enc: &Encoding, raws: &[i64]) -> Word {
         let mut w = Word::default();
         for (l, &raw) in w.lanes.iter_mut().zip(raws) {
-            *l = Sample { x: enc.decode(raw), raw };
+            *l = Sample {
+                x: enc.decode(raw),
+                raw,
+            };
         }
         w
     }
@@ -75,7 +81,10 @@ impl Word {
         let mut w = Word::default();
         for (l, &x) in w.lanes.iter_mut().zip(xs) {
             let raw = enc.encode(x);
-            *l = Sample { x: enc.decode(raw), raw };
+            *l = Sample {
+                x: enc.decode(raw),
+                raw,
+            };
         }
         w
     }
@@ -99,7 +108,11 @@ pub struct PortSpec {
 impl PortSpec {
     pub fn new(name: &str, lanes: u8, enc: Encoding) -> Self {
         assert!((1..=MAX_LANES as u8).contains(&lanes));
-        PortSpec { name: name.to_string(), lanes, enc }
+        PortSpec {
+            name: name.to_string(),
+            lanes,
+            enc,
+        }
     }
     /// Bits carried by the port per transfer.
     pub fn bits(&self) -> u32 {

@@ -27,7 +27,12 @@ const QUANTS: [Quant; 8] = [
     Quant::RndConv,
     Quant::RndConvOdd,
 ];
-const OVERFLOWS: [Overflow; 4] = [Overflow::Wrap, Overflow::Sat, Overflow::SatZero, Overflow::SatSym];
+const OVERFLOWS: [Overflow; 4] = [
+    Overflow::Wrap,
+    Overflow::Sat,
+    Overflow::SatZero,
+    Overflow::SatSym,
+];
 
 // ------------------------------------------------------------------------------------------
 // The oracle.
@@ -188,7 +193,14 @@ fn oracle_agrees_with_hand_computed_values() {
         assert_eq!(round_div(-5, 2, q), m25, "{q:?} -2.5");
         // not a tie: -1.25 and 1.75
         let nearest = !matches!(q, Quant::Trn | Quant::TrnZero);
-        assert_eq!(round_div(-5, 4, q), if nearest || q == Quant::TrnZero { -1 } else { -2 });
+        assert_eq!(
+            round_div(-5, 4, q),
+            if nearest || q == Quant::TrnZero {
+                -1
+            } else {
+                -2
+            }
+        );
         assert_eq!(round_div(7, 4, q), if nearest { 2 } else { 1 });
     }
     assert_eq!(overflow_oracle(true, 4, 9, Overflow::Wrap), -7);
@@ -231,7 +243,11 @@ fn shift_round_small_shifts() {
     for by in 0..=10u32 {
         for v in -3000i128..=3000 {
             for q in QUANTS {
-                assert_eq!(shift_round(v, by, q), round_div(v, 1 << by, q), "{v} >> {by} {q:?}");
+                assert_eq!(
+                    shift_round(v, by, q),
+                    round_div(v, 1 << by, q),
+                    "{v} >> {by} {q:?}"
+                );
             }
         }
     }
@@ -522,7 +538,10 @@ fn texel_documented_endpoints() {
         assert_eq!(u.max_error(), 0.5 / all as f64);
         assert_eq!(s.max_error(), 0.5 / half as f64);
         assert_eq!(y.max_error(), 1.0 / all as f64);
-        assert_eq!(texel(Codec::UnitUnsigned, n, Quant::Trn, Overflow::Sat).max_error(), 1.0 / all as f64);
+        assert_eq!(
+            texel(Codec::UnitUnsigned, n, Quant::Trn, Overflow::Sat).max_error(),
+            1.0 / all as f64
+        );
     }
 }
 
@@ -600,7 +619,11 @@ fn fixed_codec_round_trip_and_grid() {
             for n in 4 * min..=4 * max {
                 let x = n as f64 * (-(f.frac as f64 + 2.0)).exp2();
                 let c = e.encode(x);
-                assert_eq!(c as i128, round_div(n, 4, q).clamp(min, max), "{f} {q:?} {x}");
+                assert_eq!(
+                    c as i128,
+                    round_div(n, 4, q).clamp(min, max),
+                    "{f} {q:?} {x}"
+                );
                 assert!((e.decode(c) - x).abs() <= e.max_error(), "{f} {q:?} {x}");
             }
         }
@@ -611,10 +634,18 @@ fn fixed_codec_round_trip_and_grid() {
 fn encoding_validation() {
     for n in 2..=12u8 {
         for codec in UNIT_CODECS {
-            assert!(Encoding::texel(codec, codec != Codec::UnitUnsigned, n).validate().is_ok());
-            assert!(Encoding::texel(codec, codec == Codec::UnitUnsigned, n).validate().is_err());
+            assert!(Encoding::texel(codec, codec != Codec::UnitUnsigned, n)
+                .validate()
+                .is_ok());
+            assert!(Encoding::texel(codec, codec == Codec::UnitUnsigned, n)
+                .validate()
+                .is_err());
         }
     }
-    assert!(Encoding::texel(Codec::UnitSigned, true, 1).validate().is_err());
-    assert!(Encoding::texel(Codec::UnitSymmetric, true, 1).validate().is_err());
+    assert!(Encoding::texel(Codec::UnitSigned, true, 1)
+        .validate()
+        .is_err());
+    assert!(Encoding::texel(Codec::UnitSymmetric, true, 1)
+        .validate()
+        .is_err());
 }

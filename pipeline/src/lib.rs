@@ -1,3 +1,13 @@
 //! bumpsim pipelines: scenes, rasterizer, float reference, configs, the cycle simulator,
 //! reports and traces.
+pub mod config;
+pub mod engine;
+pub mod metrics;
+pub mod output;
+pub mod raster;
+pub mod reference;
+pub mod report;
+pub mod run;
 pub mod scene;
+pub mod sim;
+pub mod trace;

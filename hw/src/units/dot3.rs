@@ -36,11 +36,25 @@ pub struct Dot3 {
 
 impl Dot3 {
     /// `a` and `b` are the encodings of the incoming vectors; `k` the number of `b` vectors.
-    pub fn new(a: Encoding, b: Encoding, k: u32, parallel: u32, clamp: Clamp, out: Encoding) -> Self {
+    pub fn new(
+        a: Encoding,
+        b: Encoding,
+        k: u32,
+        parallel: u32,
+        clamp: Clamp,
+        out: Encoding,
+    ) -> Self {
         let mut inputs = vec![PortSpec::new("a", 3, a)];
         inputs.extend((0..k).map(|i| PortSpec::new(&format!("b{i}"), 3, b)));
-        let outputs = (0..k).map(|i| PortSpec::new(&format!("d{i}"), 1, out)).collect();
-        Dot3 { inputs, outputs, parallel: parallel.clamp(1, k.max(1)), clamp }
+        let outputs = (0..k)
+            .map(|i| PortSpec::new(&format!("d{i}"), 1, out))
+            .collect();
+        Dot3 {
+            inputs,
+            outputs,
+            parallel: parallel.clamp(1, k.max(1)),
+            clamp,
+        }
     }
 
     fn k(&self) -> u32 {
@@ -79,10 +93,18 @@ impl Unit for Dot3 {
         let p = self.parallel;
         let mut g = GateBudget::new();
         g.add(format!("multiplier {wa}x{wb}"), 3 * p, t.multiplier(wa, wb));
-        g.add(format!("adder {}", wa + wb + 1), 2 * p, t.adder(wa + wb + 1));
+        g.add(
+            format!("adder {}", wa + wb + 1),
+            2 * p,
+            t.adder(wa + wb + 1),
+        );
         g.add(format!("clamp {wo}"), p, t.clamp(wo));
         if self.interval() > 1 {
-            g.add(format!("operand mux {}:1 x{}", self.interval(), 3 * wb), p, t.mux(3 * wb, self.interval()));
+            g.add(
+                format!("operand mux {}:1 x{}", self.interval(), 3 * wb),
+                p,
+                t.mux(3 * wb, self.interval()),
+            );
             g.add("sequencer counter 4", 1, t.register(4) + t.adder(4));
         }
         g.add(format!("input register {}", 3 * wa), 1, t.register(3 * wa));
@@ -103,12 +125,19 @@ impl Unit for Dot3 {
                     let (ea, eb) = (&self.inputs[0].enc, &self.inputs[1 + i].enc);
                     let mut s = Acc::ZERO;
                     for j in 0..3 {
-                        let p = Acc::from_code(a.lanes[j].raw, ea).mul(Acc::from_code(b.lanes[j].raw, eb));
+                        let p = Acc::from_code(a.lanes[j].raw, ea)
+                            .mul(Acc::from_code(b.lanes[j].raw, eb));
                         s = s.add(p);
                     }
                     let s = match self.clamp {
                         Clamp::Unit => s.clamp(Acc::ZERO, Acc::new(1, 0)),
-                        Clamp::Positive => if s.lt(Acc::ZERO) { Acc::ZERO } else { s },
+                        Clamp::Positive => {
+                            if s.lt(Acc::ZERO) {
+                                Acc::ZERO
+                            } else {
+                                s
+                            }
+                        }
                         Clamp::None => s,
                     };
                     *o = Word::from_raw(&out, &[s.to_code(&out)]);
@@ -143,7 +172,10 @@ mod tests {
                     let exact = (a.lanes[0].x * b.lanes[0].x + a.lanes[1].x * b.lanes[1].x + 0.25)
                         .clamp(0.0, 1.0);
                     let got = o[0].lanes[0].x;
-                    assert!((got - exact).abs() <= out.max_error() + 1e-12, "{ax} {bx} {ay}: {got} vs {exact}");
+                    assert!(
+                        (got - exact).abs() <= out.max_error() + 1e-12,
+                        "{ax} {bx} {ay}: {got} vs {exact}"
+                    );
                     u.eval(Mode::Exact, &[a, b], &mut o);
                     assert_eq!(o[0].lanes[0].x, exact);
                 }
@@ -160,7 +192,13 @@ mod tests {
         assert_eq!(u.latency(), 3);
         let mode = Mode::BitAccurate;
         let a = word(mode, &n, [0.0, 0.0, 0.5]);
-        let ins = [a, word(mode, &n, [0.0, 0.0, 0.5]), word(mode, &n, [0.5, 0.0, -0.5]), word(mode, &n, [0.0, 0.5, 0.25]), word(mode, &n, [-0.5, 0.5, 0.75])];
+        let ins = [
+            a,
+            word(mode, &n, [0.0, 0.0, 0.5]),
+            word(mode, &n, [0.5, 0.0, -0.5]),
+            word(mode, &n, [0.0, 0.5, 0.25]),
+            word(mode, &n, [-0.5, 0.5, 0.75]),
+        ];
         let mut o = [Word::default(); 4];
         u.eval(mode, &ins, &mut o);
         // 0.25 -> 64/256; -0.25 clamps to 0; 0.125 -> 32; 0.375 -> 96

@@ -50,21 +50,28 @@ impl EmbossFilter {
     ) -> Result<Self, String> {
         for (name, v) in [("width", width), ("height", height)] {
             if !v.is_power_of_two() || v > 1 << 14 {
-                return Err(format!("height map {name} {v}: expected a power of two from 1 to 16384"));
+                return Err(format!(
+                    "height map {name} {v}: expected a power of two from 1 to 16384"
+                ));
             }
         }
         if heights.len() != (width * height) as usize {
             return Err("height count does not match the map size".into());
         }
         if !(bevel_w.is_finite() && bevel_w > 0.0) {
-            return Err(format!("bevel width w {bevel_w}: expected a finite number above 0"));
+            return Err(format!(
+                "bevel width w {bevel_w}: expected a finite number above 0"
+            ));
         }
         if !(1..=9).contains(&ports) {
             return Err(format!("ports {ports}: expected 1 to 9"));
         }
         let (log_w, log_h) = (width.trailing_zeros(), height.trailing_zeros());
         if (uv.format.frac as u32) < log_w.max(log_h) {
-            return Err(format!("texture coordinate format {} has too few fraction bits for a {width}x{height} map", uv.format));
+            return Err(format!(
+                "texture coordinate format {} has too few fraction bits for a {width}x{height} map",
+                uv.format
+            ));
         }
         let codes = heights.iter().map(|&h| texel.encode(h)).collect();
         Ok(EmbossFilter {
@@ -89,7 +96,12 @@ impl EmbossFilter {
     }
 
     /// Mask responses over the 3x3 neighbourhood of texel (i, j) for a texel reader `t`.
-    fn masks<T: Copy + std::ops::Add<Output = T> + std::ops::Sub<Output = T>>(&self, i: i64, j: i64, t: impl Fn(usize) -> T) -> (T, T) {
+    fn masks<T: Copy + std::ops::Add<Output = T> + std::ops::Sub<Output = T>>(
+        &self,
+        i: i64,
+        j: i64,
+        t: impl Fn(usize) -> T,
+    ) -> (T, T) {
         let g = |a: i64, b: i64| t(self.at(i + a, j + b));
         let iu = (g(1, -1) - g(-1, -1)) + (g(1, 0) - g(-1, 0)) + (g(1, 1) - g(-1, 1));
         let iv = (g(-1, 1) - g(-1, -1)) + (g(0, 1) - g(0, -1)) + (g(1, 1) - g(1, -1));
@@ -147,7 +159,11 @@ impl Unit for EmbossFilter {
                 // intensities as stored codes, read on the 0..255 scale of an 8-bit texel
                 let scale = 255.0 / self.texel.format.max_raw() as f64;
                 let (iu, iv) = self.masks(i, j, |k| self.codes[k]);
-                let f = Format { signed: true, width: 32, frac: 0 };
+                let f = Format {
+                    signed: true,
+                    width: 32,
+                    frac: 0,
+                };
                 let enc = Encoding::fixed(f);
                 let nz = out.encode(self.nz);
                 let to = |v: i64| out.encode(enc.decode(v) * scale);
@@ -166,7 +182,9 @@ mod tests {
     fn a_ramp_gives_six_a_and_the_bevel_constant() {
         // i = a u with a = 4 intensity levels per texel along u, constant along v
         let (w, h) = (16u32, 8u32);
-        let heights: Vec<f64> = (0..h).flat_map(|_| (0..w).map(|i| (40 + 4 * i) as f64 / 255.0)).collect();
+        let heights: Vec<f64> = (0..h)
+            .flat_map(|_| (0..w).map(|i| (40 + 4 * i) as f64 / 255.0))
+            .collect();
         let uv = Encoding::fixed(Format::u(16, 16));
         let texel = Encoding::texel(Codec::UnitUnsigned, false, 8);
         let out = Encoding::fixed(Format::s(16, 4));

@@ -65,7 +65,9 @@ impl TexFetch {
     ) -> Result<Self, String> {
         for (name, v) in [("width", tex.width), ("height", tex.height)] {
             if !v.is_power_of_two() || v > 1 << 14 {
-                return Err(format!("texture {name} {v}: expected a power of two from 1 to 16384"));
+                return Err(format!(
+                    "texture {name} {v}: expected a power of two from 1 to 16384"
+                ));
             }
         }
         if !(1..=16).contains(&weight_bits) {
@@ -86,7 +88,19 @@ impl TexFetch {
             ));
         }
         let lanes = tex.lanes;
-        let codes = tex.values.iter().map(|t| std::array::from_fn(|l| if l < lanes as usize { texel.encode(t[l]) } else { 0 })).collect();
+        let codes = tex
+            .values
+            .iter()
+            .map(|t| {
+                std::array::from_fn(|l| {
+                    if l < lanes as usize {
+                        texel.encode(t[l])
+                    } else {
+                        0
+                    }
+                })
+            })
+            .collect();
         Ok(TexFetch {
             inputs: vec![PortSpec::new("uv", 2, uv)],
             outputs: vec![PortSpec::new("t", lanes, out)],
@@ -140,7 +154,8 @@ impl TexFetch {
                 let (i, j) = (su.floor(), sv.floor());
                 let (fu, fv) = (su - i, sv - j);
                 let (i, j) = (i as i64, j as i64);
-                let (t00, t10, t01, t11) = (get(i, j), get(i + 1, j), get(i, j + 1), get(i + 1, j + 1));
+                let (t00, t10, t01, t11) =
+                    (get(i, j), get(i + 1, j), get(i, j + 1), get(i + 1, j + 1));
                 std::array::from_fn(|l| {
                     let top = t00[l] + (t10[l] - t00[l]) * fu;
                     let bot = t01[l] + (t11[l] - t01[l]) * fu;
@@ -177,14 +192,30 @@ impl Unit for TexFetch {
         g.add(format!("address adder {wc}"), 2 * self.ports, t.adder(wc));
         if self.filter == Filter::Bilinear {
             // three lerps per lane: a + (b - a) w, each a subtractor, a multiplier, an adder
-            g.add(format!("lerp multiplier {}x{wb}", wt + 1), 3 * lanes, t.multiplier(wt + 1, wb));
-            g.add(format!("lerp adders {}", wt + wb + 1), 6 * lanes, t.adder(wt + wb + 1));
+            g.add(
+                format!("lerp multiplier {}x{wb}", wt + 1),
+                3 * lanes,
+                t.multiplier(wt + 1, wb),
+            );
+            g.add(
+                format!("lerp adders {}", wt + wb + 1),
+                6 * lanes,
+                t.adder(wt + wb + 1),
+            );
             g.add(format!("weight register {}", 2 * wb), 1, t.register(2 * wb));
         }
         if self.interval() > 1 {
-            g.add(format!("tap register {}", wt * lanes), self.taps(), t.register(wt * lanes));
+            g.add(
+                format!("tap register {}", wt * lanes),
+                self.taps(),
+                t.register(wt * lanes),
+            );
         }
-        g.add(format!("output register {}", wo * lanes), 1, t.register(wo * lanes));
+        g.add(
+            format!("output register {}", wo * lanes),
+            1,
+            t.register(wo * lanes),
+        );
         g
     }
     fn eval(&mut self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
@@ -200,7 +231,9 @@ impl Unit for TexFetch {
                 let frac = self.inputs[0].enc.format.frac as u32;
                 let (i, fu) = self.axis(uv.lanes[0].raw, frac, self.log_w);
                 let (j, fv) = self.axis(uv.lanes[1].raw, frac, self.log_h);
-                let code = |i: i64, j: i64, l: usize| Acc::from_code(self.codes[self.wrap(i, j)][l], &self.texel);
+                let code = |i: i64, j: i64, l: usize| {
+                    Acc::from_code(self.codes[self.wrap(i, j)][l], &self.texel)
+                };
                 let mut res = [0i64; MAX_LANES];
                 match self.filter {
                     Filter::Nearest => {
@@ -213,8 +246,17 @@ impl Unit for TexFetch {
                         let fu_bits = frac - self.log_w;
                         let fv_bits = frac - self.log_h;
                         let wb = self.weight_bits;
-                        let trunc = |f: i64, bits: u32| if bits >= wb { f >> (bits - wb) } else { f << (wb - bits) };
-                        let (wu, wv) = (Acc::new(trunc(fu, fu_bits) as i128, wb), Acc::new(trunc(fv, fv_bits) as i128, wb));
+                        let trunc = |f: i64, bits: u32| {
+                            if bits >= wb {
+                                f >> (bits - wb)
+                            } else {
+                                f << (wb - bits)
+                            }
+                        };
+                        let (wu, wv) = (
+                            Acc::new(trunc(fu, fu_bits) as i128, wb),
+                            Acc::new(trunc(fv, fv_bits) as i128, wb),
+                        );
                         let one = Acc::new(1, 0);
                         for (l, r) in res.iter_mut().enumerate().take(lanes) {
                             let lerp = |a: Acc, b: Acc, w: Acc| a.mul(one.sub(w)).add(b.mul(w));
@@ -236,8 +278,15 @@ mod tests {
     use crate::format::{Codec, Format};
 
     fn ramp(w: u32, h: u32) -> Texels {
-        let values = (0..h).flat_map(|j| (0..w).map(move |i| [i as f64 / w as f64, j as f64 / h as f64, 0.5, 0.0])).collect();
-        Texels { width: w, height: h, lanes: 3, values }
+        let values = (0..h)
+            .flat_map(|j| (0..w).map(move |i| [i as f64 / w as f64, j as f64 / h as f64, 0.5, 0.0]))
+            .collect();
+        Texels {
+            width: w,
+            height: h,
+            lanes: 3,
+            values,
+        }
     }
 
     #[test]
@@ -249,7 +298,10 @@ mod tests {
         let mut ob = [Word::default()];
         let mut oe = [Word::default()];
         for k in 0..2000 {
-            let (u, v) = ((k * 37 % 1000) as f64 / 1000.0, (k * 91 % 1000) as f64 / 1000.0);
+            let (u, v) = (
+                (k * 37 % 1000) as f64 / 1000.0,
+                (k * 91 % 1000) as f64 / 1000.0,
+            );
             let w = Word::quantize(&uv, &[u, v]);
             f.eval(Mode::BitAccurate, &[w], &mut ob);
             f.eval(Mode::Exact, &[w], &mut oe);
@@ -273,7 +325,11 @@ mod tests {
         assert_eq!((f.interval(), f.latency()), (1, 4));
         let mut o = [Word::default()];
         // u = 0.40 -> texel 3 (0.375), v = 0.9 -> row 3 (0.75)
-        f.eval(Mode::BitAccurate, &[Word::quantize(&uv, &[0.40, 0.90])], &mut o);
+        f.eval(
+            Mode::BitAccurate,
+            &[Word::quantize(&uv, &[0.40, 0.90])],
+            &mut o,
+        );
         assert_eq!(o[0].raws::<3>(), [96, 192, 128]);
         assert_eq!(f.bits_per_texel(), 30);
     }
@@ -282,9 +338,19 @@ mod tests {
     fn bad_parameters_are_rejected() {
         let uv = Encoding::fixed(Format::u(16, 16));
         let t = Encoding::fixed(Format::s(8, 6));
-        assert!(TexFetch::new(uv, ramp(6, 4), t, Filter::Nearest, 8, 1, 1, t).err().unwrap().contains("power of two"));
+        assert!(
+            TexFetch::new(uv, ramp(6, 4), t, Filter::Nearest, 8, 1, 1, t)
+                .err()
+                .unwrap()
+                .contains("power of two")
+        );
         let uv_short = Encoding::fixed(Format::u(4, 3));
-        assert!(TexFetch::new(uv_short, ramp(8, 4), t, Filter::Nearest, 8, 1, 1, t).err().unwrap().contains("fraction bits"));
+        assert!(
+            TexFetch::new(uv_short, ramp(8, 4), t, Filter::Nearest, 8, 1, 1, t)
+                .err()
+                .unwrap()
+                .contains("fraction bits")
+        );
         assert!(TexFetch::new(uv, ramp(8, 4), t, Filter::Bilinear, 0, 1, 1, t).is_err());
     }
 }

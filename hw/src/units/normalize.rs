@@ -22,7 +22,12 @@ pub struct Normalize {
 }
 
 impl Normalize {
-    pub fn new(input: Encoding, table_bits: u32, value_bits: u32, out: Encoding) -> Result<Self, String> {
+    pub fn new(
+        input: Encoding,
+        table_bits: u32,
+        value_bits: u32,
+        out: Encoding,
+    ) -> Result<Self, String> {
         if !(2..=16).contains(&table_bits) {
             return Err(format!("table_bits {table_bits}: expected 2 to 16"));
         }
@@ -72,12 +77,32 @@ impl Unit for Normalize {
         let mut g = GateBudget::new();
         g.add(format!("squarer {w}"), 3, t.squarer(w));
         g.add(format!("adder {}", 2 * w + 1), 2, t.adder(2 * w + 1));
-        g.add(format!("leading-one detector {}", 2 * w + 2), 1, t.mux(2 * w + 2, 2));
-        g.add(format!("mantissa shifter {}x{levels}", 2 * w + 2), 1, t.mux(2 * w + 2, 2) * levels as f64);
-        g.add(format!("rsqrt table {}x{vb}", self.table.len()), 1, t.rom(self.table.len() as u64, vb));
+        g.add(
+            format!("leading-one detector {}", 2 * w + 2),
+            1,
+            t.mux(2 * w + 2, 2),
+        );
+        g.add(
+            format!("mantissa shifter {}x{levels}", 2 * w + 2),
+            1,
+            t.mux(2 * w + 2, 2) * levels as f64,
+        );
+        g.add(
+            format!("rsqrt table {}x{vb}", self.table.len()),
+            1,
+            t.rom(self.table.len() as u64, vb),
+        );
         g.add(format!("multiplier {w}x{vb}"), 3, t.multiplier(w, vb));
-        g.add(format!("output shifter {}x{levels}", w + vb), 3, t.mux(w + vb, 2) * levels as f64);
-        g.add(format!("pipeline registers {}", 3 * w + 2 * w + 3 * wo), 1, t.register(3 * w + 2 * w + 3 * wo));
+        g.add(
+            format!("output shifter {}x{levels}", w + vb),
+            3,
+            t.mux(w + vb, 2) * levels as f64,
+        );
+        g.add(
+            format!("pipeline registers {}", 3 * w + 2 * w + 3 * wo),
+            1,
+            t.register(3 * w + 2 * w + 3 * wo),
+        );
         g
     }
     fn eval(&mut self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
@@ -87,7 +112,11 @@ impl Unit for Normalize {
             Mode::Exact => {
                 let x: [f64; 3] = v.xs();
                 let len = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
-                let n = if len > 0.0 { x.map(|c| c / len) } else { [0.0; 3] };
+                let n = if len > 0.0 {
+                    x.map(|c| c / len)
+                } else {
+                    [0.0; 3]
+                };
                 outs[0] = Word::from_exact(&out, &n);
             }
             Mode::BitAccurate => {
@@ -107,11 +136,19 @@ impl Unit for Normalize {
                 let k = -(e.div_euclid(2) + e.rem_euclid(2));
                 let mbits = f - 2 * k; // m = raw / 2^mbits
                 let tb = self.table_bits as i64;
-                let idx = if mbits >= tb { s.raw >> (mbits - tb) } else { s.raw << (tb - mbits) };
+                let idx = if mbits >= tb {
+                    s.raw >> (mbits - tb)
+                } else {
+                    s.raw << (tb - mbits)
+                };
                 let r = Acc::new(self.table[idx as usize] as i128, self.value_bits - 2);
                 let scale = |a: Acc| {
                     let p = a.mul(r);
-                    if k >= 0 { p.scale(1i128 << k) } else { p.shr((-k) as u32) }
+                    if k >= 0 {
+                        p.scale(1i128 << k)
+                    } else {
+                        p.shr((-k) as u32)
+                    }
                 };
                 let n: Vec<i64> = c.iter().map(|a| scale(*a).to_code(&out)).collect();
                 outs[0] = Word::from_raw(&out, &n);
@@ -132,7 +169,11 @@ mod tests {
         let mut o = [Word::default()];
         let mut worst: f64 = 0.0;
         for k in 1..3000i64 {
-            let raw = [(k * 7919) % 30000 - 15000, (k * 104729) % 20000 - 10000, (k * 31) % 900 + 1];
+            let raw = [
+                (k * 7919) % 30000 - 15000,
+                (k * 104729) % 20000 - 10000,
+                (k * 31) % 900 + 1,
+            ];
             let w = Word::from_raw(&input, &raw);
             u.eval(Mode::BitAccurate, &[w], &mut o);
             let x: [f64; 3] = w.xs();
@@ -143,7 +184,10 @@ mod tests {
         }
         // table step: m bins of 1/256 over [1/4,1): relative rsqrt error <= 0.5 * (1/256) / (2 * 0.25)
         // = 0.39 %, plus value and output rounding
-        assert!(worst < 0.004 + out.max_error() + 2f64.powi(-10), "worst {worst}");
+        assert!(
+            worst < 0.004 + out.max_error() + 2f64.powi(-10),
+            "worst {worst}"
+        );
         assert!(worst > 1e-4, "the table must show some error: {worst}");
     }
 
@@ -154,7 +198,11 @@ mod tests {
         let mut o = [Word::default()];
         u.eval(Mode::BitAccurate, &[Word::from_raw(&e, &[0, 0, 0])], &mut o);
         assert_eq!(o[0].raws::<3>(), [0, 0, 0]);
-        u.eval(Mode::Exact, &[Word::from_exact(&e, &[3.0, 0.0, 4.0])], &mut o);
+        u.eval(
+            Mode::Exact,
+            &[Word::from_exact(&e, &[3.0, 0.0, 4.0])],
+            &mut o,
+        );
         assert_eq!(o[0].xs::<3>(), [0.6, 0.0, 0.8]);
     }
 }

@@ -26,13 +26,33 @@ pub struct PowerTable {
 impl PowerTable {
     /// `input` is the encoding of the incoming intensities; `k` how many per fragment.
     /// The output encoding is `UnitUnsigned` with `value_bits` (so 1.0 is all ones).
-    pub fn new(input: Encoding, k: u32, index_bits: u32, value_bits: u32, shininess: f64, parallel: u32) -> Self {
+    pub fn new(
+        input: Encoding,
+        k: u32,
+        index_bits: u32,
+        value_bits: u32,
+        shininess: f64,
+        parallel: u32,
+    ) -> Self {
         let out = Encoding::texel(Codec::UnitUnsigned, false, value_bits as u8);
-        let inputs = (0..k).map(|i| PortSpec::new(&format!("x{i}"), 1, input)).collect();
-        let outputs = (0..k).map(|i| PortSpec::new(&format!("y{i}"), 1, out)).collect();
+        let inputs = (0..k)
+            .map(|i| PortSpec::new(&format!("x{i}"), 1, input))
+            .collect();
+        let outputs = (0..k)
+            .map(|i| PortSpec::new(&format!("y{i}"), 1, out))
+            .collect();
         let last = (1u64 << index_bits) - 1;
-        let table = (0..=last).map(|i| out.encode((i as f64 / last as f64).powf(shininess))).collect();
-        PowerTable { inputs, outputs, index_bits, shininess, parallel: parallel.clamp(1, k.max(1)), table }
+        let table = (0..=last)
+            .map(|i| out.encode((i as f64 / last as f64).powf(shininess)))
+            .collect();
+        PowerTable {
+            inputs,
+            outputs,
+            index_bits,
+            shininess,
+            parallel: parallel.clamp(1, k.max(1)),
+            table,
+        }
     }
 
     /// The table contents (raw output words), for tests and studies.
@@ -71,11 +91,27 @@ impl Unit for PowerTable {
         let wi = self.inputs.first().map_or(8, |p| p.enc.width());
         let vb = self.outputs.first().map_or(8, |p| p.enc.width());
         let mut g = GateBudget::new();
-        g.add(format!("power table {}x{vb} (loadable)", self.table.len()), self.parallel, t.sram(self.table.len() as u64, vb));
-        g.add(format!("index rounding {wi}"), self.parallel, t.adder(wi) + t.clamp(self.index_bits));
-        g.add(format!("result register {vb}"), self.outputs.len() as u32, t.register(vb));
+        g.add(
+            format!("power table {}x{vb} (loadable)", self.table.len()),
+            self.parallel,
+            t.sram(self.table.len() as u64, vb),
+        );
+        g.add(
+            format!("index rounding {wi}"),
+            self.parallel,
+            t.adder(wi) + t.clamp(self.index_bits),
+        );
+        g.add(
+            format!("result register {vb}"),
+            self.outputs.len() as u32,
+            t.register(vb),
+        );
         if self.interval() > 1 {
-            g.add(format!("input mux {}:1 x{wi}", self.interval()), self.parallel, t.mux(wi, self.interval()));
+            g.add(
+                format!("input mux {}:1 x{wi}", self.interval()),
+                self.parallel,
+                t.mux(wi, self.interval()),
+            );
         }
         g
     }

@@ -31,7 +31,8 @@ pub struct ShadeParams {
 /// Which optional inputs the combiner has.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ShadeInputs {
-    pub specular: bool,
+    /// Encoding of the specular intensities `s_i`, when the unit has them.
+    pub specular: Option<Encoding>,
     /// A 3-lane base colour (texel); white when absent.
     pub base: Option<Encoding>,
     /// A 3-lane source colour added unchanged (the Gouraud colour `C_src`).
@@ -52,12 +53,21 @@ pub struct Shade {
 }
 
 impl Shade {
-    /// `intensity` is the encoding of the d_i and s_i inputs.
-    pub fn new(intensity: Encoding, has: ShadeInputs, params: ShadeParams, coef: Encoding, parallel: u32, out: Encoding) -> Self {
+    /// `intensity` is the encoding of the diffuse inputs `d_i`.
+    pub fn new(
+        intensity: Encoding,
+        has: ShadeInputs,
+        params: ShadeParams,
+        coef: Encoding,
+        parallel: u32,
+        out: Encoding,
+    ) -> Self {
         let k = params.light_colors.len() as u32;
-        let mut inputs: Vec<PortSpec> = (0..k).map(|i| PortSpec::new(&format!("d{i}"), 1, intensity)).collect();
-        if has.specular {
-            inputs.extend((0..k).map(|i| PortSpec::new(&format!("s{i}"), 1, intensity)));
+        let mut inputs: Vec<PortSpec> = (0..k)
+            .map(|i| PortSpec::new(&format!("d{i}"), 1, intensity))
+            .collect();
+        if let Some(e) = has.specular {
+            inputs.extend((0..k).map(|i| PortSpec::new(&format!("s{i}"), 1, e)));
         }
         if let Some(e) = has.base {
             inputs.push(PortSpec::new("base", 3, e));
@@ -67,8 +77,16 @@ impl Shade {
         }
         let q = |x: f64| Acc::from_code(coef.encode(x), &coef);
         let ka = params.ambient.map(q);
-        let kdl = params.light_colors.iter().map(|lc| std::array::from_fn(|c| q(params.diffuse[c] * lc[c]))).collect();
-        let ksl = params.light_colors.iter().map(|lc| std::array::from_fn(|c| q(params.specular[c] * lc[c]))).collect();
+        let kdl = params
+            .light_colors
+            .iter()
+            .map(|lc| std::array::from_fn(|c| q(params.diffuse[c] * lc[c])))
+            .collect();
+        let ksl = params
+            .light_colors
+            .iter()
+            .map(|lc| std::array::from_fn(|c| q(params.specular[c] * lc[c])))
+            .collect();
         Shade {
             inputs,
             outputs: vec![PortSpec::new("color", 3, out)],
@@ -116,13 +134,30 @@ impl Unit for Shade {
         let p = self.parallel;
         let mut g = GateBudget::new();
         if wb > 0 {
-            g.add(format!("base x intensity multiplier {wi}x{wb}"), 3 * p, t.multiplier(wi, wb));
-            g.add(format!("ambient multiplier {wb}x{wc}"), 3, t.multiplier(wb, wc));
+            g.add(
+                format!("base x intensity multiplier {wi}x{wb}"),
+                3 * p,
+                t.multiplier(wi, wb),
+            );
+            g.add(
+                format!("ambient multiplier {wb}x{wc}"),
+                3,
+                t.multiplier(wb, wc),
+            );
         }
         let wd = if wb > 0 { wo + 2 } else { wi };
-        g.add(format!("diffuse coefficient multiplier {wd}x{wc}"), 3 * p, t.multiplier(wd, wc));
-        if self.has.specular {
-            g.add(format!("specular coefficient multiplier {wi}x{wc}"), 3 * p, t.multiplier(wi, wc));
+        g.add(
+            format!("diffuse coefficient multiplier {wd}x{wc}"),
+            3 * p,
+            t.multiplier(wd, wc),
+        );
+        if let Some(e) = self.has.specular {
+            let ws = e.width();
+            g.add(
+                format!("specular coefficient multiplier {ws}x{wc}"),
+                3 * p,
+                t.multiplier(ws, wc),
+            );
             g.add(format!("adder {acc}"), 3 * p, t.adder(acc));
         }
         g.add(format!("accumulator adder {acc}"), 3 * p, t.adder(acc));
@@ -131,17 +166,25 @@ impl Unit for Shade {
             g.add(format!("source colour adder {acc}"), 3, t.adder(acc));
         }
         g.add(format!("output clamp {wo}"), 3, t.clamp(wo));
-        let coefs = 3 + 3 * self.k() as u32 * (1 + self.has.specular as u32);
-        g.add(format!("coefficient registers {coefs}x{wc}"), 1, t.register(coefs * wc));
+        let coefs = 3 + 3 * self.k() as u32 * (1 + self.has.specular.is_some() as u32);
+        g.add(
+            format!("coefficient registers {coefs}x{wc}"),
+            1,
+            t.register(coefs * wc),
+        );
         if self.interval() > 1 {
-            g.add(format!("light mux {}:1 x{}", self.interval(), 2 * wi), p, t.mux(2 * wi, self.interval()));
+            g.add(
+                format!("light mux {}:1 x{}", self.interval(), 2 * wi),
+                p,
+                t.mux(2 * wi, self.interval()),
+            );
         }
         g
     }
     fn eval(&mut self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
         let out = self.outputs[0].enc;
         let k = self.k();
-        let spec = |i: usize| if self.has.specular { Some(&ins[k + i]) } else { None };
+        let spec = |i: usize| self.has.specular.map(|_| &ins[k + i]);
         let base = self.port("base").map(|i| &ins[i]);
         let src = self.port("src").map(|i| &ins[i]);
         match mode {
@@ -168,8 +211,8 @@ impl Unit for Shade {
                         v = v.add(self.ka[c].mul(b));
                         for i in 0..k {
                             v = v.add(self.kdl[i][c].mul(b.mul(rd(&ins[i], 0, &ie))));
-                            if let Some(s) = spec(i) {
-                                v = v.add(self.ksl[i][c].mul(rd(s, 0, &ie)));
+                            if let (Some(s), Some(se)) = (spec(i), &self.has.specular) {
+                                v = v.add(self.ksl[i][c].mul(rd(s, 0, se)));
                             }
                         }
                         v.to_code(&out)
@@ -194,9 +237,20 @@ mod tests {
             specular: [0.5, 0.5, 0.5],
             light_colors: vec![[1.0, 1.0, 1.0], [0.5, 0.0, 0.5]],
         };
-        let has = ShadeInputs { specular: true, base: None, src: None };
+        let has = ShadeInputs {
+            specular: Some(i),
+            base: None,
+            src: None,
+        };
         let out = Encoding::texel(Codec::UnitUnsigned, false, 8);
-        Shade::new(i, has, params, Encoding::texel(Codec::UnitUnsigned, false, 8), parallel, out)
+        Shade::new(
+            i,
+            has,
+            params,
+            Encoding::texel(Codec::UnitUnsigned, false, 8),
+            parallel,
+            out,
+        )
     }
 
     #[test]
@@ -220,6 +274,9 @@ mod tests {
         // b: 26/255 + 0.4*0.5 + 128/255*0.125 + 51/255*0.25 = 0.4147 -> 105.75 -> 106
         assert_eq!(o[0].raws::<3>(), [169, 118, 106]);
         assert_eq!(unit(2).interval(), 1);
-        assert!(unit(2).gates(&CostTable::default()).total() > unit(1).gates(&CostTable::default()).total());
+        assert!(
+            unit(2).gates(&CostTable::default()).total()
+                > unit(1).gates(&CostTable::default()).total()
+        );
     }
 }

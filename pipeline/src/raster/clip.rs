@@ -74,8 +74,12 @@ pub fn guard_band_ndc(size: u32) -> f64 {
 
 /// Total order on vertices used to orient an edge canonically before intersecting it.
 fn canonical(a: &ClipVertex, b: &ClipVertex) -> Ordering {
-    let ka = [a.pos.x, a.pos.y, a.pos.z, a.pos.w, a.bary.x, a.bary.y, a.bary.z];
-    let kb = [b.pos.x, b.pos.y, b.pos.z, b.pos.w, b.bary.x, b.bary.y, b.bary.z];
+    let ka = [
+        a.pos.x, a.pos.y, a.pos.z, a.pos.w, a.bary.x, a.bary.y, a.bary.z,
+    ];
+    let kb = [
+        b.pos.x, b.pos.y, b.pos.z, b.pos.w, b.bary.x, b.bary.y, b.bary.z,
+    ];
     for (x, y) in ka.iter().zip(kb.iter()) {
         match x.total_cmp(y) {
             Ordering::Equal => continue,

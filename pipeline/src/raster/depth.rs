@@ -28,7 +28,8 @@ impl DepthBuffer {
         let Some(row) = self.rows.get_mut(y as usize) else {
             return false;
         };
-        let row = row.get_or_insert_with(|| vec![self.clear; self.width as usize].into_boxed_slice());
+        let row =
+            row.get_or_insert_with(|| vec![self.clear; self.width as usize].into_boxed_slice());
         let cell = &mut row[x as usize];
         if depth < *cell {
             *cell = depth;

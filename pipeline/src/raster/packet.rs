@@ -134,7 +134,7 @@ impl PacketLayout {
     /// 1/w, r, g, b, a, s, t, fog) as 32-bit IEEE single words = 3 x 352 = 1056 bits, no
     /// per-triangle fields (see docs/rasterizer.md).
     pub fn baseline_textured_gouraud() -> PacketLayout {
-        let names = ["x", "y", "z", "inv_w", "r", "g", "b", "a", "s", "t", "fog"];
+        let names = ["x", "y", "z", "1/w", "r", "g", "b", "a", "s", "t", "fog"];
         PacketLayout {
             per_vertex: names.iter().map(|n| Field::new(n, 1, 32)).collect(),
             per_triangle: Vec::new(),

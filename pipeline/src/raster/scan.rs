@@ -40,9 +40,9 @@ pub fn scan(t: &TriangleSetup, depth_bits: u32, mut emit: impl FnMut(Sample)) {
     let area = t.area2 as f64;
     let v = &t.v;
     for py in t.y0..=t.y1 {
-        let cy = i64::from(py) * t.unit + half;
+        let cy = py * t.unit + half;
         for px in t.x0..=t.x1 {
-            let cx = i64::from(px) * t.unit + half;
+            let cx = px * t.unit + half;
             let e = [
                 t.edges[0].eval(cx, cy),
                 t.edges[1].eval(cx, cy),
@@ -64,8 +64,8 @@ pub fn scan(t: &TriangleSetup, depth_bits: u32, mut emit: impl FnMut(Sample)) {
                 v[0].bary * b[0] + v[1].bary * b[1] + v[2].bary * b[2]
             };
             emit(Sample {
-                x: px,
-                y: py,
+                x: px as u32,
+                y: py as u32,
                 depth: quantise_depth(z, depth_bits),
                 bary: bary.to_array(),
             });

@@ -50,7 +50,8 @@ impl Edge {
     }
     /// Exact value at (px, py) (same fixed-point units).
     pub fn eval(&self, px: i64, py: i64) -> i128 {
-        i128::from(self.dx) * i128::from(py - self.y0) - i128::from(self.dy) * i128::from(px - self.x0)
+        i128::from(self.dx) * i128::from(py - self.y0)
+            - i128::from(self.dy) * i128::from(px - self.x0)
     }
     /// Whether a sample with edge value `e` is covered by this edge (top-left rule).
     pub fn covers(&self, e: i128) -> bool {
@@ -58,14 +59,15 @@ impl Edge {
     }
 }
 
-/// Result of setting up one (sub-)triangle.
+/// Result of setting up one (sub-)triangle (a short-lived value: not boxed).
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, PartialEq)]
 pub enum Setup {
     /// Zero area after snapping.
     Degenerate,
     /// Removed by the cull mode.
     Culled,
-    /// Bounding box has no pixel inside the viewport.
+    /// Bounding box entirely outside the viewport.
     Scissored,
     Ready(TriangleSetup),
 }
@@ -78,11 +80,12 @@ pub struct TriangleSetup {
     pub edges: [Edge; 3],
     /// Twice the signed area (> 0) in fixed-point units squared.
     pub area2: i128,
-    /// Inclusive pixel bounds, already scissored to the viewport.
-    pub x0: u32,
-    pub x1: u32,
-    pub y0: u32,
-    pub y1: u32,
+    /// Inclusive pixel bounds, within the viewport; empty (x0 > x1 or y0 > y1) when no pixel
+    /// centre lies in the bounding box.
+    pub x0: i64,
+    pub x1: i64,
+    pub y0: i64,
+    pub y1: i64,
     /// Fixed-point units per pixel (2^(subpixel_bits + 1)).
     pub unit: i64,
 }
@@ -95,7 +98,12 @@ pub fn snap(v: &ClipVertex, width: u32, height: u32, subpixel_bits: u32) -> Snap
     let scale = f64::from(1u32 << subpixel_bits);
     // The clipper guarantees the guard band up to rounding; clamp so that the conversion to
     // integers is bounded whatever happens.
-    let lim = |size: u32| (-GUARD_BAND_PIXELS - 1.0, f64::from(size) + GUARD_BAND_PIXELS + 1.0);
+    let lim = |size: u32| {
+        (
+            -GUARD_BAND_PIXELS - 1.0,
+            f64::from(size) + GUARD_BAND_PIXELS + 1.0,
+        )
+    };
     let (lx, hx) = lim(width);
     let (ly, hy) = lim(height);
     let wx = ((ndc.x + 1.0) * 0.5 * f64::from(width)).clamp(lx, hx);
@@ -147,22 +155,23 @@ pub fn setup(
     let xmax = v.iter().map(|p| p.x).max().unwrap_or(0);
     let ymin = v.iter().map(|p| p.y).min().unwrap_or(0);
     let ymax = v.iter().map(|p| p.y).max().unwrap_or(0);
-    // Pixel p has its centre at p * unit + half; it may be covered if min <= centre <= max.
-    let lo = |m: i64| (m - half + unit - 1).div_euclid(unit);
-    let hi = |m: i64| (m - half).div_euclid(unit);
-    let (px0, px1) = (lo(xmin).max(0), hi(xmax).min(i64::from(width) - 1));
-    let (py0, py1) = (lo(ymin).max(0), hi(ymax).min(i64::from(height) - 1));
-    if px0 > px1 || py0 > py1 {
+    // Scissor: the snapped bounding box must overlap the viewport.
+    let (vw, vh) = (i64::from(width) * unit, i64::from(height) * unit);
+    if xmax <= 0 || ymax <= 0 || xmin >= vw || ymin >= vh {
         return Setup::Scissored;
     }
+    // Pixel p has its centre at p * unit + half; it may be covered if min <= centre <= max.
+    // The range may be empty (a small triangle between pixel centres).
+    let lo = |m: i64| (m - half + unit - 1).div_euclid(unit);
+    let hi = |m: i64| (m - half).div_euclid(unit);
     Setup::Ready(TriangleSetup {
         v,
         edges,
         area2,
-        x0: px0 as u32,
-        x1: px1 as u32,
-        y0: py0 as u32,
-        y1: py1 as u32,
+        x0: lo(xmin).max(0),
+        x1: hi(xmax).min(i64::from(width) - 1),
+        y0: lo(ymin).max(0),
+        y1: hi(ymax).min(i64::from(height) - 1),
         unit,
     })
 }

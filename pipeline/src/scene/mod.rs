@@ -25,10 +25,16 @@ pub enum SceneError {
 
 impl SceneError {
     pub fn invalid(field: impl Into<String>, message: impl Into<String>) -> Self {
-        SceneError::Invalid { field: field.into(), message: message.into() }
+        SceneError::Invalid {
+            field: field.into(),
+            message: message.into(),
+        }
     }
     pub fn file(path: impl std::fmt::Display, message: impl Into<String>) -> Self {
-        SceneError::File { path: path.to_string(), message: message.into() }
+        SceneError::File {
+            path: path.to_string(),
+            message: message.into(),
+        }
     }
 }
 

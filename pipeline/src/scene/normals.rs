@@ -146,15 +146,22 @@ impl NormalMap {
             }
             NormalMethod::Schlag { w: bevel } => {
                 let n = w as usize * h as usize;
-                let vals: Vec<f64> = (0..n).map(|k| heights.get(k).copied().unwrap_or(0.0)).collect();
+                let vals: Vec<f64> = (0..n)
+                    .map(|k| heights.get(k).copied().unwrap_or(0.0))
+                    .collect();
                 let (lo, hi) = vals
                     .iter()
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| (lo.min(x), hi.max(x)));
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
+                        (lo.min(x), hi.max(x))
+                    });
                 let range = hi - lo;
                 if !(range.is_finite() && range > 0.0) {
                     return NormalMap::flat(w, h);
                 }
-                let q: Vec<f64> = vals.iter().map(|&x| (255.0 * (x - lo) / range).round()).collect();
+                let q: Vec<f64> = vals
+                    .iter()
+                    .map(|&x| (255.0 * (x - lo) / range).round())
+                    .collect();
                 let iv = |i: i64, j: i64| q[wrap(j, h) * w as usize + wrap(i, w)];
                 let nz = 6.0 * 255.0 / bevel;
                 for j in 0..i64::from(h) {
@@ -187,9 +194,9 @@ impl NormalMap {
                 };
                 for j in 0..i64::from(h) {
                     for i in 0..i64::from(w) {
-                        let pts = offsets.iter().map(|&(di, dj)| {
-                            (di as f64 * du, dj as f64 * dv, hv(i + di, j + dj))
-                        });
+                        let pts = offsets
+                            .iter()
+                            .map(|&(di, dj)| (di as f64 * du, dj as f64 * dv, hv(i + di, j + dj)));
                         let a = plane_fit(pts);
                         texels.push(normalize_or_flat(DVec3::new(-a.x, -a.y, 1.0)));
                     }
@@ -335,14 +342,20 @@ mod tests {
         let mut out = Vec::new();
         for j in 0..h {
             for i in 0..w {
-                out.push(f((f64::from(i) + 0.5) / f64::from(w), (f64::from(j) + 0.5) / f64::from(h)));
+                out.push(f(
+                    (f64::from(i) + 0.5) / f64::from(w),
+                    (f64::from(j) + 0.5) / f64::from(h),
+                ));
             }
         }
         out
     }
 
     fn assert_close(a: DVec3, b: DVec3, tol: f64, what: &str) {
-        assert!((a - b).abs().max_element() <= tol, "{what}: {a} vs {b} (tol {tol})");
+        assert!(
+            (a - b).abs().max_element() <= tol,
+            "{what}: {a} vs {b} (tol {tol})"
+        );
     }
 
     fn temp_path(name: &str) -> std::path::PathBuf {
@@ -442,9 +455,15 @@ mod tests {
         let du = 1.0 / f64::from(w);
         for i in 0..i64::from(w) {
             let u = (i as f64 + 0.5) * du;
-            let fu = amp * (std::f64::consts::TAU * u).cos() * (std::f64::consts::TAU * du).sin() / du;
+            let fu =
+                amp * (std::f64::consts::TAU * u).cos() * (std::f64::consts::TAU * du).sin() / du;
             let want = DVec3::new(-fu, 0.0, 1.0).normalize();
-            assert_close(m.texel(i, 0), want, 1e-12, &format!("texel {i} (incl. seam)"));
+            assert_close(
+                m.texel(i, 0),
+                want,
+                1e-12,
+                &format!("texel {i} (incl. seam)"),
+            );
         }
         // And the discrete result differs from the exact derivative by the predicted factor.
         let exact = amp * std::f64::consts::TAU;
@@ -492,7 +511,12 @@ mod tests {
         assert_close(m.sample_bilinear(0.5, 0.25), half, 1e-15, "midpoint");
         // Wrap: u = 1.0 is the seam between texel 1 and texel 0 again.
         assert_close(m.sample_bilinear(1.0, 0.25), half, 1e-15, "seam");
-        assert_close(m.sample_bilinear(-0.25, 1.25), DVec3::X, 1e-15, "negative wrap");
+        assert_close(
+            m.sample_bilinear(-0.25, 1.25),
+            DVec3::X,
+            1e-15,
+            "negative wrap",
+        );
         assert_eq!(m.sample_bilinear(f64::NAN, 0.0), DVec3::Z);
     }
 
@@ -500,14 +524,23 @@ mod tests {
     fn invalid_methods_are_rejected_and_give_flat_maps() {
         assert!(NormalMethod::PlaneFit { q: 5 }.validate("bake").is_err());
         assert!(NormalMethod::Schlag { w: 0.0 }.validate("bake").is_err());
-        assert!(NormalMethod::Schlag { w: f64::NAN }.validate("bake").is_err());
+        assert!(NormalMethod::Schlag { w: f64::NAN }
+            .validate("bake")
+            .is_err());
         assert!(NormalMethod::PlaneFit { q: 8 }.validate("bake").is_ok());
-        let err = NormalMethod::PlaneFit { q: 5 }.validate("bake.method").unwrap_err();
+        let err = NormalMethod::PlaneFit { q: 5 }
+            .validate("bake.method")
+            .unwrap_err();
         assert!(err.to_string().contains("bake.method.PlaneFit.q"), "{err}");
         let heights = bake(4, 4, |u, _| u);
         let m = NormalMap::from_heights(&heights, 4, 4, NormalMethod::PlaneFit { q: 3 });
         assert!(m.texels.iter().all(|&n| n == DVec3::Z));
-        assert_eq!(NormalMap::from_heights(&[], 0, 0, NormalMethod::Analytic).texels.len(), 0);
+        assert_eq!(
+            NormalMap::from_heights(&[], 0, 0, NormalMethod::Analytic)
+                .texels
+                .len(),
+            0
+        );
     }
 
     #[test]
@@ -523,10 +556,30 @@ mod tests {
         let m = NormalMap::from_png(&path).unwrap();
         assert_eq!((m.width, m.height), (2, 2));
         let e = |c: f64| c / 255.0 * 2.0 - 1.0;
-        assert_close(m.texel(0, 0), DVec3::new(e(128.0), e(128.0), 1.0).normalize(), 1e-15, "flat");
-        assert_close(m.texel(1, 0), DVec3::new(1.0, e(128.0), e(128.0)).normalize(), 1e-15, "+x");
-        assert_close(m.texel(0, 1), DVec3::new(e(128.0), 1.0, e(128.0)).normalize(), 1e-15, "+v");
-        assert_close(m.texel(1, 1), DVec3::splat(-1.0).normalize(), 1e-15, "black");
+        assert_close(
+            m.texel(0, 0),
+            DVec3::new(e(128.0), e(128.0), 1.0).normalize(),
+            1e-15,
+            "flat",
+        );
+        assert_close(
+            m.texel(1, 0),
+            DVec3::new(1.0, e(128.0), e(128.0)).normalize(),
+            1e-15,
+            "+x",
+        );
+        assert_close(
+            m.texel(0, 1),
+            DVec3::new(e(128.0), 1.0, e(128.0)).normalize(),
+            1e-15,
+            "+v",
+        );
+        assert_close(
+            m.texel(1, 1),
+            DVec3::splat(-1.0).normalize(),
+            1e-15,
+            "black",
+        );
         for n in &m.texels {
             assert!((n.length() - 1.0).abs() < 1e-12);
         }
@@ -538,7 +591,12 @@ mod tests {
         img16.save(&path16).unwrap();
         let m16 = NormalMap::from_png(&path16).unwrap();
         let e16 = 32768.0 / 65535.0 * 2.0 - 1.0;
-        assert_close(m16.texel(0, 0), DVec3::new(1.0, e16, e16).normalize(), 1e-15, "16-bit");
+        assert_close(
+            m16.texel(0, 0),
+            DVec3::new(1.0, e16, e16).normalize(),
+            1e-15,
+            "16-bit",
+        );
 
         // Corrupt and missing files name the path.
         let bad = temp_path("corrupt.png");

@@ -1,0 +1,343 @@
+//! Pipeline configs: RON files that name a scene and wire hardware units into an engine.
+//!
+//! Unknown keys are rejected everywhere (`deny_unknown_fields`); number formats and sizes are
+//! checked while parsing, so their errors carry the file, line and column; checks that span
+//! several fields (wiring, light indices) run after parsing and name the field. `--set`
+//! overrides are applied to the parsed config (see [`overrides`]). The config hash is the
+//! SHA-256 of the canonical RON serialisation of the final config.
+
+pub mod error;
+pub mod overrides;
+
+use crate::engine::units::UnitSpec;
+use crate::raster::RasterConfig;
+use crate::reference::Perturbation;
+use crate::scene::{BumpSpec, Camera, Light, Material, MeshSpec};
+use bumpsim_hw::{CostTable, Encoding};
+pub use error::{locate, InputError};
+use serde::{Deserialize, Serialize};
+use sha2::{Digest, Sha256};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// Largest image side.
+pub const MAX_IMAGE_SIDE: u32 = 16384;
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Config {
+    /// Short name of the config, used in reports.
+    pub name: String,
+    #[serde(default)]
+    pub description: String,
+    pub scene: SceneConfig,
+    #[serde(default)]
+    pub raster: RasterConfig,
+    #[serde(default)]
+    pub reference: ReferenceConfig,
+    pub engine: EngineConfig,
+    #[serde(default)]
+    pub sim: SimConfig,
+    /// Overrides of the primitive gate costs (see docs/gates.md).
+    #[serde(default)]
+    pub cost: CostTable,
+}
+
+/// An image side: 1 to 16384 pixels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(try_from = "u32", into = "u32")]
+pub struct Side(pub u32);
+
+impl TryFrom<u32> for Side {
+    type Error = String;
+    fn try_from(v: u32) -> Result<Self, String> {
+        if (1..=MAX_IMAGE_SIDE).contains(&v) {
+            Ok(Side(v))
+        } else {
+            Err(format!(
+                "image side {v}: expected 1 to {MAX_IMAGE_SIDE} pixels"
+            ))
+        }
+    }
+}
+
+impl From<Side> for u32 {
+    fn from(s: Side) -> u32 {
+        s.0
+    }
+}
+
+/// Object placement: scale, then rotations about x, y, z (degrees), then translation.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Transform {
+    pub translate: [f64; 3],
+    pub rotate_deg: [f64; 3],
+    pub scale: f64,
+}
+
+impl Default for Transform {
+    fn default() -> Self {
+        Transform {
+            translate: [0.0; 3],
+            rotate_deg: [0.0; 3],
+            scale: 1.0,
+        }
+    }
+}
+
+impl Transform {
+    pub fn matrix(&self) -> glam::DMat4 {
+        let [rx, ry, rz] = self.rotate_deg.map(f64::to_radians);
+        glam::DMat4::from_translation(self.translate.into())
+            * glam::DMat4::from_rotation_z(rz)
+            * glam::DMat4::from_rotation_y(ry)
+            * glam::DMat4::from_rotation_x(rx)
+            * glam::DMat4::from_scale(glam::DVec3::splat(self.scale))
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneConfig {
+    pub width: Side,
+    pub height: Side,
+    pub mesh: MeshSpec,
+    #[serde(default)]
+    pub model: Transform,
+    pub camera: Camera,
+    pub lights: Vec<Light>,
+    #[serde(default)]
+    pub material: Material,
+    pub bump: BumpSpec,
+    /// Optional colour texture (PNG, relative to the config file).
+    #[serde(default)]
+    pub color_texture: Option<String>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields, default)]
+pub struct ReferenceConfig {
+    pub perturbation: Perturbation,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SimConfig {
+    /// Depth of the FIFO between two units (1 to 64).
+    pub fifo_depth: u32,
+}
+
+impl Default for SimConfig {
+    fn default() -> Self {
+        SimConfig { fifo_depth: 2 }
+    }
+}
+
+/// Where a per-vertex attribute comes from; the geometry engine computes it in f64 and sends
+/// it to the rasterizer in the attribute's encoding (that is what the packet counts).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum AttrSource {
+    /// Texture coordinates (u, v).
+    Uv,
+    /// Unit direction toward light i in the vertex's tangent frame (T, B, N) (§3.4).
+    TangentLight(usize),
+    /// Unit half vector of light i and the viewer in the tangent frame (§3.4).
+    TangentHalf(usize),
+    /// The Gouraud colour: lights with `bump: false` evaluated per vertex (§5.4.1).
+    Gouraud,
+}
+
+impl AttrSource {
+    pub fn lanes(&self) -> u8 {
+        match self {
+            AttrSource::Uv => 2,
+            _ => 3,
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AttributeConfig {
+    pub name: String,
+    pub source: AttrSource,
+    /// Encoding of each lane, at the vertices and after interpolation.
+    pub enc: Encoding,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UnitConfig {
+    /// Instance name; outputs are referred to as `name.port`.
+    pub name: String,
+    pub unit: UnitSpec,
+    /// Input port -> signal (`attribute` or `unit.port`).
+    pub inputs: BTreeMap<String, String>,
+    /// Optional declared bits per lane of inputs; a mismatch with the wired signal is an error.
+    #[serde(default)]
+    pub expect: BTreeMap<String, u32>,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EngineConfig {
+    pub attributes: Vec<AttributeConfig>,
+    pub units: Vec<UnitConfig>,
+    /// The 3-lane signal written to the frame buffer.
+    pub output: String,
+}
+
+/// A loaded config with where it came from.
+#[derive(Debug, Clone)]
+pub struct Loaded {
+    pub config: Config,
+    pub path: PathBuf,
+    /// Directory that relative file names in the config are resolved against.
+    pub base_dir: PathBuf,
+    pub text: String,
+    pub hash: String,
+}
+
+impl Loaded {
+    /// An error about a field of this config, located at the first occurrence of `needle`.
+    pub fn error(&self, field: &str, needle: &str, message: impl Into<String>) -> InputError {
+        InputError::new(self.path.display().to_string(), field, message)
+            .at(locate(&self.text, needle))
+    }
+}
+
+fn ron_options() -> ron::Options {
+    ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
+}
+
+/// Parse RON text into a config, with the path of the failing field and its position.
+pub fn parse(text: &str, file: &str) -> Result<Config, InputError> {
+    let opts = ron_options();
+    let mut de = ron::Deserializer::from_str_with_options(text, &opts).map_err(|e| {
+        InputError::new(file, "", e.code.to_string())
+            .at(Some((e.span.start.line, e.span.start.col)))
+    })?;
+    let result: Result<Config, _> = serde_path_to_error::deserialize(&mut de);
+    match result {
+        Ok(c) => {
+            de.end().map_err(|e| {
+                let s = de.span_error(e);
+                InputError::new(file, "", s.code.to_string())
+                    .at(Some((s.span.start.line, s.span.start.col)))
+            })?;
+            Ok(c)
+        }
+        Err(e) => {
+            let field = e.path().to_string();
+            let s = de.span_error(e.into_inner());
+            let field = if field == "." { String::new() } else { field };
+            Err(InputError::new(file, field, s.code.to_string())
+                .at(Some((s.span.start.line, s.span.start.col))))
+        }
+    }
+}
+
+/// Canonical RON text of a config (used for the hash).
+pub fn canonical(config: &Config) -> String {
+    ron::ser::to_string(config).expect("a parsed config serialises")
+}
+
+/// Load a config file, apply `--set` overrides and validate it.
+pub fn load(path: &Path, sets: &[String]) -> Result<Loaded, InputError> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| InputError::new(&file, "", format!("cannot read the config: {e}")))?;
+    let mut config = parse(&text, &file)?;
+    if !sets.is_empty() {
+        config = overrides::apply(&config, sets)?;
+    }
+    let hash = hex(&Sha256::digest(canonical(&config).as_bytes()));
+    let base_dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    let loaded = Loaded {
+        config,
+        path: path.to_path_buf(),
+        base_dir,
+        text,
+        hash,
+    };
+    validate(&loaded)?;
+    Ok(loaded)
+}
+
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// Checks that span fields: lights, FIFO depth, attribute names and light indices.
+fn validate(l: &Loaded) -> Result<(), InputError> {
+    let c = &l.config;
+    for (i, light) in c.scene.lights.iter().enumerate() {
+        light
+            .validate(&format!("scene.lights[{i}]"))
+            .map_err(|e| l.error(&format!("scene.lights[{i}]"), "lights", e.to_string()))?;
+    }
+    c.scene
+        .camera
+        .validate("scene.camera")
+        .map_err(|e| l.error("scene.camera", "camera", e.to_string()))?;
+    let m = &c.scene.material;
+    if !(m.shininess.is_finite() && m.shininess > 0.0) {
+        return Err(l.error(
+            "scene.material.shininess",
+            "shininess",
+            format!("expected a number above 0, found {}", m.shininess),
+        ));
+    }
+    for (name, v) in [
+        ("ambient", m.ambient),
+        ("diffuse", m.diffuse),
+        ("specular", m.specular),
+    ] {
+        if v.iter().any(|x| !(0.0..=1.0).contains(x)) {
+            return Err(l.error(
+                &format!("scene.material.{name}"),
+                name,
+                format!("expected values in [0, 1], found {v:?}"),
+            ));
+        }
+    }
+    if !(1..=64).contains(&c.sim.fifo_depth) {
+        return Err(l.error(
+            "sim.fifo_depth",
+            "fifo_depth",
+            format!("expected 1 to 64, found {}", c.sim.fifo_depth),
+        ));
+    }
+    c.raster
+        .validate("raster")
+        .map_err(|e| l.error("raster", "raster", e))?;
+    let n = c.scene.lights.len();
+    let mut seen = std::collections::BTreeSet::new();
+    for (i, a) in c.engine.attributes.iter().enumerate() {
+        let field = format!("engine.attributes[{i}]");
+        if !seen.insert(a.name.as_str()) || a.name.contains('.') {
+            return Err(l.error(
+                &format!("{field}.name"),
+                &format!("\"{}\"", a.name),
+                format!(
+                    "attribute name {:?}: expected a unique name without '.'",
+                    a.name
+                ),
+            ));
+        }
+        if let AttrSource::TangentLight(k) | AttrSource::TangentHalf(k) = a.source {
+            if k >= n {
+                return Err(l.error(
+                    &format!("{field}.source"),
+                    &format!("\"{}\"", a.name),
+                    format!(
+                        "light index {k}: the scene has {n} lights (expected 0 to {})",
+                        n.saturating_sub(1)
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,189 @@
+//! The geometry engine's per-vertex attributes and the rasterizer's attribute interpolator.
+//!
+//! Attributes are computed per vertex in f64 (world space), sent to the rasterizer in their
+//! configured encoding, and interpolated per fragment with the rasterizer's perspective-correct
+//! barycentrics. In bit-accurate mode the vertex values are rounded to the encoding's grid
+//! (what the triangle packet carries) and the interpolated value is encoded again (the
+//! interpolator's output register); wrap-around (for repeating texture coordinates) applies
+//! only to the interpolated value, so a triangle spanning a wrap boundary interpolates
+//! correctly. In exact mode neither rounding happens.
+
+use crate::config::{AttrSource, AttributeConfig};
+use crate::scene::{Light, Scene};
+use bumpsim_hw::{Codec, Encoding, Mode, Word};
+use glam::{DMat3, DVec3, DVec4};
+
+/// A vertex's tangent frame in world space: T along Pu, B completing a frame that follows the
+/// parameterisation's handedness, N the shading normal.
+#[derive(Debug, Clone, Copy)]
+pub struct Frame {
+    pub t: DVec3,
+    pub b: DVec3,
+    pub n: DVec3,
+}
+
+impl Frame {
+    pub fn new(n: DVec3, pu: DVec3, pv: DVec3) -> Frame {
+        let n = n.normalize();
+        let t = pu - pu.dot(n) * n;
+        let t = if t.length_squared() > 1e-24 {
+            t.normalize()
+        } else {
+            n.any_orthonormal_vector()
+        };
+        let mut b = n.cross(t);
+        if pu.cross(pv).dot(n) < 0.0 {
+            b = -b;
+        }
+        Frame { t, b, n }
+    }
+    pub fn to_local(&self, v: DVec3) -> [f64; 3] {
+        [v.dot(self.t), v.dot(self.b), v.dot(self.n)]
+    }
+}
+
+/// Per-vertex values of every attribute, and the clip-space positions.
+pub struct VertexData {
+    pub clip: Vec<DVec4>,
+    /// `values[attribute][vertex]`, lanes beyond the attribute's count are 0.
+    pub values: Vec<Vec<[f64; 4]>>,
+}
+
+/// Run the geometry engine over the scene's vertices.
+pub fn compute(scene: &Scene, attrs: &[AttributeConfig]) -> VertexData {
+    let m = scene.model;
+    let m3 = DMat3::from_mat4(m);
+    let nm = m3.inverse().transpose();
+    let aspect = scene.width as f64 / scene.height as f64;
+    let vp = scene.camera.proj(aspect) * scene.camera.view();
+    let eye = scene.camera.eye();
+    let verts = &scene.mesh.vertices;
+    let clip = verts.iter().map(|v| vp * m * v.pos.extend(1.0)).collect();
+    let values = attrs
+        .iter()
+        .map(|a| {
+            verts
+                .iter()
+                .map(|v| {
+                    let p = m.transform_point3(v.pos);
+                    let frame = Frame::new(nm * v.normal, m3 * v.pu, m3 * v.pv);
+                    let view = (eye - p).normalize();
+                    let v3 = |x: [f64; 3]| [x[0], x[1], x[2], 0.0];
+                    match a.source {
+                        AttrSource::Uv => [v.uv.x, v.uv.y, 0.0, 0.0],
+                        AttrSource::TangentLight(i) => {
+                            v3(frame.to_local(scene.lights[i].dir_from(p)))
+                        }
+                        AttrSource::TangentHalf(i) => {
+                            let l = scene.lights[i].dir_from(p);
+                            v3(frame.to_local((l + view).normalize_or_zero()))
+                        }
+                        AttrSource::Gouraud => v3(gouraud(scene, frame.n, p, view).to_array()),
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    VertexData { clip, values }
+}
+
+/// The Gouraud colour at a vertex: the lights that do not take part in bump mapping,
+/// evaluated with the vertex normal (Ernst et al. §5.4.1).
+pub fn gouraud(scene: &Scene, n: DVec3, p: DVec3, view: DVec3) -> DVec3 {
+    let mat = &scene.material;
+    let mut c = DVec3::ZERO;
+    for light in scene.lights.iter().filter(|l| !l.bump) {
+        c += light_term(
+            light,
+            n,
+            p,
+            view,
+            mat.diffuse.into(),
+            mat.specular.into(),
+            mat.shininess,
+        );
+    }
+    c
+}
+
+/// One light's diffuse and specular contribution (Blinn-Phong).
+pub fn light_term(
+    light: &Light,
+    n: DVec3,
+    p: DVec3,
+    view: DVec3,
+    kd: DVec3,
+    ks: DVec3,
+    shininess: f64,
+) -> DVec3 {
+    let l = light.dir_from(p);
+    let nl = n.dot(l);
+    if nl <= 0.0 {
+        return DVec3::ZERO;
+    }
+    let h = (l + view).normalize_or_zero();
+    light.color() * (kd * nl + ks * n.dot(h).max(0.0).powf(shininess))
+}
+
+/// Round a value to an encoding's grid without applying its overflow mode.
+pub fn to_grid(enc: &Encoding, x: f64) -> f64 {
+    match enc.codec {
+        Codec::Fixed => {
+            let s = enc.format.lsb();
+            (x / s).round() * s
+        }
+        _ => enc.decode(enc.encode(x)),
+    }
+}
+
+/// Interpolate one attribute at a fragment.
+pub fn interpolate(
+    mode: Mode,
+    enc: &Encoding,
+    lanes: usize,
+    v: [&[f64; 4]; 3],
+    bary: [f64; 3],
+) -> Word {
+    let mut xs = [0.0; 4];
+    for (l, x) in xs.iter_mut().enumerate().take(lanes) {
+        *x = match mode {
+            Mode::Exact => bary[0] * v[0][l] + bary[1] * v[1][l] + bary[2] * v[2][l],
+            Mode::BitAccurate => (0..3).map(|k| bary[k] * to_grid(enc, v[k][l])).sum(),
+        };
+    }
+    Word::for_mode(mode, enc, &xs[..lanes])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use bumpsim_hw::{Format, Overflow, Quant};
+
+    #[test]
+    fn frames_are_orthonormal_and_follow_handedness() {
+        let f = Frame::new(DVec3::Z, DVec3::new(2.0, 0.0, 0.3), DVec3::Y);
+        assert!((f.t - DVec3::X).length() < 1e-12);
+        assert!((f.b - DVec3::Y).length() < 1e-12);
+        let g = Frame::new(DVec3::Z, DVec3::X, -DVec3::Y);
+        assert!((g.b + DVec3::Y).length() < 1e-12);
+        assert_eq!(f.to_local(DVec3::new(0.0, 0.6, 0.8)), [0.0, 0.6, 0.8]);
+    }
+
+    #[test]
+    fn bit_accurate_interpolation_wraps_only_the_result() {
+        let enc = Encoding {
+            format: Format::u(8, 4),
+            codec: Codec::Fixed,
+            quant: Quant::Rnd,
+            overflow: Overflow::Wrap,
+        };
+        // vertices at u = 15.5 and 16.5 (the second is beyond the 4 integer bits)
+        let (a, b) = ([15.5, 0.0, 0.0, 0.0], [16.5, 0.0, 0.0, 0.0]);
+        let w = interpolate(Mode::BitAccurate, &enc, 1, [&a, &b, &b], [0.25, 0.75, 0.0]);
+        // 16.25 wraps to 0.25
+        assert_eq!(w.lanes[0].raw, 4);
+        assert_eq!(w.lanes[0].x, 0.25);
+        let e = interpolate(Mode::Exact, &enc, 1, [&a, &b, &b], [0.25, 0.75, 0.0]);
+        assert_eq!(e.lanes[0].x, 16.25);
+    }
+}

@@ -1,0 +1,292 @@
+//! An engine: hardware units wired by a config into a pipeline.
+//!
+//! Wiring names signals: attributes by their name, unit outputs as `unit.port`. The units form
+//! a DAG; it is checked for cycles and laid out in a topological order (config order among
+//! independent units) as a chain of clocked stages. Every signal has a slot in the token a
+//! fragment carries down the chain, so a unit may read any earlier unit's output (a dependent
+//! lookup, a texture shader stage reading an earlier stage): this is how fixed-function pipes
+//! carry values in their pipeline registers. See docs/ARCHITECTURE.md.
+
+pub mod attributes;
+pub mod units;
+
+use crate::config::{AttributeConfig, InputError, Loaded};
+use crate::raster::packet::{Field, PacketLayout};
+use crate::scene::Scene;
+use bumpsim_hw::{GateBudget, Mode, PortSpec, Stage};
+use std::collections::{BTreeMap, BTreeSet};
+use units::BuildCtx;
+
+/// A signal: where it lives in the token and what it carries.
+#[derive(Debug, Clone)]
+pub struct Signal {
+    pub name: String,
+    pub slot: usize,
+    pub spec: PortSpec,
+}
+
+/// A wired engine, ready to simulate.
+pub struct Engine {
+    pub stages: Vec<Stage>,
+    pub signals: Vec<Signal>,
+    pub attributes: Vec<AttributeConfig>,
+    /// Slot of the colour written to the frame buffer.
+    pub output: Signal,
+    /// Bits per texel of each texture the units hold (unit name, bits).
+    pub texels: Vec<(String, u32)>,
+    pub gates: Vec<(String, GateBudget)>,
+}
+
+impl Engine {
+    pub fn slots(&self) -> usize {
+        self.signals.len()
+    }
+
+    /// Triangle packet from geometry to rasterizer: per vertex x, y, z and 1/w as 32-bit words
+    /// (as the baseline) plus every attribute in its encoding.
+    pub fn packet(&self) -> PacketLayout {
+        let mut per_vertex: Vec<Field> = ["x", "y", "z", "1/w"]
+            .iter()
+            .map(|n| Field {
+                name: n.to_string(),
+                lanes: 1,
+                bits: 32,
+            })
+            .collect();
+        per_vertex.extend(self.attributes.iter().map(|a| Field {
+            name: a.name.clone(),
+            lanes: a.source.lanes() as u32,
+            bits: a.enc.width(),
+        }));
+        PacketLayout {
+            per_vertex,
+            per_triangle: vec![],
+        }
+    }
+}
+
+/// Build the engine of a loaded config for `scene`, with every unit in `mode`.
+pub fn build(l: &Loaded, scene: &Scene, mode: Mode) -> Result<Engine, InputError> {
+    let cfg = &l.config.engine;
+    let ctx = BuildCtx { scene };
+    let mut signals: Vec<Signal> = cfg
+        .attributes
+        .iter()
+        .enumerate()
+        .map(|(slot, a)| Signal {
+            name: a.name.clone(),
+            slot,
+            spec: PortSpec::new(&a.name, a.source.lanes(), a.enc),
+        })
+        .collect();
+    let unit_names: BTreeMap<&str, usize> = cfg
+        .units
+        .iter()
+        .enumerate()
+        .map(|(i, u)| (u.name.as_str(), i))
+        .collect();
+    for (i, u) in cfg.units.iter().enumerate() {
+        let field = format!("engine.units[{i}].name");
+        let needle = format!("\"{}\"", u.name);
+        if u.name.is_empty() || u.name.contains('.') || unit_names[u.name.as_str()] != i {
+            return Err(l.error(
+                &field,
+                &needle,
+                format!("unit name {:?}: expected a unique name without '.'", u.name),
+            ));
+        }
+        if signals.iter().any(|s| s.name == u.name) {
+            return Err(l.error(
+                &field,
+                &needle,
+                format!(
+                    "unit name {:?} is also an attribute name: expected distinct names",
+                    u.name
+                ),
+            ));
+        }
+    }
+    let order = topo_order(l)?;
+    let mut stages = Vec::new();
+    let mut texels = Vec::new();
+    let mut gates = Vec::new();
+    for i in order {
+        let u = &cfg.units[i];
+        let field = format!("engine.units[{i}]");
+        let needle = format!("\"{}\"", u.name);
+        let err = |f: &str, m: String| l.error(&format!("{field}.{f}"), &needle, m);
+        let names = u.unit.input_names(&ctx);
+        for port in u.inputs.keys().chain(u.expect.keys()) {
+            if !names.contains(port) {
+                return Err(err(
+                    "inputs",
+                    format!(
+                        "unit {:?} has no input port {port:?}: expected {}",
+                        u.name,
+                        names.join(", ")
+                    ),
+                ));
+            }
+        }
+        let mut ins = BTreeMap::new();
+        for port in &names {
+            let src = u.inputs.get(port).ok_or_else(|| {
+                err(
+                    "inputs",
+                    format!(
+                        "input port {port:?} of unit {:?} is not wired: expected a signal",
+                        u.name
+                    ),
+                )
+            })?;
+            let sig = signals.iter().find(|s| &s.name == src).ok_or_else(|| {
+                let known: Vec<&str> = signals.iter().map(|s| s.name.as_str()).collect();
+                err(
+                    &format!("inputs.{port}"),
+                    format!("no signal {src:?}: expected one of {}", known.join(", ")),
+                )
+            })?;
+            if let Some(&w) = u.expect.get(port) {
+                if w != sig.spec.enc.width() {
+                    return Err(err(&format!("expect.{port}"), format!("port width mismatch: {}.{port} expects {w} bits per lane, {src} carries {}", u.name, sig.spec.enc.width())));
+                }
+            }
+            ins.insert(port.clone(), sig.spec.clone());
+        }
+        let unit = u.unit.build(&ins, &ctx).map_err(|m| err("unit", m))?;
+        let mut in_slots = Vec::new();
+        for p in unit.inputs() {
+            let src = &u.inputs[&p.name];
+            let sig = signals
+                .iter()
+                .find(|s| &s.name == src)
+                .expect("resolved above");
+            if sig.spec.lanes != p.lanes {
+                return Err(err(
+                    &format!("inputs.{}", p.name),
+                    format!(
+                        "port {} takes {} lanes, {src} carries {}",
+                        p.name, p.lanes, sig.spec.lanes
+                    ),
+                ));
+            }
+            if sig.spec.enc != p.enc {
+                return Err(err(
+                    &format!("inputs.{}", p.name),
+                    format!("port width mismatch: {}.{} is {} ({} bits per lane) but {src} carries {} ({} bits); every vector input of one unit must share a format", u.name, p.name, p.enc, p.enc.width(), sig.spec.enc, sig.spec.enc.width()),
+                ));
+            }
+            in_slots.push(sig.slot);
+        }
+        let mut out_slots = Vec::new();
+        for p in unit.outputs() {
+            let slot = signals.len();
+            signals.push(Signal {
+                name: format!("{}.{}", u.name, p.name),
+                slot,
+                spec: p.clone(),
+            });
+            out_slots.push(slot);
+        }
+        if let Some(bits) = texel_bits(&u.unit) {
+            texels.push((u.name.clone(), bits));
+        }
+        gates.push((u.name.clone(), unit.gates(&l.config.cost)));
+        stages.push(Stage::new(u.name.clone(), unit, in_slots, out_slots, mode));
+    }
+    let output = signals
+        .iter()
+        .find(|s| s.name == cfg.output)
+        .cloned()
+        .ok_or_else(|| {
+            l.error(
+                "engine.output",
+                &format!("\"{}\"", cfg.output),
+                format!(
+                    "no signal {:?}: expected a unit output such as shade.color",
+                    cfg.output
+                ),
+            )
+        })?;
+    if output.spec.lanes != 3 {
+        return Err(l.error(
+            "engine.output",
+            &format!("\"{}\"", cfg.output),
+            format!(
+                "signal {:?} has {} lanes: expected an RGB signal of 3",
+                cfg.output, output.spec.lanes
+            ),
+        ));
+    }
+    Ok(Engine {
+        stages,
+        signals,
+        attributes: cfg.attributes.clone(),
+        output,
+        texels,
+        gates,
+    })
+}
+
+fn texel_bits(spec: &units::UnitSpec) -> Option<u32> {
+    match spec {
+        units::UnitSpec::TexFetch {
+            source: units::TextureSource::BumpNormals { .. },
+            texel,
+            ..
+        } => Some(3 * texel.width()),
+        units::UnitSpec::TexFetch { texel, .. } | units::UnitSpec::EmbossFilter { texel, .. } => {
+            Some(texel.width())
+        }
+        _ => None,
+    }
+}
+
+/// Units in dependency order (config order among independent ones); a cycle is an error.
+fn topo_order(l: &Loaded) -> Result<Vec<usize>, InputError> {
+    let units = &l.config.engine.units;
+    let index: BTreeMap<&str, usize> = units
+        .iter()
+        .enumerate()
+        .map(|(i, u)| (u.name.as_str(), i))
+        .collect();
+    let deps: Vec<BTreeSet<usize>> = units
+        .iter()
+        .map(|u| {
+            u.inputs
+                .values()
+                .filter_map(|s| {
+                    s.split_once('.')
+                        .and_then(|(unit, _)| index.get(unit).copied())
+                })
+                .collect()
+        })
+        .collect();
+    let mut done = vec![false; units.len()];
+    let mut order = Vec::new();
+    while order.len() < units.len() {
+        let next = (0..units.len()).find(|&i| !done[i] && deps[i].iter().all(|&d| done[d]));
+        match next {
+            Some(i) => {
+                done[i] = true;
+                order.push(i);
+            }
+            None => {
+                let stuck: Vec<&str> = (0..units.len())
+                    .filter(|&i| !done[i])
+                    .map(|i| units[i].name.as_str())
+                    .collect();
+                let first = stuck[0];
+                return Err(l.error(
+                    "engine.units",
+                    &format!("\"{first}\""),
+                    format!(
+                        "the wiring has a cycle among units {}: expected a DAG",
+                        stuck.join(", ")
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(order)
+}

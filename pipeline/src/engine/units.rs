@@ -1,0 +1,411 @@
+//! The unit catalogue: each config variant builds one hardware unit of `bumpsim-hw`.
+//!
+//! A unit takes the encodings of its inputs from the signals wired to them (so changing a width
+//! upstream propagates), and states its own output encodings. Adding a unit to bumpsim means
+//! writing it in `hw/src/units/` and adding a variant here; the simulator does not change.
+
+use crate::scene::{NormalMethod, Scene};
+use bumpsim_hw::units::{
+    Clamp, Dot3, EmbossFilter, Filter, Normalize, PowerTable, Shade, ShadeInputs, ShadeParams,
+    TexFetch, Texels,
+};
+use bumpsim_hw::{Codec, Encoding, Format, PortSpec, Unit};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// What a texel fetch unit reads.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum TextureSource {
+    /// The scene's bump map as a tangent-space normal map of `size` x `size` texels, baked by
+    /// `method` (from heights) or resampled (from a normal PNG).
+    BumpNormals { size: u32, method: NormalMethod },
+    /// The scene's bump map as heights in [0, 1] (normalised to the map's range).
+    BumpHeights { size: u32 },
+}
+
+fn default_ports() -> u32 {
+    4
+}
+fn default_latency() -> u32 {
+    4
+}
+fn one() -> u32 {
+    1
+}
+fn default_weight_bits() -> u32 {
+    8
+}
+fn yes() -> bool {
+    true
+}
+
+/// A hardware unit and its parameters, as written in a config.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum UnitSpec {
+    /// Texel fetch and filter (`hw/src/units/fetch.rs`).
+    TexFetch {
+        source: TextureSource,
+        texel: Encoding,
+        #[serde(default)]
+        filter: Filter,
+        #[serde(default = "default_weight_bits")]
+        weight_bits: u32,
+        #[serde(default = "default_ports")]
+        ports: u32,
+        #[serde(default = "default_latency")]
+        mem_latency: u32,
+        out: Encoding,
+    },
+    /// Dot products of `a` with `count` vectors `b0..` (`hw/src/units/dot3.rs`).
+    Dot3 {
+        count: u32,
+        #[serde(default = "one")]
+        parallel: u32,
+        #[serde(default)]
+        clamp: Clamp,
+        out: Encoding,
+    },
+    /// `x^n` through a loadable table (`hw/src/units/power.rs`). `shininess` defaults to the
+    /// scene material's.
+    PowerTable {
+        count: u32,
+        index_bits: u32,
+        value_bits: u32,
+        #[serde(default)]
+        shininess: Option<f64>,
+        #[serde(default = "one")]
+        parallel: u32,
+    },
+    /// `v / |v|` through a reciprocal square root table (`hw/src/units/normalize.rs`).
+    Normalize {
+        table_bits: u32,
+        value_bits: u32,
+        out: Encoding,
+    },
+    /// Light combiner (`hw/src/units/shade.rs`) over the scene's bump lights.
+    Shade {
+        #[serde(default = "yes")]
+        specular: bool,
+        /// Use a `base` colour input (a texel) instead of white.
+        #[serde(default)]
+        base: bool,
+        /// Add a `src` colour input (the Gouraud colour).
+        #[serde(default)]
+        src: bool,
+        #[serde(default = "one")]
+        parallel: u32,
+        coef: Encoding,
+        out: Encoding,
+    },
+    /// Schlag's 3x3 emboss masks over the bump heights (`hw/src/units/emboss.rs`).
+    EmbossFilter {
+        size: u32,
+        texel: Encoding,
+        /// Schlag's bevel width `w` (N_z = 6 * 255 / w). Left out, it is chosen so that the
+        /// filter reproduces the height field's true slope: `w = (F_max - F_min) * size`.
+        #[serde(default)]
+        bevel_w: Option<f64>,
+        #[serde(default = "default_ports")]
+        ports: u32,
+        #[serde(default = "default_latency")]
+        mem_latency: u32,
+        out: Encoding,
+    },
+}
+
+/// What a unit's build may read of the scene.
+pub struct BuildCtx<'a> {
+    pub scene: &'a Scene,
+}
+
+impl BuildCtx<'_> {
+    /// Indices of the lights the bump engine shades with.
+    pub fn bump_lights(&self) -> Vec<usize> {
+        self.scene
+            .lights
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| l.bump)
+            .map(|(i, _)| i)
+            .collect()
+    }
+}
+
+fn seq(prefix: &str, n: u32) -> Vec<String> {
+    (0..n).map(|i| format!("{prefix}{i}")).collect()
+}
+
+fn check_size(size: u32) -> Result<(), String> {
+    if size.is_power_of_two() && (1..=4096).contains(&size) {
+        Ok(())
+    } else {
+        Err(format!(
+            "size {size}: expected a power of two from 1 to 4096"
+        ))
+    }
+}
+
+fn input<'a>(ins: &'a BTreeMap<String, PortSpec>, name: &str) -> Result<&'a PortSpec, String> {
+    ins.get(name)
+        .ok_or_else(|| format!("input {name:?} is not wired"))
+}
+
+impl UnitSpec {
+    /// Names of the input ports this unit will have, for wiring before it is built.
+    pub fn input_names(&self, ctx: &BuildCtx) -> Vec<String> {
+        match self {
+            UnitSpec::TexFetch { .. } | UnitSpec::EmbossFilter { .. } => vec!["uv".into()],
+            UnitSpec::Dot3 { count, .. } => std::iter::once("a".to_string())
+                .chain(seq("b", *count))
+                .collect(),
+            UnitSpec::PowerTable { count, .. } => seq("x", *count),
+            UnitSpec::Normalize { .. } => vec!["v".into()],
+            UnitSpec::Shade {
+                specular,
+                base,
+                src,
+                ..
+            } => {
+                let k = ctx.bump_lights().len() as u32;
+                let mut v = seq("d", k);
+                if *specular {
+                    v.extend(seq("s", k));
+                }
+                if *base {
+                    v.push("base".into());
+                }
+                if *src {
+                    v.push("src".into());
+                }
+                v
+            }
+        }
+    }
+
+    /// Build the unit from the encodings of the signals wired to its inputs.
+    pub fn build(
+        &self,
+        ins: &BTreeMap<String, PortSpec>,
+        ctx: &BuildCtx,
+    ) -> Result<Box<dyn Unit>, String> {
+        Ok(match self {
+            UnitSpec::TexFetch {
+                source,
+                texel,
+                filter,
+                weight_bits,
+                ports,
+                mem_latency,
+                out,
+            } => {
+                let uv = input(ins, "uv")?.enc;
+                let tex = texels(source, ctx)?;
+                Box::new(TexFetch::new(
+                    uv,
+                    tex,
+                    *texel,
+                    *filter,
+                    *weight_bits,
+                    *ports,
+                    *mem_latency,
+                    *out,
+                )?)
+            }
+            UnitSpec::Dot3 {
+                count,
+                parallel,
+                clamp,
+                out,
+            } => {
+                if !(1..=8).contains(count) {
+                    return Err(format!("count {count}: expected 1 to 8 vectors"));
+                }
+                let a = input(ins, "a")?.enc;
+                let b = input(ins, "b0")?.enc;
+                Box::new(Dot3::new(a, b, *count, *parallel, *clamp, *out))
+            }
+            UnitSpec::PowerTable {
+                count,
+                index_bits,
+                value_bits,
+                shininess,
+                parallel,
+            } => {
+                if !(1..=8).contains(count) {
+                    return Err(format!("count {count}: expected 1 to 8 inputs"));
+                }
+                if !(1..=16).contains(index_bits) {
+                    return Err(format!("index_bits {index_bits}: expected 1 to 16"));
+                }
+                if !(1..=32).contains(value_bits) {
+                    return Err(format!("value_bits {value_bits}: expected 1 to 32"));
+                }
+                let n = shininess.unwrap_or(ctx.scene.material.shininess);
+                if !(n.is_finite() && n > 0.0) {
+                    return Err(format!("shininess {n}: expected a number above 0"));
+                }
+                let x = input(ins, "x0")?.enc;
+                Box::new(PowerTable::new(
+                    x,
+                    *count,
+                    *index_bits,
+                    *value_bits,
+                    n,
+                    *parallel,
+                ))
+            }
+            UnitSpec::Normalize {
+                table_bits,
+                value_bits,
+                out,
+            } => Box::new(Normalize::new(
+                input(ins, "v")?.enc,
+                *table_bits,
+                *value_bits,
+                *out,
+            )?),
+            UnitSpec::Shade {
+                specular,
+                base,
+                src,
+                parallel,
+                coef,
+                out,
+            } => {
+                let lights = ctx.bump_lights();
+                if lights.is_empty() {
+                    return Err(
+                        "the scene has no light with bump: true: expected at least one".into(),
+                    );
+                }
+                let m = &ctx.scene.material;
+                let params = ShadeParams {
+                    ambient: m.ambient,
+                    diffuse: m.diffuse,
+                    specular: m.specular,
+                    light_colors: lights.iter().map(|&i| ctx.scene.lights[i].color).collect(),
+                };
+                let has = ShadeInputs {
+                    specular: if *specular {
+                        Some(input(ins, "s0")?.enc)
+                    } else {
+                        None
+                    },
+                    base: if *base {
+                        Some(input(ins, "base")?.enc)
+                    } else {
+                        None
+                    },
+                    src: if *src {
+                        Some(input(ins, "src")?.enc)
+                    } else {
+                        None
+                    },
+                };
+                Box::new(Shade::new(
+                    input(ins, "d0")?.enc,
+                    has,
+                    params,
+                    *coef,
+                    *parallel,
+                    *out,
+                ))
+            }
+            UnitSpec::EmbossFilter {
+                size,
+                texel,
+                bevel_w,
+                ports,
+                mem_latency,
+                out,
+            } => {
+                check_size(*size)?;
+                let raw = ctx.scene.bump.bake_heights(*size, *size).ok_or(
+                    "the scene's bump map holds normals, not heights: expected a height map",
+                )?;
+                let (lo, hi) = raw
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+                        (a.min(x), b.max(x))
+                    });
+                let w = bevel_w.unwrap_or(if hi > lo {
+                    (hi - lo) * *size as f64
+                } else {
+                    1.0
+                });
+                let h = normalise_heights(&raw);
+                Box::new(EmbossFilter::new(
+                    input(ins, "uv")?.enc,
+                    h,
+                    *size,
+                    *size,
+                    *texel,
+                    w,
+                    *ports,
+                    *mem_latency,
+                    *out,
+                )?)
+            }
+        })
+    }
+}
+
+/// Heights rescaled to [0, 1] over the map's range (a constant map becomes 0.5).
+fn normalise_heights(h: &[f64]) -> Vec<f64> {
+    let (lo, hi) = h
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+            (a.min(x), b.max(x))
+        });
+    if hi - lo < 1e-300 {
+        return vec![0.5; h.len()];
+    }
+    h.iter().map(|x| (x - lo) / (hi - lo)).collect()
+}
+
+fn texels(source: &TextureSource, ctx: &BuildCtx) -> Result<Texels, String> {
+    match *source {
+        TextureSource::BumpNormals { size, method } => {
+            check_size(size)?;
+            let nm = ctx.scene.bump.bake_normals(size, size, method);
+            let values = nm.texels.iter().map(|n| [n.x, n.y, n.z, 0.0]).collect();
+            Ok(Texels {
+                width: size,
+                height: size,
+                lanes: 3,
+                values,
+            })
+        }
+        TextureSource::BumpHeights { size } => {
+            check_size(size)?;
+            let h =
+                ctx.scene.bump.bake_heights(size, size).ok_or(
+                    "the scene's bump map holds normals, not heights: expected a height map",
+                )?;
+            let values = normalise_heights(&h)
+                .into_iter()
+                .map(|x| [x, 0.0, 0.0, 0.0])
+                .collect();
+            Ok(Texels {
+                width: size,
+                height: size,
+                lanes: 1,
+                values,
+            })
+        }
+    }
+}
+
+/// The encoding of an 8-bit frame-buffer channel.
+pub fn rgb8() -> Encoding {
+    Encoding::texel(Codec::UnitUnsigned, false, 8)
+}
+
+/// A plain signed fixed-point encoding (for tests and defaults).
+pub fn fixed(signed: bool, width: u8, frac: u8) -> Encoding {
+    Encoding::fixed(Format {
+        signed,
+        width,
+        frac,
+    })
+}

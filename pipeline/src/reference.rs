@@ -1,0 +1,271 @@
+//! The float reference: Blinn bump mapping evaluated per pixel in f64, independent of any
+//! engine code. Every engine in bumpsim approximates this image. See `docs/reference.md`.
+//!
+//! The pipeline of [`render_reference`]:
+//!
+//! 1. **Coverage and visibility** — clip positions `proj · view · model · pos`; the
+//!    hardware rasterizer ([`crate::raster::rasterize`]) decides only *which triangle wins
+//!    each pixel*. The barycentrics are then recomputed exactly in f64 at the pixel centre
+//!    from the unsnapped clip-space vertices ([`pixel_barycentrics`]), so the reference does
+//!    not inherit the rasterizer's sub-pixel snapping.
+//! 2. **Surface point** — object-space `P`, `N`, `Pu`, `Pv`, `uv` interpolated with those
+//!    barycentrics and taken to world space ([`surface_point`]).
+//! 3. **Perturbed normal** — Blinn 1978 as given in Ernst et al. 1998 §2, optionally with
+//!    Lingard 1995's scale-invariant `D'`; tangent-space normal maps in the `(T, B, N)` frame
+//!    of Ernst et al. 1998 §3.4 ([`perturbed_normal`]).
+//! 4. **Lighting** — ambient + per-light diffuse and Blinn–Phong specular, every vector
+//!    exact per pixel ([`shade`]).
+//! 5. **Assembly** — rows in parallel with rayon; each pixel is a pure function of the scene,
+//!    so the image is bit-identical at any thread count.
+
+mod perturb;
+mod shade;
+#[cfg(test)]
+mod tests;
+
+use glam::{DMat3, DMat4, DVec2, DVec3, DVec4};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::raster::{rasterize, RasterConfig};
+use crate::scene::{Mesh, Scene};
+
+pub use perturb::{perturb_height, perturb_normal_map, perturbed_normal, tangent_frame};
+pub use shade::{base_color, shade, shade_with_view, view_vector};
+
+/// How a height-field gradient perturbs the normal.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum Perturbation {
+    /// Blinn 1978 (Ernst et al. 1998 §2): `N' = N + D`,
+    /// `D = (Fu (N × Pv) + Fv (Pu × N)) / |N|`, `N = Pu × Pv`. Exactly the normal of the
+    /// displaced surface `P + F n̂` to first order; the visible bump slope therefore scales
+    /// with `1 / |Pu|`, `1 / |Pv|` (Lingard: scaling the surface by 2 scales `N` by 4 but `D`
+    /// only by 2, smoothing the wrinkles).
+    Blinn,
+    /// Lingard 1995's scale-invariant perturbation `D' = sqrt(Fu² + Fv²) · D · |N| / |D|`:
+    /// the direction of Blinn's `D`, with `|D'| / |N| = |∇F|` whatever the parameterisation
+    /// scale, so the bumps look the same on a surface of any size.
+    #[default]
+    ScaleInvariant,
+}
+
+/// The reference image.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReferenceImage {
+    pub width: u32,
+    pub height: u32,
+    /// Linear RGB per pixel, row-major, row 0 at the top; each channel clamped to [0, 1].
+    /// Black where uncovered.
+    pub px: Vec<[f64; 3]>,
+    /// Whether a triangle covers the pixel.
+    pub mask: Vec<bool>,
+    /// World-space perturbed unit normal per pixel, zero where uncovered.
+    pub normals: Vec<[f64; 3]>,
+}
+
+impl ReferenceImage {
+    /// Index of pixel `(x, y)` (y = 0 the top row) in `px`, `mask` and `normals`.
+    pub fn index(&self, x: u32, y: u32) -> usize {
+        y as usize * self.width as usize + x as usize
+    }
+    /// Number of covered pixels.
+    pub fn covered(&self) -> usize {
+        self.mask.iter().filter(|&&m| m).count()
+    }
+}
+
+/// A surface point in world space, at a pixel centre.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfacePoint {
+    /// Position.
+    pub p: DVec3,
+    /// Interpolated smooth unit normal `n̂` (zero only if the interpolation vanishes).
+    pub n: DVec3,
+    /// `∂P/∂u`, `∂P/∂v` (unnormalised).
+    pub pu: DVec3,
+    pub pv: DVec3,
+    /// Texture coordinates (unwrapped).
+    pub uv: DVec2,
+}
+
+/// The model transform split the three ways vectors transform.
+#[derive(Debug, Clone, Copy)]
+struct Transforms {
+    /// Points.
+    model: DMat4,
+    /// Tangent vectors `Pu`, `Pv`: the upper-left 3x3.
+    linear: DMat3,
+    /// Normals: the inverse transpose of `linear`.
+    normal: DMat3,
+}
+
+impl Transforms {
+    fn new(model: DMat4) -> Self {
+        let linear = DMat3::from_mat4(model);
+        Transforms {
+            model,
+            linear,
+            normal: linear.inverse().transpose(),
+        }
+    }
+}
+
+/// Largest distance outside `[0, 1]` accepted for an f64 barycentric at a pixel centre the
+/// rasterizer covered (snapping may cover centres just outside the exact triangle); beyond
+/// it the triangle is treated as degenerate in f64 and the fragment's barycentrics are used.
+pub const BARY_SLACK: f64 = 0.5;
+
+/// Clip-space positions `proj(width / height) · view · model · pos` of the scene's vertices
+/// (step 1).
+pub fn clip_positions(scene: &Scene) -> Vec<DVec4> {
+    let aspect = f64::from(scene.width) / f64::from(scene.height.max(1));
+    let m = scene.camera.proj(aspect) * scene.camera.view() * scene.model;
+    scene
+        .mesh
+        .vertices
+        .iter()
+        .map(|v| m * v.pos.extend(1.0))
+        .collect()
+}
+
+/// Exact perspective-correct barycentrics of the centre of pixel `(x, y)` (`y = 0` the top
+/// row) w.r.t. the clip-space triangle `clip`, in f64, from the *unsnapped* vertices (step 1).
+///
+/// The pixel centre in window coordinates (y up, OpenGL viewport) is
+/// `(x + 0.5, height - y - 0.5)`, in NDC `(px, py)`. Screen-space barycentrics `λ_i`
+/// perspective-corrected with `1 / w_i` give `b_i ∝ λ_i / w_i`; the same `b` solves
+/// `Σ b_i (X_i - px W_i) = 0`, `Σ b_i (Y_i - py W_i) = 0`, `Σ b_i = 1` (the clip-space point
+/// `Σ b_i C_i` projects onto the pixel centre), i.e. `b ∝ r_x × r_y` with
+/// `r_x = (X_i - px W_i)_i`, `r_y = (Y_i - py W_i)_i`. This homogeneous form needs no
+/// division by `w` and stays exact for triangles that cross `w = 0` (near-clipped).
+///
+/// `None` if the triangle is degenerate in f64 (the normalising sum vanishes relative to
+/// `|r_x| |r_y|`, or is not finite) or the centre lies more than [`BARY_SLACK`] outside it.
+pub fn pixel_barycentrics(
+    clip: [DVec4; 3],
+    x: u32,
+    y: u32,
+    width: u32,
+    height: u32,
+) -> Option<DVec3> {
+    if width == 0 || height == 0 {
+        return None;
+    }
+    let wx = f64::from(x) + 0.5;
+    let wy = f64::from(height) - (f64::from(y) + 0.5);
+    let px = 2.0 * wx / f64::from(width) - 1.0;
+    let py = 2.0 * wy / f64::from(height) - 1.0;
+    let rx = DVec3::new(
+        clip[0].x - px * clip[0].w,
+        clip[1].x - px * clip[1].w,
+        clip[2].x - px * clip[2].w,
+    );
+    let ry = DVec3::new(
+        clip[0].y - py * clip[0].w,
+        clip[1].y - py * clip[1].w,
+        clip[2].y - py * clip[2].w,
+    );
+    let c = rx.cross(ry);
+    let s = c.x + c.y + c.z;
+    let scale = rx.length() * ry.length();
+    if !(s.is_finite() && scale.is_finite()) || s.abs() <= 1e-12 * scale {
+        return None;
+    }
+    let b = c / s;
+    let ok = |t: f64| (-BARY_SLACK..=1.0 + BARY_SLACK).contains(&t);
+    (b.is_finite() && ok(b.x) && ok(b.y) && ok(b.z)).then_some(b)
+}
+
+fn interpolate(mesh: &Mesh, xf: &Transforms, tri: [u32; 3], b: DVec3) -> SurfacePoint {
+    let v = tri.map(|i| mesh.vertices[i as usize]);
+    let mix3 =
+        |f: fn(&crate::scene::Vertex) -> DVec3| f(&v[0]) * b.x + f(&v[1]) * b.y + f(&v[2]) * b.z;
+    let p = mix3(|v| v.pos);
+    let n = mix3(|v| v.normal).normalize_or_zero();
+    let pu = mix3(|v| v.pu);
+    let pv = mix3(|v| v.pv);
+    let uv = v[0].uv * b.x + v[1].uv * b.y + v[2].uv * b.z;
+    SurfacePoint {
+        p: xf.model.transform_point3(p),
+        n: (xf.normal * n).normalize_or_zero(),
+        pu: xf.linear * pu,
+        pv: xf.linear * pv,
+        uv,
+    }
+}
+
+/// The world-space surface point of triangle `tri` (an index into `scene.mesh.triangles`)
+/// at barycentrics `bary` (step 2): object-space `P`, `N` (then normalised), `Pu`, `Pv`, `uv`
+/// interpolated linearly; `P` transformed by `model`, `N` by the inverse transpose of its
+/// 3x3 part (then normalised), `Pu`, `Pv` by the 3x3 part.
+pub fn surface_point(scene: &Scene, tri: u32, bary: DVec3) -> SurfacePoint {
+    let xf = Transforms::new(scene.model);
+    interpolate(&scene.mesh, &xf, scene.mesh.triangles[tri as usize], bary)
+}
+
+/// Colour and world normal of one covered pixel.
+fn pixel(
+    scene: &Scene,
+    xf: &Transforms,
+    clip: &[DVec4],
+    (x, y): (u32, u32),
+    (tri, frag_bary): (u32, [f64; 3]),
+    perturbation: Perturbation,
+) -> (DVec3, DVec3) {
+    let t = scene.mesh.triangles[tri as usize];
+    let cl = t.map(|i| clip[i as usize]);
+    let b =
+        pixel_barycentrics(cl, x, y, scene.width, scene.height).unwrap_or(DVec3::from(frag_bary));
+    let sp = interpolate(&scene.mesh, xf, t, b);
+    let n = perturbed_normal(&scene.bump, &sp, perturbation);
+    let v = view_vector(&scene.camera, sp.p);
+    (shade_with_view(n, sp.p, v, sp.uv, scene), n)
+}
+
+/// Blinn bump mapping per pixel in f64, independent of any engine code (steps 1–5 of the
+/// module docs). `raster` is used only for coverage and visibility (the last fragment that
+/// passes the early depth test at a pixel wins).
+pub fn render_reference(
+    scene: &Scene,
+    raster: &RasterConfig,
+    perturbation: Perturbation,
+) -> ReferenceImage {
+    let (w, h) = (scene.width, scene.height);
+    let n_px = w as usize * h as usize;
+    let clip = clip_positions(scene);
+    let out = rasterize(&clip, &scene.mesh.triangles, w, h, raster);
+    let mut winner: Vec<Option<(u32, [f64; 3])>> = vec![None; n_px];
+    for f in &out.fragments {
+        if f.x < w && f.y < h {
+            winner[f.y as usize * w as usize + f.x as usize] = Some((f.tri, f.bary));
+        }
+    }
+    let xf = Transforms::new(scene.model);
+    // Each pixel depends only on the scene and its own winner: rows are computed
+    // independently and collected in order, so the result does not depend on the pool size.
+    let rows: Vec<Vec<Option<(DVec3, DVec3)>>> = (0..h)
+        .into_par_iter()
+        .map(|y| {
+            (0..w)
+                .map(|x| {
+                    winner[y as usize * w as usize + x as usize]
+                        .map(|hit| pixel(scene, &xf, &clip, (x, y), hit, perturbation))
+                })
+                .collect()
+        })
+        .collect();
+    let mut img = ReferenceImage {
+        width: w,
+        height: h,
+        px: Vec::with_capacity(n_px),
+        mask: Vec::with_capacity(n_px),
+        normals: Vec::with_capacity(n_px),
+    };
+    for p in rows.into_iter().flatten() {
+        let (c, n) = p.unwrap_or((DVec3::ZERO, DVec3::ZERO));
+        img.px.push(c.to_array());
+        img.mask.push(p.is_some());
+        img.normals.push(n.to_array());
+    }
+    img
+}

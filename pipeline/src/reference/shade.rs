@@ -1,0 +1,84 @@
+//! Step 4: the lighting model all engines approximate.
+
+use glam::{DVec2, DVec3};
+use image::RgbImage;
+
+use crate::scene::{Camera, Scene};
+
+/// The base (texture) colour at `uv`: bilinear with wrap-around, texel `(i, j)` centred at
+/// `((i + 0.5) / w, (j + 0.5) / h)`, image row 0 at `v` in `[0, 1/h)` (`v` increases down
+/// the image, as for normal maps). PNG values are taken as *linear* `c / 255` (no sRGB
+/// decoding). White without a texture (or for an empty one, or a non-finite `uv`).
+pub fn base_color(texture: Option<&RgbImage>, uv: DVec2) -> DVec3 {
+    let Some(img) = texture else {
+        return DVec3::ONE;
+    };
+    let (w, h) = (img.width(), img.height());
+    if w == 0 || h == 0 || !uv.is_finite() {
+        return DVec3::ONE;
+    }
+    let texel = |i: i64, j: i64| {
+        let i = i.rem_euclid(i64::from(w)) as u32;
+        let j = j.rem_euclid(i64::from(h)) as u32;
+        let p = img.get_pixel(i, j);
+        DVec3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2])) / 255.0
+    };
+    let x = uv.x.rem_euclid(1.0) * f64::from(w) - 0.5;
+    let y = uv.y.rem_euclid(1.0) * f64::from(h) - 0.5;
+    let (x0, y0) = (x.floor(), y.floor());
+    let (fx, fy) = (x - x0, y - y0);
+    let (i, j) = (x0 as i64, y0 as i64);
+    let top = texel(i, j).lerp(texel(i + 1, j), fx);
+    let bottom = texel(i, j + 1).lerp(texel(i + 1, j + 1), fx);
+    top.lerp(bottom, fy)
+}
+
+/// The unit view vector `V` at `p`: `normalize(eye - p)` for a perspective camera; for an
+/// orthographic camera the viewer is at infinity along the view axis, so
+/// `V = normalize(eye - target)`, the same at every pixel.
+pub fn view_vector(camera: &Camera, p: DVec3) -> DVec3 {
+    let to = if camera.ortho_height.is_some() {
+        DVec3::from(camera.target)
+    } else {
+        p
+    };
+    (camera.eye() - to).normalize_or_zero()
+}
+
+/// The lighting model with a local viewer at `eye`: [`shade_with_view`] with
+/// `V = normalize(eye - p)`.
+pub fn shade(n: DVec3, p: DVec3, eye: DVec3, uv: DVec2, scene: &Scene) -> DVec3 {
+    shade_with_view(n, p, (eye - p).normalize_or_zero(), uv, scene)
+}
+
+/// The lighting model all engines approximate, evaluated exactly (Ernst et al. 1998 §4.2's
+/// `fd = N'·L`, `fs = (N'·H)^n`, but with every vector per pixel):
+///
+/// ```text
+/// C = ambient ⊙ base + Σ_i color_i ⊙ (diffuse ⊙ base · max(0, N'·L_i) + specular · s_i)
+/// s_i = max(0, N'·H_i)^shininess if N'·L_i > 0, else 0;   H_i = normalize(L_i + V)
+/// ```
+///
+/// each channel clamped to `[0, 1]`. `n` is the perturbed normal (normalised here), `p` the
+/// world position, `v` the unit view vector, `L_i = light.dir_from(p)` (per pixel, also for
+/// point lights), `base = base_color(texture, uv)`. The power is `f64::powf` (so
+/// `shininess = 0` gives `s = 1` wherever `N'·L > 0`). Every light is evaluated with the
+/// perturbed normal: `Light::bump` only tells engines which lights go through the bump unit.
+pub fn shade_with_view(n: DVec3, p: DVec3, v: DVec3, uv: DVec2, scene: &Scene) -> DVec3 {
+    let n = n.normalize_or_zero();
+    let m = &scene.material;
+    let base = base_color(scene.color_texture.as_ref(), uv);
+    let diffuse = DVec3::from(m.diffuse) * base;
+    let specular = DVec3::from(m.specular);
+    let mut c = DVec3::from(m.ambient) * base;
+    for light in &scene.lights {
+        let l = light.dir_from(p);
+        let ndl = n.dot(l);
+        if ndl > 0.0 {
+            let h = (l + v).normalize_or_zero();
+            let s = n.dot(h).max(0.0).powf(m.shininess);
+            c += light.color() * (diffuse * ndl + specular * s);
+        }
+    }
+    c.clamp(DVec3::ZERO, DVec3::ONE)
+}

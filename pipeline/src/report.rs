@@ -1,0 +1,171 @@
+//! The run report: `report.json` and the readable table of `bumpsim report`.
+
+use crate::metrics::ErrorStats;
+use crate::raster::packet::PacketLayout;
+use crate::sim::CycleReport;
+use bumpsim_hw::GateBudget;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::fmt::Write;
+
+/// Version of the report format and of bumpsim.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Report {
+    pub version: String,
+    pub name: String,
+    pub config_hash: String,
+    pub image: ImageInfo,
+    pub cycles: CycleReport,
+    pub gates: Gates,
+    pub bandwidth: Bandwidth,
+    pub error: Errors,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct ImageInfo {
+    pub width: u32,
+    pub height: u32,
+    /// Pixels covered by the engine's render.
+    pub covered_pixels: u64,
+    /// Pixels covered by the engine but not the reference, or the other way round.
+    pub coverage_mismatch: u64,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct UnitGates {
+    pub kind: String,
+    pub total: f64,
+    pub items: Vec<bumpsim_hw::gates::GateItem>,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Gates {
+    /// Gate equivalents of all engine units (2-input NAND = 1).
+    pub total: f64,
+    pub per_unit: BTreeMap<String, UnitGates>,
+}
+
+impl Gates {
+    pub fn new(units: &[(String, String, GateBudget)]) -> Gates {
+        let per_unit: BTreeMap<String, UnitGates> = units
+            .iter()
+            .map(|(name, kind, b)| {
+                (
+                    name.clone(),
+                    UnitGates {
+                        kind: kind.clone(),
+                        total: round2(b.total()),
+                        items: b.items.clone(),
+                    },
+                )
+            })
+            .collect();
+        Gates {
+            total: round2(per_unit.values().map(|u| u.total).sum()),
+            per_unit,
+        }
+    }
+}
+
+fn round2(x: f64) -> f64 {
+    (x * 100.0).round() / 100.0
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Bandwidth {
+    /// Bits of one triangle from geometry to rasterizer, as packed.
+    pub bits_per_triangle: u64,
+    /// A plain textured Gouraud triangle (docs/rasterizer.md).
+    pub baseline_bits_per_triangle: u64,
+    /// `(bits_per_triangle - baseline) / baseline`, in percent.
+    pub extra_percent: f64,
+    /// Stored bits per texel of the engine's bump texture (0 when it has none).
+    pub bits_per_texel: u32,
+    /// Every texture the units hold: unit name and bits per texel.
+    pub textures: BTreeMap<String, u32>,
+    pub packet: PacketLayout,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Errors {
+    /// Engine in bit-accurate mode against the float reference.
+    pub total: ErrorStats,
+    /// Engine in exact mode against the float reference: the algorithm's error.
+    pub algorithm: ErrorStats,
+    /// Bit-accurate against exact mode: the quantization error.
+    pub quantization: ErrorStats,
+}
+
+impl Report {
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).expect("a report serialises") + "\n"
+    }
+
+    /// The readable table printed by `bumpsim report`.
+    pub fn to_table(&self) -> String {
+        let mut s = String::new();
+        let _ = writeln!(
+            s,
+            "bumpsim {}  config {}  hash {}",
+            self.version,
+            self.name,
+            &self.config_hash[..16.min(self.config_hash.len())]
+        );
+        let _ = writeln!(
+            s,
+            "image {}x{}, {} pixels covered, {} coverage mismatches",
+            self.image.width,
+            self.image.height,
+            self.image.covered_pixels,
+            self.image.coverage_mismatch
+        );
+        let c = &self.cycles;
+        let _ = writeln!(
+            s,
+            "\ncycles {} (frame work {}, {} triangles, {} fragments, {:.3} cycles/fragment)",
+            c.total, c.frame, c.triangles, c.fragments, c.per_fragment
+        );
+        let _ = writeln!(
+            s,
+            "  {:<14} {:>10} {:>10} {:>10} {:>7}",
+            "unit", "busy", "idle", "stall", "util%"
+        );
+        for (name, k) in &c.per_unit {
+            let util = 100.0 * k.busy as f64 / k.total().max(1) as f64;
+            let _ = writeln!(
+                s,
+                "  {:<14} {:>10} {:>10} {:>10} {:>7.1}",
+                name, k.busy, k.idle, k.stall, util
+            );
+        }
+        let _ = writeln!(s, "\ngates {:.0} GE", self.gates.total);
+        for (name, u) in &self.gates.per_unit {
+            let _ = writeln!(s, "  {:<14} {:<14} {:>10.0}", name, u.kind, u.total);
+        }
+        let b = &self.bandwidth;
+        let _ = writeln!(
+            s,
+            "\nbandwidth {} bits/triangle (baseline {}, {:+.1} %), {} bits/texel",
+            b.bits_per_triangle, b.baseline_bits_per_triangle, b.extra_percent, b.bits_per_texel
+        );
+        let _ = writeln!(
+            s,
+            "\nerror          {:>9} {:>9} {:>9} {:>9}",
+            "PSNR dB", "RMSE", "max LSB", "mean LSB"
+        );
+        for (name, e) in [
+            ("total", &self.error.total),
+            ("algorithm", &self.error.algorithm),
+            ("quantization", &self.error.quantization),
+        ] {
+            let _ = writeln!(
+                s,
+                "  {:<12} {:>9.2} {:>9.5} {:>9.2} {:>9.3}",
+                name, e.psnr_db, e.rmse, e.max_abs_lsb, e.mean_abs_lsb
+            );
+        }
+        s
+    }
+}

@@ -1,0 +1,274 @@
+//! One run of a config: scene, geometry, rasterizer, the engine in both modes, the float
+//! reference, the comparisons, the report and the pictures.
+
+use crate::config::{AttributeConfig, InputError, Loaded};
+use crate::engine::{self, attributes};
+use crate::metrics::{self, Rgb64};
+use crate::raster::{self, packet::PacketLayout, Fragment};
+use crate::reference;
+use crate::report::{Bandwidth, Errors, Gates, ImageInfo, Report, VERSION};
+use crate::scene::Scene;
+use crate::sim;
+use crate::trace::{Trace, TraceUnit};
+use bumpsim_hw::{Mode, Token, Word};
+
+/// What to trace: a half-open cycle window and optionally a subset of units.
+#[derive(Debug, Clone, Default)]
+pub struct TraceRequest {
+    pub cycles: (u64, u64),
+    pub units: Option<Vec<String>>,
+}
+
+/// Everything a run produces.
+pub struct RunResult {
+    pub report: Report,
+    pub image: image::RgbImage,
+    pub reference: image::RgbImage,
+    pub error: image::RgbImage,
+    pub trace: Option<Trace>,
+}
+
+/// Build the scene a config describes. Errors name the config file and the field.
+pub fn build_scene(l: &Loaded) -> Result<Scene, InputError> {
+    let c = &l.config.scene;
+    let scene_err = |field: &str, needle: &str, e: crate::scene::SceneError| match e {
+        crate::scene::SceneError::File { path, message } => InputError::new(path, field, message),
+        other => l.error(field, needle, other.to_string()),
+    };
+    let mesh = c
+        .mesh
+        .build(&l.base_dir)
+        .map_err(|e| scene_err("scene.mesh", "mesh", e))?;
+    mesh.validate("scene.mesh")
+        .map_err(|e| scene_err("scene.mesh", "mesh", e))?;
+    let bump = c
+        .bump
+        .build(&l.base_dir)
+        .map_err(|e| scene_err("scene.bump", "bump", e))?;
+    let color_texture = match &c.color_texture {
+        None => None,
+        Some(p) => {
+            let path = l.base_dir.join(p);
+            let img = image::open(&path).map_err(|e| {
+                InputError::new(
+                    path.display().to_string(),
+                    "scene.color_texture",
+                    format!("expected a PNG image: {e}"),
+                )
+            })?;
+            Some(img.to_rgb8())
+        }
+    };
+    Ok(Scene {
+        mesh,
+        model: c.model.matrix(),
+        camera: c.camera,
+        lights: c.lights.clone(),
+        material: c.material,
+        bump,
+        color_texture,
+        width: c.width.0,
+        height: c.height.0,
+    })
+}
+
+/// Fragments grouped by triangle: ranges into the fragment list, one per submitted triangle.
+fn triangle_ranges(frags: &[Fragment], ntri: usize) -> Vec<std::ops::Range<usize>> {
+    let mut ranges = vec![0..0; ntri];
+    let mut start = 0;
+    while start < frags.len() {
+        let t = frags[start].tri as usize;
+        let mut end = start;
+        while end < frags.len() && frags[end].tri as usize == t {
+            end += 1;
+        }
+        ranges[t] = start..end;
+        start = end;
+    }
+    // triangles without fragments keep an empty range at their own position
+    let mut fixed = Vec::with_capacity(ntri);
+    let mut cursor = 0;
+    for r in ranges {
+        if r.is_empty() {
+            fixed.push(cursor..cursor);
+        } else {
+            cursor = r.end;
+            fixed.push(r);
+        }
+    }
+    fixed
+}
+
+struct Front<'a> {
+    frags: &'a [Fragment],
+    tris: &'a [[u32; 3]],
+    vd: &'a attributes::VertexData,
+}
+
+impl Front<'_> {
+    fn token(&self, attrs: &[AttributeConfig], nslots: usize, mode: Mode, f: usize) -> Token {
+        let frag = &self.frags[f];
+        let tri = self.tris[frag.tri as usize];
+        let mut slots = vec![Word::default(); nslots];
+        for (a, attr) in attrs.iter().enumerate() {
+            let v = tri.map(|i| &self.vd.values[a][i as usize]);
+            slots[a] = attributes::interpolate(
+                mode,
+                &attr.enc,
+                attr.source.lanes() as usize,
+                [v[0], v[1], v[2]],
+                frag.bary,
+            );
+        }
+        Token {
+            id: f as u64,
+            x: frag.x,
+            y: frag.y,
+            slots,
+        }
+    }
+}
+
+fn paint(w: u32, h: u32, frags: &[Fragment], outputs: &[Word]) -> (Rgb64, Vec<bool>) {
+    let mut img = Rgb64::new(w, h);
+    let mut mask = vec![false; (w * h) as usize];
+    for (f, o) in frags.iter().zip(outputs) {
+        let i = (f.y * w + f.x) as usize;
+        img.px[i] = [0, 1, 2].map(|c| o.lanes[c].x.clamp(0.0, 1.0));
+        mask[i] = true;
+    }
+    (img, mask)
+}
+
+/// Run a loaded config.
+pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputError> {
+    let scene = build_scene(l)?;
+    let cfg = &l.config;
+    let (w, h) = (scene.width, scene.height);
+    let vd = attributes::compute(&scene, &cfg.engine.attributes);
+    let rast = raster::rasterize(&vd.clip, &scene.mesh.triangles, w, h, &cfg.raster);
+    let frags = &rast.fragments;
+    let front = Front {
+        frags,
+        tris: &scene.mesh.triangles,
+        vd: &vd,
+    };
+
+    let mut bit = engine::build(l, &scene, Mode::BitAccurate)?;
+    let mut exact = engine::build(l, &scene, Mode::Exact)?;
+    if let Some(t) = trace {
+        if let Some(names) = &t.units {
+            for n in names {
+                if !bit.stages.iter().any(|s| &s.name == n) {
+                    let known: Vec<&str> = bit.stages.iter().map(|s| s.name.as_str()).collect();
+                    return Err(InputError::new(
+                        "--units",
+                        "",
+                        format!("no unit {n:?}: expected one of {}", known.join(", ")),
+                    ));
+                }
+            }
+        }
+    }
+    let ranges = triangle_ranges(frags, scene.mesh.triangles.len());
+    let out_slot = bit.output.slot;
+    let (attrs, nslots) = (bit.attributes.clone(), bit.slots());
+    let mut make_bit = |f: usize| front.token(&attrs, nslots, Mode::BitAccurate, f);
+    let setup = rast
+        .triangles
+        .iter()
+        .map(|t| t.setups.max(1) * cfg.raster.setup_cycles)
+        .collect();
+    let workload = sim::Workload {
+        triangles: ranges,
+        setup,
+        make_token: &mut make_bit,
+        fifo_depth: cfg.sim.fifo_depth as usize,
+    };
+    let mut stages = std::mem::take(&mut bit.stages);
+    let result = sim::run(&mut stages, out_slot, workload, trace.map(|t| t.cycles));
+    bit.stages = stages;
+
+    let mut make_exact = |f: usize| front.token(&attrs, nslots, Mode::Exact, f);
+    let mut stages = std::mem::take(&mut exact.stages);
+    let exact_out = sim::evaluate(&mut stages, exact.output.slot, frags.len(), &mut make_exact);
+    exact.stages = stages;
+
+    let (img_bit, mask) = paint(w, h, frags, &result.outputs);
+    let (img_exact, _) = paint(w, h, frags, &exact_out);
+    let refimg = reference::render_reference(&scene, &cfg.raster, cfg.reference.perturbation);
+    let rimg = Rgb64 {
+        width: w,
+        height: h,
+        px: refimg.px.clone(),
+    };
+    let rmask = &refimg.mask;
+    let errors = Errors {
+        total: metrics::compare(&img_bit, &mask, &rimg, rmask),
+        algorithm: metrics::compare(&img_exact, &mask, &rimg, rmask),
+        quantization: metrics::compare(&img_bit, &mask, &img_exact, &mask),
+    };
+    let covered = mask.iter().filter(|&&m| m).count() as u64;
+    let mismatch = mask.iter().zip(rmask).filter(|(a, b)| a != b).count() as u64;
+
+    let packet = bit.packet();
+    let baseline = PacketLayout::baseline_textured_gouraud();
+    let bits = packet.bits_per_triangle();
+    let base_bits = baseline.bits_per_triangle();
+    let units: Vec<(String, String, bumpsim_hw::GateBudget)> = bit
+        .stages
+        .iter()
+        .zip(&bit.gates)
+        .map(|(s, (_, g))| (s.name.clone(), s.unit().kind().to_string(), g.clone()))
+        .collect();
+    let report = Report {
+        version: VERSION.to_string(),
+        name: cfg.name.clone(),
+        config_hash: l.hash.clone(),
+        image: ImageInfo {
+            width: w,
+            height: h,
+            covered_pixels: covered,
+            coverage_mismatch: mismatch,
+        },
+        cycles: result.cycles,
+        gates: Gates::new(&units),
+        bandwidth: Bandwidth {
+            bits_per_triangle: bits,
+            baseline_bits_per_triangle: base_bits,
+            extra_percent: ((bits as f64 - base_bits as f64) / base_bits as f64 * 1000.0).round()
+                / 10.0,
+            bits_per_texel: bit.texels.first().map_or(0, |t| t.1),
+            textures: bit.texels.iter().cloned().collect(),
+            packet,
+        },
+        error: errors,
+    };
+    let trace = trace.map(|t| {
+        let units = bit
+            .stages
+            .iter()
+            .map(|s| TraceUnit {
+                name: s.name.clone(),
+                kind: s.unit().kind().to_string(),
+                inputs: s.unit().inputs().to_vec(),
+                outputs: s.unit().outputs().to_vec(),
+            })
+            .collect();
+        let full = Trace {
+            units,
+            records: result.probes,
+        };
+        match &t.units {
+            Some(names) => full.select_units(names).expect("unit names checked above"),
+            None => full,
+        }
+    });
+    Ok(RunResult {
+        image: img_bit.to_rgb8(),
+        reference: rimg.to_rgb8(),
+        error: metrics::heatmap(&img_bit, &mask, &rimg, rmask, 32.0),
+        report,
+        trace,
+    })
+}
