@@ -2,7 +2,7 @@
 //! reference, the comparisons, the report and the pictures.
 
 use crate::config::{AttributeConfig, InputError, Loaded};
-use crate::engine::{self, attributes};
+use crate::engine::{self, attributes, Engine};
 use crate::metrics::{self, Rgb64};
 use crate::raster::{self, packet::PacketLayout, Fragment};
 use crate::reference;
@@ -140,27 +140,101 @@ fn paint(w: u32, h: u32, frags: &[Fragment], outputs: &[Word]) -> (Rgb64, Vec<bo
     (img, mask)
 }
 
-/// Run a loaded config.
-pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputError> {
+/// A frame ready to simulate: the scene, the geometry engine's output, the rasterizer's
+/// fragments, and the engine built in both modes.
+pub struct Prepared {
+    pub scene: Scene,
+    pub vertices: attributes::VertexData,
+    pub raster: raster::RasterOutput,
+    pub bit: Engine,
+    pub exact: Engine,
+    raster_config: raster::RasterConfig,
+    fifo_depth: usize,
+}
+
+/// Build the scene, run geometry and the rasterizer, and wire the engine in both modes.
+pub fn prepare(l: &Loaded) -> Result<Prepared, InputError> {
     let scene = build_scene(l)?;
     let cfg = &l.config;
-    let (w, h) = (scene.width, scene.height);
-    let vd = attributes::compute(&scene, &cfg.engine.attributes);
-    let rast = raster::rasterize(&vd.clip, &scene.mesh.triangles, w, h, &cfg.raster);
-    let frags = &rast.fragments;
-    let front = Front {
-        frags,
-        tris: &scene.mesh.triangles,
-        vd: &vd,
-    };
+    let vertices = attributes::compute(&scene, &cfg.engine.attributes);
+    let raster = raster::rasterize(
+        &vertices.clip,
+        &scene.mesh.triangles,
+        scene.width,
+        scene.height,
+        &cfg.raster,
+    );
+    let bit = engine::build(l, &scene, Mode::BitAccurate)?;
+    let exact = engine::build(l, &scene, Mode::Exact)?;
+    Ok(Prepared {
+        scene,
+        vertices,
+        raster,
+        bit,
+        exact,
+        raster_config: cfg.raster,
+        fifo_depth: cfg.sim.fifo_depth as usize,
+    })
+}
 
-    let mut bit = engine::build(l, &scene, Mode::BitAccurate)?;
-    let mut exact = engine::build(l, &scene, Mode::Exact)?;
+impl Prepared {
+    /// The timed, bit-accurate run of the frame.
+    pub fn simulate(&mut self, trace: Option<(u64, u64)>) -> sim::SimResult {
+        let front = Front {
+            frags: &self.raster.fragments,
+            tris: &self.scene.mesh.triangles,
+            vd: &self.vertices,
+        };
+        let (attrs, nslots) = (self.bit.attributes.clone(), self.bit.slots());
+        let mut make = |f: usize| front.token(&attrs, nslots, Mode::BitAccurate, f);
+        let ranges = triangle_ranges(front.frags, self.scene.mesh.triangles.len());
+        let setup = self
+            .raster
+            .triangles
+            .iter()
+            .map(|t| t.setups.max(1) * self.raster_config.setup_cycles)
+            .collect();
+        let workload = sim::Workload {
+            triangles: ranges,
+            setup,
+            make_token: &mut make,
+            fifo_depth: self.fifo_depth,
+        };
+        sim::run(&mut self.bit.stages, self.bit.output.slot, workload, trace)
+    }
+
+    /// The engine in exact mode over every fragment (untimed: its timing is the same).
+    pub fn evaluate_exact(&mut self) -> Vec<Word> {
+        let front = Front {
+            frags: &self.raster.fragments,
+            tris: &self.scene.mesh.triangles,
+            vd: &self.vertices,
+        };
+        let (attrs, nslots) = (self.exact.attributes.clone(), self.exact.slots());
+        let mut make = |f: usize| front.token(&attrs, nslots, Mode::Exact, f);
+        sim::evaluate(
+            &mut self.exact.stages,
+            self.exact.output.slot,
+            front.frags.len(),
+            &mut make,
+        )
+    }
+
+    /// The float reference of the same scene.
+    pub fn reference(&self, perturbation: reference::Perturbation) -> reference::ReferenceImage {
+        reference::render_reference(&self.scene, &self.raster_config, perturbation)
+    }
+}
+
+/// Run a loaded config.
+pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputError> {
+    let cfg = &l.config;
+    let mut p = prepare(l)?;
     if let Some(t) = trace {
         if let Some(names) = &t.units {
             for n in names {
-                if !bit.stages.iter().any(|s| &s.name == n) {
-                    let known: Vec<&str> = bit.stages.iter().map(|s| s.name.as_str()).collect();
+                if !p.bit.stages.iter().any(|s| &s.name == n) {
+                    let known: Vec<&str> = p.bit.stages.iter().map(|s| s.name.as_str()).collect();
                     return Err(InputError::new(
                         "--units",
                         "",
@@ -170,33 +244,14 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
             }
         }
     }
-    let ranges = triangle_ranges(frags, scene.mesh.triangles.len());
-    let out_slot = bit.output.slot;
-    let (attrs, nslots) = (bit.attributes.clone(), bit.slots());
-    let mut make_bit = |f: usize| front.token(&attrs, nslots, Mode::BitAccurate, f);
-    let setup = rast
-        .triangles
-        .iter()
-        .map(|t| t.setups.max(1) * cfg.raster.setup_cycles)
-        .collect();
-    let workload = sim::Workload {
-        triangles: ranges,
-        setup,
-        make_token: &mut make_bit,
-        fifo_depth: cfg.sim.fifo_depth as usize,
-    };
-    let mut stages = std::mem::take(&mut bit.stages);
-    let result = sim::run(&mut stages, out_slot, workload, trace.map(|t| t.cycles));
-    bit.stages = stages;
-
-    let mut make_exact = |f: usize| front.token(&attrs, nslots, Mode::Exact, f);
-    let mut stages = std::mem::take(&mut exact.stages);
-    let exact_out = sim::evaluate(&mut stages, exact.output.slot, frags.len(), &mut make_exact);
-    exact.stages = stages;
-
+    let result = p.simulate(trace.map(|t| t.cycles));
+    let exact_out = p.evaluate_exact();
+    let (w, h) = (p.scene.width, p.scene.height);
+    let frags = &p.raster.fragments;
+    let bit = &p.bit;
     let (img_bit, mask) = paint(w, h, frags, &result.outputs);
     let (img_exact, _) = paint(w, h, frags, &exact_out);
-    let refimg = reference::render_reference(&scene, &cfg.raster, cfg.reference.perturbation);
+    let refimg = p.reference(cfg.reference.perturbation);
     let rimg = Rgb64 {
         width: w,
         height: h,
@@ -245,16 +300,7 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
         error: errors,
     };
     let trace = trace.map(|t| {
-        let units = bit
-            .stages
-            .iter()
-            .map(|s| TraceUnit {
-                name: s.name.clone(),
-                kind: s.unit().kind().to_string(),
-                inputs: s.unit().inputs().to_vec(),
-                outputs: s.unit().outputs().to_vec(),
-            })
-            .collect();
+        let units = bit.stages.iter().map(TraceUnit::of_stage).collect();
         let full = Trace {
             units,
             records: result.probes,

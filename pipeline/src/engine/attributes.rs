@@ -56,7 +56,6 @@ pub fn compute(scene: &Scene, attrs: &[AttributeConfig]) -> VertexData {
     let nm = m3.inverse().transpose();
     let aspect = scene.width as f64 / scene.height as f64;
     let vp = scene.camera.proj(aspect) * scene.camera.view();
-    let eye = scene.camera.eye();
     let verts = &scene.mesh.vertices;
     let clip = verts.iter().map(|v| vp * m * v.pos.extend(1.0)).collect();
     let values = attrs
@@ -67,7 +66,7 @@ pub fn compute(scene: &Scene, attrs: &[AttributeConfig]) -> VertexData {
                 .map(|v| {
                     let p = m.transform_point3(v.pos);
                     let frame = Frame::new(nm * v.normal, m3 * v.pu, m3 * v.pv);
-                    let view = (eye - p).normalize();
+                    let view = scene.camera.view_dir(p);
                     let v3 = |x: [f64; 3]| [x[0], x[1], x[2], 0.0];
                     match a.source {
                         AttrSource::Uv => [v.uv.x, v.uv.y, 0.0, 0.0],

@@ -37,12 +37,7 @@ pub fn base_color(texture: Option<&RgbImage>, uv: DVec2) -> DVec3 {
 /// orthographic camera the viewer is at infinity along the view axis, so
 /// `V = normalize(eye - target)`, the same at every pixel.
 pub fn view_vector(camera: &Camera, p: DVec3) -> DVec3 {
-    let to = if camera.ortho_height.is_some() {
-        DVec3::from(camera.target)
-    } else {
-        p
-    };
-    (camera.eye() - to).normalize_or_zero()
+    camera.view_dir(p)
 }
 
 /// The lighting model with a local viewer at `eye`: [`shade_with_view`] with

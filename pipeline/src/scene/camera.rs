@@ -134,6 +134,17 @@ impl Camera {
     }
 
     /// The eye position.
+    /// Unit vector from a world point toward the viewer: toward the eye for a perspective
+    /// camera, the constant direction `eye - target` for an orthographic one (a parallel viewer).
+    pub fn view_dir(&self, p: DVec3) -> DVec3 {
+        let to = if self.ortho_height.is_some() {
+            DVec3::from(self.target)
+        } else {
+            p
+        };
+        (self.eye() - to).normalize_or_zero()
+    }
+
     pub fn eye(&self) -> DVec3 {
         DVec3::from(self.eye)
     }
