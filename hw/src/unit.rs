@@ -136,6 +136,10 @@ pub trait Unit: Send {
     fn frame_cycles(&self) -> u64 {
         0
     }
+    /// Stored bits per texel of the texture the unit reads, if it reads one.
+    fn texel_bits(&self) -> Option<u32> {
+        None
+    }
     /// Compute the outputs for one set of inputs. `ins` follow [`Unit::inputs`] and `outs`
     /// follow [`Unit::outputs`].
     fn eval(&mut self, mode: Mode, ins: &[Word], outs: &mut [Word]);

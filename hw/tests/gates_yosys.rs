@@ -174,6 +174,9 @@ const CASES: &[Case] = &[
 
 type Counts = &'static [(&'static str, u32)];
 
+/// Cell counts of one synthesis, by yosys cell type.
+type CellCounts = BTreeMap<String, u32>;
+
 /// Cell counts from `stat`, yosys 0.23 (git sha1 7ce5011c24b), with the script of
 /// [`yosys_script`]: (case, NAND mapping, cell mapping).
 const RECORDED: &[(&str, Counts, Counts)] = &[
@@ -422,7 +425,7 @@ fn yosys_script(c: &Case, out: &Path) -> String {
 }
 
 /// Cell counts from a `stat` report: the indented `$_NAME_   count` lines.
-fn parse_stat(text: &str) -> BTreeMap<String, u32> {
+fn parse_stat(text: &str) -> CellCounts {
     let mut m = BTreeMap::new();
     for line in text.lines() {
         let mut it = line.split_whitespace();
@@ -450,10 +453,7 @@ fn yosys_available() -> bool {
 }
 
 /// Synthesise one case; returns (NAND counts, cell counts).
-fn synthesise(
-    c: &Case,
-    tmp: &Path,
-) -> Result<(BTreeMap<String, u32>, BTreeMap<String, u32>), String> {
+fn synthesise(c: &Case, tmp: &Path) -> Result<(CellCounts, CellCounts), String> {
     let out = tmp.join(c.name);
     std::fs::create_dir_all(&out).map_err(|e| e.to_string())?;
     let o = Command::new(yosys_bin())

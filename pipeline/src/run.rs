@@ -47,17 +47,13 @@ pub fn build_scene(l: &Loaded) -> Result<Scene, InputError> {
         .map_err(|e| scene_err("scene.bump", "bump", e))?;
     let color_texture = match &c.color_texture {
         None => None,
-        Some(p) => {
-            let path = l.base_dir.join(p);
-            let img = image::open(&path).map_err(|e| {
-                InputError::new(
-                    path.display().to_string(),
-                    "scene.color_texture",
-                    format!("expected a PNG image: {e}"),
-                )
-            })?;
-            Some(img.to_rgb8())
-        }
+        Some(t) => Some(t.build(&l.base_dir).map_err(|(file, m)| {
+            if file.is_empty() {
+                l.error("scene.color_texture", "color_texture", m)
+            } else {
+                InputError::new(file, "scene.color_texture", m)
+            }
+        })?),
     };
     Ok(Scene {
         mesh,
@@ -111,14 +107,18 @@ impl Front<'_> {
         let tri = self.tris[frag.tri as usize];
         let mut slots = vec![Word::default(); nslots];
         for (a, attr) in attrs.iter().enumerate() {
-            let v = tri.map(|i| &self.vd.values[a][i as usize]);
-            slots[a] = attributes::interpolate(
-                mode,
-                &attr.enc,
-                attr.source.lanes() as usize,
-                [v[0], v[1], v[2]],
-                frag.bary,
-            );
+            let lanes = attr.source.lanes() as usize;
+            slots[a] = if self.vd.flat[a] {
+                attributes::flat(
+                    mode,
+                    &attr.enc,
+                    lanes,
+                    &self.vd.values[a][frag.tri as usize],
+                )
+            } else {
+                let v = tri.map(|i| &self.vd.values[a][i as usize]);
+                attributes::interpolate(mode, &attr.enc, lanes, [v[0], v[1], v[2]], frag.bary)
+            };
         }
         Token {
             id: f as u64,

@@ -129,6 +129,9 @@ impl Unit for EmbossFilter {
     fn interval(&self) -> u32 {
         9u32.div_ceil(self.ports)
     }
+    fn texel_bits(&self) -> Option<u32> {
+        Some(self.texel.width())
+    }
     fn gates(&self, t: &CostTable) -> GateBudget {
         let wc = self.inputs[0].enc.width();
         let wt = self.texel.width();

@@ -48,9 +48,22 @@ pub struct TexFetch {
     codes: Vec<[i64; MAX_LANES]>,
     log_w: u32,
     log_h: u32,
+    palette: Option<u32>,
 }
 
 impl TexFetch {
+    /// Store the texture as indices into a palette of `entries` texels (Ernst et al. §6:
+    /// "The memory requirements for the bump maps can be minimized by using palletized bumps.
+    /// With eight bit addressing a table lookup (bump) texture, up to 256 surface orientations
+    /// can be modeled."). The texels given to [`TexFetch::new`] must already be palette
+    /// entries; the unit then counts `ceil(log2 entries)` bits per stored texel and adds the
+    /// palette RAM (entries x lanes x texel bits, loaded once per frame) to its gates and its
+    /// per-frame cycles. Filtering happens after the palette lookup (one lookup per tap).
+    pub fn with_palette(mut self, entries: u32) -> Self {
+        self.palette = Some(entries.max(1));
+        self
+    }
+
     /// Errors name the parameter and what was expected.
     #[allow(clippy::too_many_arguments)]
     pub fn new(
@@ -113,12 +126,8 @@ impl TexFetch {
             codes,
             log_w,
             log_h,
+            palette: None,
         })
-    }
-
-    /// Bits of one stored texel.
-    pub fn bits_per_texel(&self) -> u32 {
-        self.tex.lanes as u32 * self.texel.width()
     }
 
     fn taps(&self) -> u32 {
@@ -181,6 +190,15 @@ impl Unit for TexFetch {
     }
     fn interval(&self) -> u32 {
         self.taps().div_ceil(self.ports)
+    }
+    fn texel_bits(&self) -> Option<u32> {
+        Some(match self.palette {
+            Some(n) => n.next_power_of_two().trailing_zeros().max(1),
+            None => self.tex.lanes as u32 * self.texel.width(),
+        })
+    }
+    fn frame_cycles(&self) -> u64 {
+        self.palette.map_or(0, u64::from)
     }
     fn gates(&self, t: &CostTable) -> GateBudget {
         let wc = self.inputs[0].enc.width();
@@ -331,7 +349,7 @@ mod tests {
             &mut o,
         );
         assert_eq!(o[0].raws::<3>(), [96, 192, 128]);
-        assert_eq!(f.bits_per_texel(), 30);
+        assert_eq!(f.texel_bits(), Some(30));
     }
 
     #[test]

@@ -110,9 +110,62 @@ pub struct SceneConfig {
     #[serde(default)]
     pub material: Material,
     pub bump: BumpSpec,
-    /// Optional colour texture (PNG, relative to the config file).
+    /// Optional colour texture.
     #[serde(default)]
-    pub color_texture: Option<String>,
+    pub color_texture: Option<TextureSpec>,
+}
+
+/// A colour texture.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum TextureSpec {
+    /// An RGB PNG file, relative to the config file (PNG values are taken as linear).
+    Png(String),
+    /// A `size` x `size` checkerboard of `cells` x `cells` squares of colours `a` and `b`
+    /// (e.g. the black-and-white texture of Ernst et al. Figs. 2 and 3).
+    Checker {
+        size: u32,
+        cells: u32,
+        a: [f64; 3],
+        b: [f64; 3],
+    },
+}
+
+impl TextureSpec {
+    /// Build the texture image; errors are (file, message).
+    pub fn build(&self, base_dir: &Path) -> Result<image::RgbImage, (String, String)> {
+        match self {
+            TextureSpec::Png(p) => {
+                let path = base_dir.join(p);
+                let img = image::open(&path).map_err(|e| {
+                    (
+                        path.display().to_string(),
+                        format!("expected a PNG image: {e}"),
+                    )
+                })?;
+                Ok(img.to_rgb8())
+            }
+            TextureSpec::Checker { size, cells, a, b } => {
+                if !(1..=4096).contains(size) || *cells == 0 || cells > size {
+                    return Err((String::new(), format!("checker size {size} and cells {cells}: expected 1 <= cells <= size <= 4096")));
+                }
+                if a.iter().chain(b).any(|x| !(0.0..=1.0).contains(x)) {
+                    return Err((
+                        String::new(),
+                        "checker colours: expected values in [0, 1]".into(),
+                    ));
+                }
+                let q = |c: &[f64; 3]| image::Rgb(c.map(|x| (x * 255.0).round() as u8));
+                Ok(image::RgbImage::from_fn(*size, *size, |x, y| {
+                    let odd = (x * cells / size + y * cells / size) % 2 == 1;
+                    if odd {
+                        q(b)
+                    } else {
+                        q(a)
+                    }
+                }))
+            }
+        }
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
@@ -134,8 +187,9 @@ impl Default for SimConfig {
     }
 }
 
-/// Where a per-vertex attribute comes from; the geometry engine computes it in f64 and sends
-/// it to the rasterizer in the attribute's encoding (that is what the packet counts).
+/// Where an attribute comes from. The geometry engine computes it in f64 and sends it to the
+/// rasterizer in the attribute's encoding (that is what the packet counts): per vertex and
+/// interpolated, or once per triangle and held constant over it (the `Triangle*` sources).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum AttrSource {
     /// Texture coordinates (u, v).
@@ -144,8 +198,14 @@ pub enum AttrSource {
     TangentLight(usize),
     /// Unit half vector of light i and the viewer in the tangent frame (§3.4).
     TangentHalf(usize),
-    /// The Gouraud colour: lights with `bump: false` evaluated per vertex (§5.4.1).
-    Gouraud,
+    /// Light i's direction in the tangent frame at the triangle's centroid, once per triangle.
+    TriangleLight(usize),
+    /// Light i's half vector in the tangent frame at the triangle's centroid, once per
+    /// triangle: Ernst et al. §4.2, "H is constant within at least one triangle".
+    TriangleHalf(usize),
+    /// The Gouraud colour (§4.2 C_src): the lights with `bump: false` evaluated per vertex with
+    /// the vertex normal (§5.4.1, Fig. 6), plus the material's ambient colour if `ambient`.
+    Gouraud { ambient: bool },
 }
 
 impl AttrSource {
@@ -153,6 +213,23 @@ impl AttrSource {
         match self {
             AttrSource::Uv => 2,
             _ => 3,
+        }
+    }
+    /// Whether the attribute is sent once per triangle (flat) rather than per vertex.
+    pub fn per_triangle(&self) -> bool {
+        matches!(
+            self,
+            AttrSource::TriangleLight(_) | AttrSource::TriangleHalf(_)
+        )
+    }
+    /// The light the attribute is about, if any.
+    pub fn light(&self) -> Option<usize> {
+        match *self {
+            AttrSource::TangentLight(k)
+            | AttrSource::TangentHalf(k)
+            | AttrSource::TriangleLight(k)
+            | AttrSource::TriangleHalf(k) => Some(k),
+            _ => None,
         }
     }
 }
@@ -326,7 +403,7 @@ fn validate(l: &Loaded) -> Result<(), InputError> {
                 ),
             ));
         }
-        if let AttrSource::TangentLight(k) | AttrSource::TangentHalf(k) = a.source {
+        if let Some(k) = a.source.light() {
             if k >= n {
                 return Err(l.error(
                     &format!("{field}.source"),

@@ -42,14 +42,17 @@ impl Frame {
     }
 }
 
-/// Per-vertex values of every attribute, and the clip-space positions.
+/// Values of every attribute, and the clip-space positions.
 pub struct VertexData {
     pub clip: Vec<DVec4>,
-    /// `values[attribute][vertex]`, lanes beyond the attribute's count are 0.
+    /// `values[attribute][vertex]`, or `[triangle]` for per-triangle attributes; lanes beyond
+    /// the attribute's count are 0.
     pub values: Vec<Vec<[f64; 4]>>,
+    /// Whether each attribute is per triangle.
+    pub flat: Vec<bool>,
 }
 
-/// Run the geometry engine over the scene's vertices.
+/// Run the geometry engine over the scene's vertices and triangles.
 pub fn compute(scene: &Scene, attrs: &[AttributeConfig]) -> VertexData {
     let m = scene.model;
     let m3 = DMat3::from_mat4(m);
@@ -58,32 +61,72 @@ pub fn compute(scene: &Scene, attrs: &[AttributeConfig]) -> VertexData {
     let vp = scene.camera.proj(aspect) * scene.camera.view();
     let verts = &scene.mesh.vertices;
     let clip = verts.iter().map(|v| vp * m * v.pos.extend(1.0)).collect();
+    // world position and tangent frame of every vertex
+    let world: Vec<(DVec3, DVec3, DVec3, DVec3)> = verts
+        .iter()
+        .map(|v| {
+            (
+                m.transform_point3(v.pos),
+                nm * v.normal,
+                m3 * v.pu,
+                m3 * v.pv,
+            )
+        })
+        .collect();
+    let at =
+        |src: AttrSource, (p, n, pu, pv): (DVec3, DVec3, DVec3, DVec3), uv: [f64; 2]| -> [f64; 4] {
+            let frame = Frame::new(n, pu, pv);
+            let view = scene.camera.view_dir(p);
+            let v3 = |x: [f64; 3]| [x[0], x[1], x[2], 0.0];
+            match src {
+                AttrSource::Uv => [uv[0], uv[1], 0.0, 0.0],
+                AttrSource::TangentLight(i) | AttrSource::TriangleLight(i) => {
+                    v3(frame.to_local(scene.lights[i].dir_from(p)))
+                }
+                AttrSource::TangentHalf(i) | AttrSource::TriangleHalf(i) => {
+                    let l = scene.lights[i].dir_from(p);
+                    v3(frame.to_local((l + view).normalize_or_zero()))
+                }
+                AttrSource::Gouraud { ambient } => {
+                    let a = if ambient {
+                        DVec3::from(scene.material.ambient)
+                    } else {
+                        DVec3::ZERO
+                    };
+                    v3((a + gouraud(scene, frame.n, p, view)).to_array())
+                }
+            }
+        };
     let values = attrs
         .iter()
         .map(|a| {
-            verts
-                .iter()
-                .map(|v| {
-                    let p = m.transform_point3(v.pos);
-                    let frame = Frame::new(nm * v.normal, m3 * v.pu, m3 * v.pv);
-                    let view = scene.camera.view_dir(p);
-                    let v3 = |x: [f64; 3]| [x[0], x[1], x[2], 0.0];
-                    match a.source {
-                        AttrSource::Uv => [v.uv.x, v.uv.y, 0.0, 0.0],
-                        AttrSource::TangentLight(i) => {
-                            v3(frame.to_local(scene.lights[i].dir_from(p)))
-                        }
-                        AttrSource::TangentHalf(i) => {
-                            let l = scene.lights[i].dir_from(p);
-                            v3(frame.to_local((l + view).normalize_or_zero()))
-                        }
-                        AttrSource::Gouraud => v3(gouraud(scene, frame.n, p, view).to_array()),
-                    }
-                })
-                .collect()
+            if a.source.per_triangle() {
+                scene
+                    .mesh
+                    .triangles
+                    .iter()
+                    .map(|t| {
+                        let c = t.iter().fold(
+                            (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO, DVec3::ZERO),
+                            |s, &i| {
+                                let w = world[i as usize];
+                                (s.0 + w.0 / 3.0, s.1 + w.1, s.2 + w.2, s.3 + w.3)
+                            },
+                        );
+                        at(a.source, c, [0.0; 2])
+                    })
+                    .collect()
+            } else {
+                verts
+                    .iter()
+                    .zip(&world)
+                    .map(|(v, w)| at(a.source, *w, [v.uv.x, v.uv.y]))
+                    .collect()
+            }
         })
         .collect();
-    VertexData { clip, values }
+    let flat = attrs.iter().map(|a| a.source.per_triangle()).collect();
+    VertexData { clip, values, flat }
 }
 
 /// The Gouraud colour at a vertex: the lights that do not take part in bump mapping,
@@ -121,7 +164,7 @@ pub fn light_term(
         return DVec3::ZERO;
     }
     let h = (l + view).normalize_or_zero();
-    light.color() * (kd * nl + ks * n.dot(h).max(0.0).powf(shininess))
+    light.color() * light.attenuation(p) * (kd * nl + ks * n.dot(h).max(0.0).powf(shininess))
 }
 
 /// Round a value to an encoding's grid without applying its overflow mode.
@@ -133,6 +176,12 @@ pub fn to_grid(enc: &Encoding, x: f64) -> f64 {
         }
         _ => enc.decode(enc.encode(x)),
     }
+}
+
+/// A per-triangle attribute at a fragment: the triangle's value, rounded to the encoding's
+/// grid in bit-accurate mode.
+pub fn flat(mode: Mode, enc: &Encoding, lanes: usize, v: &[f64; 4]) -> Word {
+    Word::for_mode(mode, enc, &v[..lanes])
 }
 
 /// Interpolate one attribute at a fragment.

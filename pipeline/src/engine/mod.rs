@@ -8,6 +8,7 @@
 //! carry values in their pipeline registers. See docs/ARCHITECTURE.md.
 
 pub mod attributes;
+pub mod palette;
 pub mod units;
 
 use crate::config::{AttributeConfig, InputError, Loaded};
@@ -53,14 +54,26 @@ impl Engine {
                 bits: 32,
             })
             .collect();
-        per_vertex.extend(self.attributes.iter().map(|a| Field {
+        let field = |a: &AttributeConfig| Field {
             name: a.name.clone(),
             lanes: a.source.lanes() as u32,
             bits: a.enc.width(),
-        }));
+        };
+        per_vertex.extend(
+            self.attributes
+                .iter()
+                .filter(|a| !a.source.per_triangle())
+                .map(field),
+        );
+        let per_triangle = self
+            .attributes
+            .iter()
+            .filter(|a| a.source.per_triangle())
+            .map(field)
+            .collect();
         PacketLayout {
             per_vertex,
-            per_triangle: vec![],
+            per_triangle,
         }
     }
 }
@@ -188,7 +201,7 @@ pub fn build(l: &Loaded, scene: &Scene, mode: Mode) -> Result<Engine, InputError
             });
             out_slots.push(slot);
         }
-        if let Some(bits) = texel_bits(&u.unit) {
+        if let Some(bits) = unit.texel_bits() {
             texels.push((u.name.clone(), bits));
         }
         gates.push((u.name.clone(), unit.gates(&l.config.cost)));
@@ -226,20 +239,6 @@ pub fn build(l: &Loaded, scene: &Scene, mode: Mode) -> Result<Engine, InputError
         texels,
         gates,
     })
-}
-
-fn texel_bits(spec: &units::UnitSpec) -> Option<u32> {
-    match spec {
-        units::UnitSpec::TexFetch {
-            source: units::TextureSource::BumpNormals { .. },
-            texel,
-            ..
-        } => Some(3 * texel.width()),
-        units::UnitSpec::TexFetch { texel, .. } | units::UnitSpec::EmbossFilter { texel, .. } => {
-            Some(texel.width())
-        }
-        _ => None,
-    }
 }
 
 /// Units in dependency order (config order among independent ones); a cycle is an error.

@@ -21,6 +21,8 @@ pub enum TextureSource {
     BumpNormals { size: u32, method: NormalMethod },
     /// The scene's bump map as heights in [0, 1] (normalised to the map's range).
     BumpHeights { size: u32 },
+    /// The scene's colour texture (RGB in [0, 1]); its sides must be powers of two.
+    ColorTexture,
 }
 
 fn default_ports() -> u32 {
@@ -54,6 +56,11 @@ pub enum UnitSpec {
         ports: u32,
         #[serde(default = "default_latency")]
         mem_latency: u32,
+        /// Store the texture as indices into a palette of this many entries (Ernst et al. §6),
+        /// chosen as directions spread evenly over the hemisphere (bump normals) or the texture
+        /// itself quantized to them; each texel takes the nearest entry.
+        #[serde(default)]
+        palette: Option<u32>,
         out: Encoding,
     },
     /// Dot products of `a` with `count` vectors `b0..` (`hw/src/units/dot3.rs`).
@@ -196,11 +203,22 @@ impl UnitSpec {
                 weight_bits,
                 ports,
                 mem_latency,
+                palette,
                 out,
             } => {
                 let uv = input(ins, "uv")?.enc;
-                let tex = texels(source, ctx)?;
-                Box::new(TexFetch::new(
+                let mut tex = texels(source, ctx)?;
+                if let Some(n) = *palette {
+                    if !(2..=65536).contains(&n) {
+                        return Err(format!("palette {n}: expected 2 to 65536 entries"));
+                    }
+                    let entries = match source {
+                        TextureSource::BumpNormals { .. } => super::palette::hemisphere(n as usize),
+                        _ => return Err("palette: expected source BumpNormals (palettes of other textures are not modelled yet)".into()),
+                    };
+                    super::palette::quantize(&mut tex.values, &entries);
+                }
+                let unit = TexFetch::new(
                     uv,
                     tex,
                     *texel,
@@ -209,7 +227,11 @@ impl UnitSpec {
                     *ports,
                     *mem_latency,
                     *out,
-                )?)
+                )?;
+                Box::new(match palette {
+                    Some(n) => unit.with_palette(*n),
+                    None => unit,
+                })
             }
             UnitSpec::Dot3 {
                 count,
@@ -323,11 +345,7 @@ impl UnitSpec {
                 let raw = ctx.scene.bump.bake_heights(*size, *size).ok_or(
                     "the scene's bump map holds normals, not heights: expected a height map",
                 )?;
-                let (lo, hi) = raw
-                    .iter()
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
-                        (a.min(x), b.max(x))
-                    });
+                let (lo, hi) = height_range(&raw);
                 let w = bevel_w.unwrap_or(if hi > lo {
                     (hi - lo) * *size as f64
                 } else {
@@ -350,13 +368,17 @@ impl UnitSpec {
     }
 }
 
-/// Heights rescaled to [0, 1] over the map's range (a constant map becomes 0.5).
-fn normalise_heights(h: &[f64]) -> Vec<f64> {
-    let (lo, hi) = h
-        .iter()
+/// Smallest and largest height.
+fn height_range(h: &[f64]) -> (f64, f64) {
+    h.iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
             (a.min(x), b.max(x))
-        });
+        })
+}
+
+/// Heights rescaled to [0, 1] over the map's range (a constant map becomes 0.5).
+fn normalise_heights(h: &[f64]) -> Vec<f64> {
+    let (lo, hi) = height_range(h);
     if hi - lo < 1e-300 {
         return vec![0.5; h.len()];
     }
@@ -390,6 +412,29 @@ fn texels(source: &TextureSource, ctx: &BuildCtx) -> Result<Texels, String> {
                 width: size,
                 height: size,
                 lanes: 1,
+                values,
+            })
+        }
+        TextureSource::ColorTexture => {
+            let img =
+                ctx.scene.color_texture.as_ref().ok_or(
+                    "the scene has no color_texture: expected one for source ColorTexture",
+                )?;
+            let values = img
+                .pixels()
+                .map(|p| {
+                    [
+                        p.0[0] as f64 / 255.0,
+                        p.0[1] as f64 / 255.0,
+                        p.0[2] as f64 / 255.0,
+                        0.0,
+                    ]
+                })
+                .collect();
+            Ok(Texels {
+                width: img.width(),
+                height: img.height(),
+                lanes: 3,
                 values,
             })
         }

@@ -72,7 +72,7 @@ pub fn shade_with_view(n: DVec3, p: DVec3, v: DVec3, uv: DVec2, scene: &Scene) -
         if ndl > 0.0 {
             let h = (l + v).normalize_or_zero();
             let s = n.dot(h).max(0.0).powf(m.shininess);
-            c += light.color() * (diffuse * ndl + specular * s);
+            c += light.color() * light.attenuation(p) * (diffuse * ndl + specular * s);
         }
     }
     c.clamp(DVec3::ZERO, DVec3::ONE)

@@ -61,6 +61,14 @@ pub enum LightKind {
     Directional { dir: [f64; 3] },
     /// A point light at `pos`, in world space.
     Point { pos: [f64; 3] },
+    /// An OpenGL spot light at `pos` shining along `dir`: no light outside the cone of
+    /// half-angle `cutoff_deg`, `cos^exponent` of the angle off the axis inside it.
+    Spot {
+        pos: [f64; 3],
+        dir: [f64; 3],
+        cutoff_deg: f64,
+        exponent: f64,
+    },
 }
 
 impl Light {
@@ -68,7 +76,30 @@ impl Light {
     pub fn dir_from(&self, p: DVec3) -> DVec3 {
         match self.kind {
             LightKind::Directional { dir } => DVec3::from(dir).normalize(),
-            LightKind::Point { pos } => (DVec3::from(pos) - p).normalize(),
+            LightKind::Point { pos } | LightKind::Spot { pos, .. } => {
+                (DVec3::from(pos) - p).normalize()
+            }
+        }
+    }
+    /// Spot attenuation at `p` (OpenGL's spot factor): 1 for directional and point lights.
+    pub fn attenuation(&self, p: DVec3) -> f64 {
+        match self.kind {
+            LightKind::Spot {
+                pos,
+                dir,
+                cutoff_deg,
+                exponent,
+            } => {
+                let c = (p - DVec3::from(pos))
+                    .normalize_or_zero()
+                    .dot(DVec3::from(dir).normalize_or_zero());
+                if c < cutoff_deg.to_radians().cos() {
+                    0.0
+                } else {
+                    c.max(0.0).powf(exponent)
+                }
+            }
+            _ => 1.0,
         }
     }
     pub fn color(&self) -> DVec3 {
@@ -86,11 +117,31 @@ impl Light {
                     ));
                 }
             }
-            LightKind::Point { pos } => {
-                if !DVec3::from(pos).is_finite() {
+            LightKind::Point { pos } => check_pos(field, pos)?,
+            LightKind::Spot {
+                pos,
+                dir,
+                cutoff_deg,
+                exponent,
+            } => {
+                check_pos(field, pos)?;
+                let d = DVec3::from(dir);
+                if !d.is_finite() || d.length() < 1e-12 {
                     return Err(SceneError::invalid(
-                        format!("{field}.kind.pos"),
-                        format!("expected a finite position, found {pos:?}"),
+                        format!("{field}.kind.dir"),
+                        format!("expected a finite non-zero direction, found {dir:?}"),
+                    ));
+                }
+                if !(cutoff_deg > 0.0 && cutoff_deg <= 90.0) {
+                    return Err(SceneError::invalid(
+                        format!("{field}.kind.cutoff_deg"),
+                        format!("expected an angle in (0, 90] degrees, found {cutoff_deg}"),
+                    ));
+                }
+                if !(exponent.is_finite() && exponent >= 0.0) {
+                    return Err(SceneError::invalid(
+                        format!("{field}.kind.exponent"),
+                        format!("expected a finite number >= 0, found {exponent}"),
                     ));
                 }
             }
@@ -104,6 +155,17 @@ impl Light {
             }
         }
         Ok(())
+    }
+}
+
+fn check_pos(field: &str, pos: [f64; 3]) -> Result<(), SceneError> {
+    if DVec3::from(pos).is_finite() {
+        Ok(())
+    } else {
+        Err(SceneError::invalid(
+            format!("{field}.kind.pos"),
+            format!("expected a finite position, found {pos:?}"),
+        ))
     }
 }
 

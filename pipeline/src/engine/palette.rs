@@ -1,0 +1,98 @@
+//! Bump-normal palettes (Ernst et al. 1998 §6, "palletized bumps"): a fixed table of surface
+//! orientations and the nearest-entry quantization of a normal map to it.
+//!
+//! The paper gives no table; bumpsim spreads `n` unit vectors evenly over the upper hemisphere
+//! with a Fibonacci spiral (equal-area rings, golden-angle turns), always including the
+//! unperturbed normal (0, 0, 1) as entry 0 so that flat texels stay exact. Quantizers that
+//! adapt the table to the map belong to the quantized-normal-map engine (Tarini et al.).
+
+use glam::DVec3;
+
+/// `n` unit vectors over the hemisphere z >= 0, entry 0 = (0, 0, 1).
+pub fn hemisphere(n: usize) -> Vec<[f64; 4]> {
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    let mut v = vec![[0.0, 0.0, 1.0, 0.0]];
+    let m = n.saturating_sub(1);
+    for i in 0..m {
+        // z from just below 1 down to 0, equal area steps
+        let z = 1.0 - (i as f64 + 0.5) / m as f64;
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        let a = golden * i as f64;
+        v.push([r * a.cos(), r * a.sin(), z, 0.0]);
+    }
+    v.truncate(n);
+    v
+}
+
+/// Replace every texel by the palette entry with the largest dot product (the nearest
+/// direction); ties go to the lower index.
+pub fn quantize(texels: &mut [[f64; 4]], palette: &[[f64; 4]]) {
+    let p: Vec<DVec3> = palette
+        .iter()
+        .map(|e| DVec3::new(e[0], e[1], e[2]))
+        .collect();
+    for t in texels.iter_mut() {
+        let d = DVec3::new(t[0], t[1], t[2]);
+        let mut best = (f64::NEG_INFINITY, 0);
+        for (i, e) in p.iter().enumerate() {
+            let s = d.dot(*e);
+            if s > best.0 {
+                best = (s, i);
+            }
+        }
+        *t = palette[best.1];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hemisphere_entries_are_unit_upper_and_spread() {
+        let h = hemisphere(256);
+        assert_eq!(h.len(), 256);
+        assert_eq!(h[0], [0.0, 0.0, 1.0, 0.0]);
+        for e in &h {
+            let l = (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt();
+            assert!((l - 1.0).abs() < 1e-12 && e[2] >= 0.0);
+        }
+        // the largest gap: every direction of a fine sample is within 9 degrees of an entry
+        let mut worst: f64 = 1.0;
+        for i in 0..2000 {
+            let z = (i as f64 + 0.5) / 2000.0;
+            let a = i as f64 * 2.399;
+            let d = DVec3::new(
+                (1.0 - z * z).sqrt() * a.cos(),
+                (1.0 - z * z).sqrt() * a.sin(),
+                z,
+            );
+            let best = h
+                .iter()
+                .map(|e| d.dot(DVec3::new(e[0], e[1], e[2])))
+                .fold(-1.0, f64::max);
+            worst = worst.min(best);
+        }
+        assert!(
+            worst > 9f64.to_radians().cos(),
+            "largest gap {} degrees",
+            worst.acos().to_degrees()
+        );
+    }
+
+    #[test]
+    fn quantize_picks_the_nearest_entry() {
+        let p = vec![
+            [0.0, 0.0, 1.0, 0.0],
+            [1.0, 0.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0, 0.0],
+        ];
+        let mut t = vec![
+            [0.1, 0.0, 0.99, 0.0],
+            [0.8, 0.1, 0.5, 0.0],
+            [0.0, 0.9, 0.3, 0.0],
+        ];
+        quantize(&mut t, &p);
+        assert_eq!(t, vec![p[0], p[1], p[2]]);
+    }
+}
