@@ -16,6 +16,8 @@ pub struct Acc {
     pub frac: u32,
 }
 
+// Named methods rather than operator traits: a datapath reads as the hardware's steps.
+#[allow(clippy::should_implement_trait)]
 impl Acc {
     pub const ZERO: Acc = Acc { raw: 0, frac: 0 };
 

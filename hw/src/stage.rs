@@ -226,7 +226,7 @@ impl Stage {
             CycleState::Busy => self.counters.busy += 1,
             CycleState::Idle => self.counters.idle += 1,
         }
-        probe.then(|| Probe {
+        probe.then_some(Probe {
             cycle,
             state,
             accepted,

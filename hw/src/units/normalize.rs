@@ -178,8 +178,8 @@ mod tests {
             u.eval(Mode::BitAccurate, &[w], &mut o);
             let x: [f64; 3] = w.xs();
             let len = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
-            for l in 0..3 {
-                worst = worst.max((o[0].lanes[l].x - x[l] / len).abs());
+            for (got, want) in o[0].lanes.iter().zip(x) {
+                worst = worst.max((got.x - want / len).abs());
             }
         }
         // table step: m bins of 1/256 over [1/4,1): relative rsqrt error <= 0.5 * (1/256) / (2 * 0.25)

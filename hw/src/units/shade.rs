@@ -209,8 +209,8 @@ impl Unit for Shade {
                         let b = base.map_or(Acc::new(1, 0), |w| rd(w, c, &self.has.base.unwrap()));
                         let mut v = src.map_or(Acc::ZERO, |w| rd(w, c, &self.has.src.unwrap()));
                         v = v.add(self.ka[c].mul(b));
-                        for i in 0..k {
-                            v = v.add(self.kdl[i][c].mul(b.mul(rd(&ins[i], 0, &ie))));
+                        for (i, d) in ins.iter().enumerate().take(k) {
+                            v = v.add(self.kdl[i][c].mul(b.mul(rd(d, 0, &ie))));
                             if let (Some(s), Some(se)) = (spec(i), &self.has.specular) {
                                 v = v.add(self.ksl[i][c].mul(rd(s, 0, se)));
                             }

@@ -46,7 +46,7 @@ fn values_in(fields: &[Field]) -> usize {
 fn widths(fields: &[Field]) -> impl Iterator<Item = u32> + '_ {
     fields
         .iter()
-        .flat_map(|f| std::iter::repeat(f.bits).take(f.lanes as usize))
+        .flat_map(|f| std::iter::repeat_n(f.bits, f.lanes as usize))
 }
 
 impl PacketLayout {

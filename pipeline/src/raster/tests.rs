@@ -672,8 +672,8 @@ proptest! {
         prop_assert_eq!(bits.len() as u64, layout.bits_per_triangle());
         let (uv, ut) = layout.unpack(&bits);
         let mask = |v: u64, b: u32| if b == 64 { v } else { v & ((1u64 << b) - 1) };
-        let vw: Vec<u32> = pv.iter().flat_map(|&(l, b)| std::iter::repeat(b).take(l as usize)).collect();
-        let tw: Vec<u32> = pt.iter().flat_map(|&(l, b)| std::iter::repeat(b).take(l as usize)).collect();
+        let vw: Vec<u32> = pv.iter().flat_map(|&(l, b)| std::iter::repeat_n(b, l as usize)).collect();
+        let tw: Vec<u32> = pt.iter().flat_map(|&(l, b)| std::iter::repeat_n(b, l as usize)).collect();
         for k in 0..3 {
             let want: Vec<u64> = vals[k].iter().zip(&vw).map(|(&v, &b)| mask(v, b)).collect();
             prop_assert_eq!(&uv[k], &want);
