@@ -716,3 +716,83 @@ fn trace_cycle_window_reversed() {
     assert!(!out.exists());
     assert!(listing(&scratch.path).is_empty());
 }
+
+#[test]
+fn render_out_onto_an_existing_file() {
+    let b = bad("out-is-file", "emboss", &[], &[]);
+    let blocker = b.scratch.join("blocker");
+    std::fs::write(&blocker, b"keep").unwrap();
+    let o = bumpsim(&[
+        "render".as_ref(),
+        b.cfg.as_os_str(),
+        "--out".as_ref(),
+        blocker.as_os_str(),
+    ]);
+    o.expect_code(2, "render --out <a file>");
+    assert!(
+        o.stderr.contains(&blocker.display().to_string()),
+        "{}",
+        o.stderr
+    );
+    assert!(o.stderr.contains("--out"), "{}", o.stderr);
+    assert_eq!(std::fs::read(&blocker).unwrap(), b"keep");
+    // no temporary files are left next to it
+    assert_eq!(listing(&b.scratch.path), ["blocker", "out-is-file.ron"]);
+}
+
+#[test]
+fn trace_out_into_a_missing_directory() {
+    let scratch = Scratch::new("bad-trace-out");
+    let out = scratch.join("no/such/dir/t.vcd");
+    let cfg = config("emboss");
+    let o = bumpsim(&[
+        "trace".as_ref(),
+        cfg.as_os_str(),
+        "--cycles".as_ref(),
+        "10..20".as_ref(),
+        "--format".as_ref(),
+        "vcd".as_ref(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]);
+    o.expect_code(2, "trace --out into a missing directory");
+    assert!(
+        o.stderr.contains(&out.display().to_string()),
+        "{}",
+        o.stderr
+    );
+    assert!(listing(&scratch.path).is_empty());
+}
+
+/// Units take `parallel` datapaths; 0 datapaths is no hardware at all and should be rejected
+/// like `ports: 0` ("ports 0: expected 1 to 4").
+#[test]
+#[ignore = "bug: parallel: 0 is accepted for Dot3, PowerTable and Shade (engine/units.rs build does \
+            not check it; hw clamps it to 1), so a config with no datapaths renders as if it had \
+            one, exit 0"]
+fn zero_parallel_datapaths_are_rejected() {
+    for (test, unit) in [
+        ("par-dot", "dot"),
+        ("par-spec", "spec"),
+        ("par-shade", "shade"),
+    ] {
+        let b = bad(test, "sgi-teapot", &[], &[]);
+        let set = format!("engine.units.{unit}.unit.parallel=0");
+        fails(&b, &["--set", &set], &["parallel", "expected"]);
+    }
+}
+
+/// With no lights, a `TangentLight(0)` attribute is reported as "the scene has 0 lights
+/// (expected 0 to 0)": index 0 is just what it got, and no index is valid.
+#[test]
+#[ignore = "bug: config/mod.rs validate: with 0 lights the light-index message says \
+            \"expected 0 to 0\" (n.saturating_sub(1)), an index range that contains the rejected index"]
+fn light_index_message_with_no_lights() {
+    let b = bad("no-lights", "emboss", &[], &[]);
+    let msg = fails(
+        &b,
+        &["--set", "scene.lights=[]"],
+        &["engine.attributes[1].source", "light index 0", "0 lights"],
+    );
+    assert!(!msg.contains("expected 0 to 0"), "{msg}");
+}

@@ -94,9 +94,9 @@ impl Unit for Dot3 {
         let mut g = GateBudget::new();
         g.add(format!("multiplier {wa}x{wb}"), 3 * p, t.multiplier(wa, wb));
         g.add(
-            format!("adder {}", wa + wb + 1),
+            format!("adder {}", wa + wb + 2),
             2 * p,
-            t.adder(wa + wb + 1),
+            t.adder(wa + wb + 2),
         );
         g.add(format!("clamp {wo}"), p, t.clamp(wo));
         if self.interval() > 1 {

@@ -209,16 +209,27 @@ impl Unit for TexFetch {
         let mut g = GateBudget::new();
         g.add(format!("address adder {wc}"), 2 * self.ports, t.adder(wc));
         if self.filter == Filter::Bilinear {
-            // three lerps per lane: a + (b - a) w, each a subtractor, a multiplier, an adder
+            // three lerps per lane, a + (b - a) w: two along u on (wt + 1)-bit differences,
+            // one along v on the exact (wt + wb + 1)-bit results of the first two
             g.add(
-                format!("lerp multiplier {}x{wb}", wt + 1),
-                3 * lanes,
+                format!("u lerp multiplier {}x{wb}", wt + 1),
+                2 * lanes,
                 t.multiplier(wt + 1, wb),
             );
             g.add(
-                format!("lerp adders {}", wt + wb + 1),
-                6 * lanes,
+                format!("v lerp multiplier {}x{wb}", wt + wb + 1),
+                lanes,
+                t.multiplier(wt + wb + 1, wb),
+            );
+            g.add(
+                format!("u lerp adders {}", wt + wb + 1),
+                4 * lanes,
                 t.adder(wt + wb + 1),
+            );
+            g.add(
+                format!("v lerp adders {}", wt + 2 * wb + 1),
+                2 * lanes,
+                t.adder(wt + 2 * wb + 1),
             );
             g.add(format!("weight register {}", 2 * wb), 1, t.register(2 * wb));
         }
@@ -234,6 +245,13 @@ impl Unit for TexFetch {
             1,
             t.register(wo * lanes),
         );
+        if let Some(n) = self.palette {
+            g.add(
+                format!("bump palette {n}x{} (loadable)", wt * lanes),
+                self.ports,
+                t.sram(n as u64, wt * lanes),
+            );
+        }
         g
     }
     fn eval(&mut self, mode: Mode, ins: &[Word], outs: &mut [Word]) {

@@ -7,12 +7,14 @@
 //! nearest index. Loading it costs one clock per entry before the frame (when the material
 //! changes). The same unit serves the SGI engine's specular term (§3.4).
 //!
-//! Exact mode evaluates `x^n` with `powf`.
+//! Exact mode evaluates `x^n` with `powf`. The table contents and the index rounding are
+//! those of [`crate::units::SpecGen::Table`] (`specgen.rs`), which also offers interpolated
+//! and repeated-squaring generators.
 
-use crate::arith::Acc;
-use crate::format::{Codec, Encoding, Quant};
+use crate::format::{Codec, Encoding};
 use crate::gates::{CostTable, GateBudget};
 use crate::unit::{Mode, PortSpec, Unit, Word};
+use crate::units::specgen::{nearest_index, power_table_codes};
 
 pub struct PowerTable {
     inputs: Vec<PortSpec>,
@@ -41,10 +43,7 @@ impl PowerTable {
         let outputs = (0..k)
             .map(|i| PortSpec::new(&format!("y{i}"), 1, out))
             .collect();
-        let last = (1u64 << index_bits) - 1;
-        let table = (0..=last)
-            .map(|i| out.encode((i as f64 / last as f64).powf(shininess)))
-            .collect();
+        let table = power_table_codes(index_bits, &out, shininess);
         PowerTable {
             inputs,
             outputs,
@@ -62,9 +61,7 @@ impl PowerTable {
 
     /// Table index for an input word: `round(x (2^b - 1))`, clamped to the table.
     pub fn index(&self, raw: i64, enc: &Encoding) -> usize {
-        let last = (1i128 << self.index_bits) - 1;
-        let i = Acc::from_code(raw, enc).scale(last).round_int(Quant::Rnd);
-        i.clamp(0, last) as usize
+        nearest_index(raw, enc, self.index_bits)
     }
 }
 

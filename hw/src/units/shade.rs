@@ -130,7 +130,12 @@ impl Unit for Shade {
         let wb = self.has.base.map_or(0, |e| e.width());
         let wc = self.coef.width();
         let wo = self.outputs[0].enc.width();
-        let acc = wo + 4;
+        // The bit-accurate datapath keeps every product exact, so the adders and the accumulator
+        // are priced at the full product width plus the growth of k + 2 terms.
+        let wd = if wb > 0 { wi + wb } else { wi };
+        let ws = self.has.specular.map_or(0, |e| e.width());
+        let growth = 32 - (self.k() as u32 + 2).leading_zeros();
+        let acc = (wd + wc).max(ws + wc).max(wb + wc) + growth;
         let p = self.parallel;
         let mut g = GateBudget::new();
         if wb > 0 {
@@ -145,14 +150,12 @@ impl Unit for Shade {
                 t.multiplier(wb, wc),
             );
         }
-        let wd = if wb > 0 { wo + 2 } else { wi };
         g.add(
             format!("diffuse coefficient multiplier {wd}x{wc}"),
             3 * p,
             t.multiplier(wd, wc),
         );
-        if let Some(e) = self.has.specular {
-            let ws = e.width();
+        if self.has.specular.is_some() {
             g.add(
                 format!("specular coefficient multiplier {ws}x{wc}"),
                 3 * p,

@@ -35,7 +35,7 @@
 //! * Squaring: `E_0 = 2^-(w+1)` (0 when the input is already on the `w`-bit grid),
 //!   `E_{j+1} = 2 E_j + E_j^2 + 2^-(w+1)`: roughly `(n - 1) / 2` LSBs, not `k` LSBs; rounding
 //!   errors made early are doubled by every later squaring near `x = 1` (measured: 11.6 LSB for
-//!   `w = 12, n = 64`; the `k`-LSB rule of thumb holds only up to `w = 8`).
+//!   `w = 12, n = 64`; the `k`-LSB rule of thumb holds for `n <= 64` only up to `w = 9`).
 
 use crate::arith::Acc;
 use crate::format::{shift_round, Codec, Encoding, Quant};
@@ -341,7 +341,10 @@ impl SpecularGenerator {
             } => {
                 let (b, v, f) = (index_bits, value_bits, frac_bits);
                 g.add(
-                    format!("power table {}x{v} (loadable, even/odd banks)", self.table.len()),
+                    format!(
+                        "power table {}x{v} (loadable, even/odd banks)",
+                        self.table.len()
+                    ),
                     1,
                     t.sram(self.table.len() as u64, v),
                 );
@@ -377,11 +380,7 @@ impl SpecularGenerator {
                     self.k,
                     t.half_adder * w as f64,
                 );
-                g.add(
-                    format!("one bypass mux {}", w + 1),
-                    self.k,
-                    t.mux(w + 1, 2),
-                );
+                g.add(format!("one bypass mux {}", w + 1), self.k, t.mux(w + 1, 2));
             }
         }
         g
@@ -390,4 +389,287 @@ impl SpecularGenerator {
 
 fn entry_error(value_bits: u32) -> f64 {
     0.5 / ((1u64 << value_bits) - 1) as f64 + (-2.0 * value_bits as f64).exp2()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::format::Format;
+    use std::collections::BTreeSet;
+
+    /// A fine input: u1.14, every value of [0, 1] on a 2^-14 grid.
+    fn fine() -> Encoding {
+        Encoding::fixed(Format::u(15, 14))
+    }
+
+    /// Largest |bits - x^n| over every input word of `fine()` in [0, 1].
+    fn max_error(g: &SpecularGenerator) -> f64 {
+        let e = g.input();
+        (0..=1i64 << 14)
+            .map(|r| (g.bits(r).to_f64() - g.exact(e.decode(r))).abs())
+            .fold(0.0, f64::max)
+    }
+
+    #[test]
+    fn hand_values_of_each_generator() {
+        let input = Encoding::fixed(Format::u(9, 8));
+        let t = SpecularGenerator::new(
+            SpecGen::Table {
+                index_bits: 4,
+                value_bits: 8,
+            },
+            2.0,
+            input,
+        )
+        .unwrap();
+        // entry 5: (5/15)^2 = 0.1111 -> 28.33 -> 28; entry 8: (8/15)^2 -> 72.53 -> 73
+        assert_eq!((t.table()[0], t.table()[5], t.table()[15]), (0, 28, 255));
+        // x = 0.5: 7.5 rounds half up to index 8; read by bit replication (73 * 257 / 2^16)
+        assert_eq!(t.bits(128), Acc::new(73 * 257, 16));
+        assert_eq!((t.load_cycles(), t.out_bits()), (16, 8));
+
+        let l = SpecularGenerator::new(
+            SpecGen::TableLerp {
+                index_bits: 4,
+                value_bits: 8,
+                frac_bits: 4,
+            },
+            2.0,
+            input,
+        )
+        .unwrap();
+        // x = 0.5: s = 7.5, entries 7 (0.2178 -> 56) and 8 (73), f = 8/16:
+        // code 56 + 17 * 0.5 = 64.5, read as 64.5 * 257 / 2^16
+        assert_eq!(l.table()[7], 56);
+        assert_eq!(l.bits(128).to_f64(), 64.5 * 257.0 / 65536.0);
+        assert_eq!((l.load_cycles(), l.out_bits()), (16, 12));
+        // x = 1 (raw 256) and beyond read the last entry exactly
+        assert_eq!(l.bits(256).to_f64(), 255.0 * 257.0 / 65536.0);
+        assert_eq!(l.bits(511).to_f64(), 255.0 * 257.0 / 65536.0);
+
+        let s = SpecularGenerator::new(SpecGen::Squaring { width: 8 }, 4.0, input).unwrap();
+        // 0.5^4 = 1/16 exactly; 0.75^2 = 0.5625, ^2 = 0.31640625 = 81/256 exactly
+        assert_eq!(s.bits(128), Acc::new(16, 8));
+        assert_eq!(s.bits(192), Acc::new(81, 8));
+        assert_eq!(s.bits(256), Acc::new(256, 8)); // 1.0 is exact
+        assert_eq!(s.bits(300), Acc::new(256, 8)); // clamped
+        assert_eq!((s.load_cycles(), s.out_bits()), (0, 9));
+    }
+
+    #[test]
+    fn table_every_index_width_to_12_bits_reaches_every_entry_monotone_within_bound() {
+        for bits in 1..=12u32 {
+            for n in [16.0, 2.5, 0.5] {
+                let spec = SpecGen::Table {
+                    index_bits: bits,
+                    value_bits: 12,
+                };
+                let g = SpecularGenerator::new(spec, n, fine()).unwrap();
+                let bound = g.error_bound();
+                let mut reached = BTreeSet::new();
+                let mut prev = Acc::ZERO;
+                for r in 0..1i64 << 15 {
+                    reached.insert(nearest_index(r, &fine(), bits));
+                    let y = g.bits(r);
+                    assert!(!y.lt(prev), "bits {bits} n {n}: not monotone at {r}");
+                    prev = y;
+                    let x = fine().decode(r);
+                    let err = (y.to_f64() - g.exact(x)).abs();
+                    assert!(err <= bound, "bits {bits} n {n} raw {r}: {err} > {bound}");
+                }
+                assert_eq!(
+                    reached.len(),
+                    1 << bits,
+                    "bits {bits}: entries not all reached"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn lerp_every_index_width_to_12_bits_reaches_every_entry_monotone_within_bound() {
+        for bits in 1..=12u32 {
+            for n in [16.0, 2.0] {
+                let spec = SpecGen::TableLerp {
+                    index_bits: bits,
+                    value_bits: 12,
+                    frac_bits: 6,
+                };
+                let g = SpecularGenerator::new(spec, n, fine()).unwrap();
+                let bound = g.error_bound();
+                let last = (1i64 << bits) - 1;
+                let mut reached = BTreeSet::new();
+                let mut prev = Acc::ZERO;
+                for r in 0..1i64 << 15 {
+                    // the floor index the lerp reads first
+                    let x = fine().decode(r).min(1.0);
+                    reached.insert((x * last as f64).floor() as i64);
+                    let y = g.bits(r);
+                    assert!(!y.lt(prev), "bits {bits} n {n}: not monotone at {r}");
+                    prev = y;
+                    let err = (y.to_f64() - g.exact(x)).abs();
+                    assert!(err <= bound, "bits {bits} n {n} raw {r}: {err} > {bound}");
+                }
+                assert_eq!(reached.len() as i64, last + 1, "bits {bits}");
+            }
+        }
+    }
+
+    #[test]
+    fn lerp_beats_table_at_equal_entries_for_n_32() {
+        let mut rows = Vec::new();
+        for (bits, vb) in [(5u32, 8u32), (6, 8), (8, 8), (8, 12)] {
+            let t = SpecularGenerator::new(
+                SpecGen::Table {
+                    index_bits: bits,
+                    value_bits: vb,
+                },
+                32.0,
+                fine(),
+            )
+            .unwrap();
+            let l = SpecularGenerator::new(
+                SpecGen::TableLerp {
+                    index_bits: bits,
+                    value_bits: vb,
+                    frac_bits: 8,
+                },
+                32.0,
+                fine(),
+            )
+            .unwrap();
+            let (et, el) = (max_error(&t), max_error(&l));
+            println!("n=32 {}x{vb}: table {et:.5}, lerp {el:.5}", 1 << bits);
+            assert!(et <= t.error_bound() && el <= l.error_bound());
+            rows.push((et, el));
+        }
+        // measured maxima over the 2^14 + 1 inputs of [0, 1]
+        let expect = [
+            (0.40536, 0.08053), // 32 x 8
+            (0.22501, 0.02508), // 64 x 8
+            (0.06063, 0.00238), // 256 x 8
+            (0.06064, 0.00156), // 256 x 12
+        ];
+        for ((et, el), (xt, xl)) in rows.iter().zip(expect) {
+            assert!(el < et);
+            assert!(
+                (et - xt).abs() < 5e-5 && (el - xl).abs() < 5e-5,
+                "{et} {el}"
+            );
+        }
+    }
+
+    #[test]
+    fn squaring_is_within_its_derived_bound_for_n_2_to_64() {
+        for w in 4..=12u32 {
+            let grid = Encoding::fixed(Format::u(w as u8 + 1, w as u8));
+            for k in 1..=6u32 {
+                let n = (1u32 << k) as f64;
+                let g = SpecularGenerator::new(SpecGen::Squaring { width: w }, n, grid).unwrap();
+                let lsb = (-(w as f64)).exp2();
+                let bound = g.error_bound();
+                let mut worst = 0.0f64;
+                let mut prev = Acc::ZERO;
+                for r in 0..=1i64 << w {
+                    let y = g.bits(r);
+                    assert_eq!(y.frac, w);
+                    assert!(!y.lt(prev), "w {w} n {n}: not monotone at {r}");
+                    prev = y;
+                    worst = worst.max((y.to_f64() - g.exact(grid.decode(r))).abs());
+                }
+                assert!(worst <= bound, "w {w} n {n}: {worst} > {bound}");
+                println!(
+                    "squaring w {w} n {n}: measured {:.3} LSB, bound {:.3} LSB",
+                    worst / lsb,
+                    bound / lsb
+                );
+                // the bound is about (n - 1) / 2 LSBs once the words are wide
+                if w == 12 {
+                    assert!(bound <= (n - 1.0) / 2.0 * 1.01 * lsb, "w {w} n {n}");
+                }
+                // k LSBs holds up to 9 bits
+                if w <= 9 {
+                    assert!(worst <= k as f64 * lsb, "w {w} n {n}: {} LSB", worst / lsb);
+                }
+                if w == 12 && k == 6 {
+                    // ... but not beyond: 11.6 LSB at x = 4059/4096
+                    assert!((worst / lsb - 11.62).abs() < 0.01, "{}", worst / lsb);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn squaring_rounds_an_off_grid_input_first() {
+        // a 16-bit input into an 8-bit squarer: the input rounding is amplified by n
+        let input = Encoding::fixed(Format::u(17, 16));
+        let g = SpecularGenerator::new(SpecGen::Squaring { width: 8 }, 8.0, input).unwrap();
+        let bound = g.error_bound();
+        for r in 0..=1i64 << 16 {
+            let err = (g.bits(r).to_f64() - g.exact(input.decode(r))).abs();
+            assert!(err <= bound, "{r}: {err} > {bound}");
+        }
+    }
+
+    #[test]
+    fn bad_parameters_are_rejected() {
+        let e = fine();
+        let sq = SpecGen::Squaring { width: 8 };
+        for n in [3.0, 0.5, 6.0, 0.0] {
+            let err = SpecularGenerator::new(sq, n, e).unwrap_err();
+            assert!(err.contains("power of two"), "{err}");
+        }
+        assert!(SpecularGenerator::new(sq, 64.0, e).is_ok());
+        let t = |b, v| SpecGen::Table {
+            index_bits: b,
+            value_bits: v,
+        };
+        assert!(SpecularGenerator::new(t(0, 8), 8.0, e)
+            .unwrap_err()
+            .contains("index_bits 0"));
+        assert!(SpecularGenerator::new(t(8, 17), 8.0, e)
+            .unwrap_err()
+            .contains("value_bits 17"));
+        assert!(SpecularGenerator::new(t(8, 8), f64::NAN, e).is_err());
+        assert!(SpecularGenerator::new(t(8, 8), -1.0, e).is_err());
+        let l = SpecGen::TableLerp {
+            index_bits: 8,
+            value_bits: 8,
+            frac_bits: 0,
+        };
+        assert!(SpecularGenerator::new(l, 8.0, e)
+            .unwrap_err()
+            .contains("frac_bits 0"));
+    }
+
+    #[test]
+    fn gates_grow_with_the_table_and_the_squarings() {
+        let t = CostTable::default();
+        let ge = |spec, n| {
+            SpecularGenerator::new(spec, n, fine())
+                .unwrap()
+                .gates(&t)
+                .total()
+        };
+        let table = |b| SpecGen::Table {
+            index_bits: b,
+            value_bits: 8,
+        };
+        assert!(ge(table(6), 32.0) < ge(table(8), 32.0));
+        let lerp = SpecGen::TableLerp {
+            index_bits: 6,
+            value_bits: 8,
+            frac_bits: 8,
+        };
+        // a 64-entry lerp costs less than the 256-entry table
+        assert!(ge(lerp, 32.0) < ge(table(8), 32.0));
+        let sq = SpecGen::Squaring { width: 10 };
+        assert!(ge(sq, 8.0) < ge(sq, 64.0));
+        println!(
+            "GE: table 256x8 {:.0}, lerp 64x8+8 {:.0}, squaring w10 n=32 {:.0}",
+            ge(table(8), 32.0),
+            ge(lerp, 32.0),
+            ge(sq, 32.0)
+        );
+    }
 }

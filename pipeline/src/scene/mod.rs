@@ -1,6 +1,7 @@
 //! Scenes: meshes with tangent frames, bump maps (height fields and normal maps), lights,
 //! camera and material. Knows nothing of hardware units.
 
+pub mod bake;
 pub mod bumpmap;
 pub mod camera;
 pub mod mesh;
