@@ -167,7 +167,7 @@ fn unknown_top_level_key() {
 // ---------------------------------------------------------------- number formats
 
 const L0_FORMAT: &str =
-    "(name: \"l0\", source: TangentLight(0), enc: (format: (signed: true, width: 10, frac: 8))),";
+    "(name: \"l0\", source: LightDir(light: 0, frame: Tangent), enc: (format: (signed: true, width: 10, frac: 8))),";
 
 #[test]
 fn format_width_zero() {
@@ -248,7 +248,7 @@ fn expected_port_width_mismatch() {
 #[test]
 fn vector_inputs_of_different_formats() {
     // h0 (wired to dot.b1) gets a 12-bit format; dot.b0 (l0) stays 10 bits
-    let from = "(name: \"h0\", source: TangentHalf(0), enc: (format: (signed: true, width: 10, frac: 8))),";
+    let from = "(name: \"h0\", source: HalfVec(light: 0, frame: Tangent), enc: (format: (signed: true, width: 10, frac: 8))),";
     let to = from.replace("width: 10, frac: 8", "width: 12, frac: 10");
     let b = bad("vector-mismatch", "sgi-teapot", &[(from, &to)], &[]);
     fails_at(
@@ -564,9 +564,6 @@ fn shininess_zero_and_negative() {
 /// to contain the field's name (both configs' header comments mention "lights", "shininess"
 /// and "rasterizer").
 #[test]
-#[ignore = "bug: Loaded::error locates the field by the first occurrence of its name anywhere in \
-            the config text (config/mod.rs validate, via error::locate), so light, shininess and \
-            raster errors point into the header comment (sgi-teapot.ron:2:81, :8:47, :5:61)"]
 fn scene_errors_point_at_the_field_not_a_comment() {
     let cases: [(&str, &str, &str, &str); 4] = [
         ("pos-light", LIGHT0_DIR, "dir: (NaN, 0.0, 1.0)", "lights: ["),
@@ -767,9 +764,6 @@ fn trace_out_into_a_missing_directory() {
 /// Units take `parallel` datapaths; 0 datapaths is no hardware at all and should be rejected
 /// like `ports: 0` ("ports 0: expected 1 to 4").
 #[test]
-#[ignore = "bug: parallel: 0 is accepted for Dot3, PowerTable and Shade (engine/units.rs build does \
-            not check it; hw clamps it to 1), so a config with no datapaths renders as if it had \
-            one, exit 0"]
 fn zero_parallel_datapaths_are_rejected() {
     for (test, unit) in [
         ("par-dot", "dot"),
@@ -782,11 +776,9 @@ fn zero_parallel_datapaths_are_rejected() {
     }
 }
 
-/// With no lights, a `TangentLight(0)` attribute is reported as "the scene has 0 lights
+/// With no lights, a `LightDir(light: 0, frame: Tangent)` attribute is reported as "the scene has 0 lights
 /// (expected 0 to 0)": index 0 is just what it got, and no index is valid.
 #[test]
-#[ignore = "bug: config/mod.rs validate: with 0 lights the light-index message says \
-            \"expected 0 to 0\" (n.saturating_sub(1)), an index range that contains the rejected index"]
 fn light_index_message_with_no_lights() {
     let b = bad("no-lights", "emboss", &[], &[]);
     let msg = fails(

@@ -31,25 +31,21 @@ pub struct RunResult {
 /// Build the scene a config describes. Errors name the config file and the field.
 pub fn build_scene(l: &Loaded) -> Result<Scene, InputError> {
     let c = &l.config.scene;
-    let scene_err = |field: &str, needle: &str, e: crate::scene::SceneError| match e {
-        crate::scene::SceneError::File { path, message } => InputError::new(path, field, message),
-        other => l.error(field, needle, other.to_string()),
-    };
     let mesh = c
         .mesh
         .build(&l.base_dir)
-        .map_err(|e| scene_err("scene.mesh", "mesh", e))?;
+        .map_err(|e| l.scene_error("scene.mesh", "mesh:", e))?;
     mesh.validate("scene.mesh")
-        .map_err(|e| scene_err("scene.mesh", "mesh", e))?;
+        .map_err(|e| l.scene_error("scene.mesh", "mesh:", e))?;
     let bump = c
         .bump
         .build(&l.base_dir)
-        .map_err(|e| scene_err("scene.bump", "bump", e))?;
+        .map_err(|e| l.scene_error("scene.bump", "bump:", e))?;
     let color_texture = match &c.color_texture {
         None => None,
         Some(t) => Some(t.build(&l.base_dir).map_err(|(file, m)| {
             if file.is_empty() {
-                l.error("scene.color_texture", "color_texture", m)
+                l.error("scene.color_texture", "color_texture:", m)
             } else {
                 InputError::new(file, "scene.color_texture", m)
             }

@@ -62,8 +62,8 @@
 //! colours 8 bits (`UnitUnsigned` 8 for `C_src`, the light colour registers and the output),
 //! the intensity register 8 bits (`UnitUnsigned` 8, so it indexes the table directly), a 256 x
 //! 8 power table (a colour LUT's size), two lights ("usually two to four"). A Diffuse unit
-//! plus a Specular unit at these widths cost about 14,400 GE (5,600 + 8,800; tests), inside
-//! the paper's "10,000 to 25,000 gate equivalents" (13,100 GE with one light, 16,800 with
+//! plus a Specular unit at these widths cost about 14,300 GE (5,600 + 8,700; tests), inside
+//! the paper's "10,000 to 25,000 gate equivalents" (13,000 GE with one light, 16,700 with
 //! four). The power table is the largest single item (3,072 GE), then the three B x L
 //! multipliers of each dot product (1,470 GE) and the three colour multipliers (1,150 GE).
 

@@ -187,22 +187,41 @@ impl Default for SimConfig {
     }
 }
 
+/// The frame a direction attribute is expressed in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum VecFrame {
+    /// The surface's tangent frame (T along Pu, B, N) at the vertex or centroid: the SGI
+    /// engine's frame (Gouraud bump paper §3.4).
+    Tangent,
+    /// The object's own frame (world directions taken through the inverse model transform):
+    /// the "bump vector space" of Gouraud bump mapping (§4), in which a bump map's Eq. 2
+    /// normals are read as directions of a surface facing +z.
+    Object,
+}
+
 /// Where an attribute comes from. The geometry engine computes it in f64 and sends it to the
 /// rasterizer in the attribute's encoding (that is what the packet counts): per vertex and
-/// interpolated, or once per triangle and held constant over it (the `Triangle*` sources).
+/// interpolated, or once per triangle (`per_triangle: true`, at the centroid) and held
+/// constant over the triangle.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum AttrSource {
     /// Texture coordinates (u, v).
     Uv,
-    /// Unit direction toward light i in the vertex's tangent frame (T, B, N) (§3.4).
-    TangentLight(usize),
-    /// Unit half vector of light i and the viewer in the tangent frame (§3.4).
-    TangentHalf(usize),
-    /// Light i's direction in the tangent frame at the triangle's centroid, once per triangle.
-    TriangleLight(usize),
-    /// Light i's half vector in the tangent frame at the triangle's centroid, once per
-    /// triangle: Ernst et al. §4.2, "H is constant within at least one triangle".
-    TriangleHalf(usize),
+    /// Unit direction toward light `light`.
+    LightDir {
+        light: usize,
+        frame: VecFrame,
+        #[serde(default)]
+        per_triangle: bool,
+    },
+    /// Unit half vector of light `light` and the viewer (Ernst et al. §4.2: "H is constant
+    /// within at least one triangle" when sent per triangle; §6: interpolated per vertex).
+    HalfVec {
+        light: usize,
+        frame: VecFrame,
+        #[serde(default)]
+        per_triangle: bool,
+    },
     /// The Gouraud colour (§4.2 C_src): the lights with `bump: false` evaluated per vertex with
     /// the vertex normal (§5.4.1, Fig. 6), plus the material's ambient colour if `ambient`.
     Gouraud { ambient: bool },
@@ -219,16 +238,19 @@ impl AttrSource {
     pub fn per_triangle(&self) -> bool {
         matches!(
             self,
-            AttrSource::TriangleLight(_) | AttrSource::TriangleHalf(_)
+            AttrSource::LightDir {
+                per_triangle: true,
+                ..
+            } | AttrSource::HalfVec {
+                per_triangle: true,
+                ..
+            }
         )
     }
     /// The light the attribute is about, if any.
     pub fn light(&self) -> Option<usize> {
         match *self {
-            AttrSource::TangentLight(k)
-            | AttrSource::TangentHalf(k)
-            | AttrSource::TriangleLight(k)
-            | AttrSource::TriangleHalf(k) => Some(k),
+            AttrSource::LightDir { light, .. } | AttrSource::HalfVec { light, .. } => Some(light),
             _ => None,
         }
     }
@@ -274,13 +296,49 @@ pub struct Loaded {
     pub base_dir: PathBuf,
     pub text: String,
     pub hash: String,
+    /// The `--set` overrides applied after parsing.
+    pub sets: Vec<String>,
 }
 
 impl Loaded {
-    /// An error about a field of this config, located at the first occurrence of `needle`.
+    /// An error about a field of this config, located at the first occurrence of `needle`
+    /// outside comments. When `--set` overrides were applied, positions in the file may not
+    /// hold the value checked, so the error names the overrides instead of a position.
     pub fn error(&self, field: &str, needle: &str, message: impl Into<String>) -> InputError {
-        InputError::new(self.path.display().to_string(), field, message)
-            .at(locate(&self.text, needle))
+        if self.sets.is_empty() {
+            InputError::new(self.path.display().to_string(), field, message)
+                .at(locate(&self.text, needle))
+        } else {
+            let file = format!(
+                "{} with --set {}",
+                self.path.display(),
+                self.sets.join(" --set ")
+            );
+            InputError::new(file, field, message)
+        }
+    }
+
+    /// A scene error about this config: a file problem names the file, a value problem the
+    /// field (found at `needle`).
+    pub fn scene_error(
+        &self,
+        field: &str,
+        needle: &str,
+        e: crate::scene::SceneError,
+    ) -> InputError {
+        match e {
+            crate::scene::SceneError::File { path, message } => {
+                InputError::new(path, field, message)
+            }
+            crate::scene::SceneError::Invalid { field, message } => {
+                let field = if field.starts_with("scene.") {
+                    field
+                } else {
+                    format!("scene.{field}")
+                };
+                self.error(&field, needle, message)
+            }
+        }
     }
 }
 
@@ -337,6 +395,7 @@ pub fn load(path: &Path, sets: &[String]) -> Result<Loaded, InputError> {
         base_dir,
         text,
         hash,
+        sets: sets.to_vec(),
     };
     validate(&loaded)?;
     Ok(loaded)
@@ -352,17 +411,36 @@ fn validate(l: &Loaded) -> Result<(), InputError> {
     for (i, light) in c.scene.lights.iter().enumerate() {
         light
             .validate(&format!("scene.lights[{i}]"))
-            .map_err(|e| l.error(&format!("scene.lights[{i}]"), "lights", e.to_string()))?;
+            .map_err(|e| l.scene_error("scene.lights", "lights:", e))?;
     }
     c.scene
         .camera
         .validate("scene.camera")
-        .map_err(|e| l.error("scene.camera", "camera", e.to_string()))?;
+        .map_err(|e| l.scene_error("scene.camera", "camera:", e))?;
+    let t = &c.scene.model;
+    if !(t.scale.is_finite() && t.scale.abs() > 1e-12) {
+        return Err(l.error(
+            "scene.model.scale",
+            "scale:",
+            format!("expected a finite non-zero number, found {}", t.scale),
+        ));
+    }
+    if t.translate
+        .iter()
+        .chain(&t.rotate_deg)
+        .any(|x| !x.is_finite())
+    {
+        return Err(l.error(
+            "scene.model",
+            "model:",
+            "expected finite translate and rotate_deg values",
+        ));
+    }
     let m = &c.scene.material;
     if !(m.shininess.is_finite() && m.shininess > 0.0) {
         return Err(l.error(
             "scene.material.shininess",
-            "shininess",
+            "shininess:",
             format!("expected a number above 0, found {}", m.shininess),
         ));
     }
@@ -374,7 +452,7 @@ fn validate(l: &Loaded) -> Result<(), InputError> {
         if v.iter().any(|x| !(0.0..=1.0).contains(x)) {
             return Err(l.error(
                 &format!("scene.material.{name}"),
-                name,
+                &format!("{name}:"),
                 format!("expected values in [0, 1], found {v:?}"),
             ));
         }
@@ -382,13 +460,13 @@ fn validate(l: &Loaded) -> Result<(), InputError> {
     if !(1..=64).contains(&c.sim.fifo_depth) {
         return Err(l.error(
             "sim.fifo_depth",
-            "fifo_depth",
+            "fifo_depth:",
             format!("expected 1 to 64, found {}", c.sim.fifo_depth),
         ));
     }
     c.raster
         .validate("raster")
-        .map_err(|e| l.error("raster", "raster", e))?;
+        .map_err(|e| l.error("raster", "raster:", e))?;
     let n = c.scene.lights.len();
     let mut seen = std::collections::BTreeSet::new();
     for (i, a) in c.engine.attributes.iter().enumerate() {
@@ -408,10 +486,10 @@ fn validate(l: &Loaded) -> Result<(), InputError> {
                 return Err(l.error(
                     &format!("{field}.source"),
                     &format!("\"{}\"", a.name),
-                    format!(
-                        "light index {k}: the scene has {n} lights (expected 0 to {})",
-                        n.saturating_sub(1)
-                    ),
+                    match n {
+                        0 => format!("light index {k}: the scene has 0 lights (expected a light in scene.lights)"),
+                        _ => format!("light index {k}: the scene has {n} lights (expected 0 to {})", n - 1),
+                    },
                 ));
             }
         }

@@ -8,7 +8,7 @@
 //! only to the interpolated value, so a triangle spanning a wrap boundary interpolates
 //! correctly. In exact mode neither rounding happens.
 
-use crate::config::{AttrSource, AttributeConfig};
+use crate::config::{AttrSource, AttributeConfig, VecFrame};
 use crate::scene::{Light, Scene};
 use bumpsim_hw::{Codec, Encoding, Mode, Word};
 use glam::{DMat3, DVec3, DVec4};
@@ -73,19 +73,28 @@ pub fn compute(scene: &Scene, attrs: &[AttributeConfig]) -> VertexData {
             )
         })
         .collect();
+    let to_object = m3.inverse();
     let at =
         |src: AttrSource, (p, n, pu, pv): (DVec3, DVec3, DVec3, DVec3), uv: [f64; 2]| -> [f64; 4] {
             let frame = Frame::new(n, pu, pv);
             let view = scene.camera.view_dir(p);
-            let v3 = |x: [f64; 3]| [x[0], x[1], x[2], 0.0];
+            let local = |f: VecFrame, d: DVec3| -> [f64; 4] {
+                let x = match f {
+                    VecFrame::Tangent => frame.to_local(d),
+                    VecFrame::Object => (to_object * d).normalize_or_zero().to_array(),
+                };
+                [x[0], x[1], x[2], 0.0]
+            };
             match src {
                 AttrSource::Uv => [uv[0], uv[1], 0.0, 0.0],
-                AttrSource::TangentLight(i) | AttrSource::TriangleLight(i) => {
-                    v3(frame.to_local(scene.lights[i].dir_from(p)))
-                }
-                AttrSource::TangentHalf(i) | AttrSource::TriangleHalf(i) => {
-                    let l = scene.lights[i].dir_from(p);
-                    v3(frame.to_local((l + view).normalize_or_zero()))
+                AttrSource::LightDir {
+                    light, frame: f, ..
+                } => local(f, scene.lights[light].dir_from(p)),
+                AttrSource::HalfVec {
+                    light, frame: f, ..
+                } => {
+                    let l = scene.lights[light].dir_from(p);
+                    local(f, (l + view).normalize_or_zero())
                 }
                 AttrSource::Gouraud { ambient } => {
                     let a = if ambient {
@@ -93,7 +102,8 @@ pub fn compute(scene: &Scene, attrs: &[AttributeConfig]) -> VertexData {
                     } else {
                         DVec3::ZERO
                     };
-                    v3((a + gouraud(scene, frame.n, p, view)).to_array())
+                    let c = a + gouraud(scene, frame.n, p, view);
+                    [c.x, c.y, c.z, 0.0]
                 }
             }
         };

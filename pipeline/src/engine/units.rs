@@ -142,6 +142,17 @@ fn seq(prefix: &str, n: u32) -> Vec<String> {
     (0..n).map(|i| format!("{prefix}{i}")).collect()
 }
 
+fn check_parallel(parallel: u32, count: u32) -> Result<(), String> {
+    if (1..=count.max(1)).contains(&parallel) {
+        Ok(())
+    } else {
+        Err(format!(
+            "parallel {parallel}: expected 1 to {} datapaths",
+            count.max(1)
+        ))
+    }
+}
+
 fn check_size(size: u32) -> Result<(), String> {
     if size.is_power_of_two() && (1..=4096).contains(&size) {
         Ok(())
@@ -242,6 +253,7 @@ impl UnitSpec {
                 if !(1..=8).contains(count) {
                     return Err(format!("count {count}: expected 1 to 8 vectors"));
                 }
+                check_parallel(*parallel, *count)?;
                 let a = input(ins, "a")?.enc;
                 let b = input(ins, "b0")?.enc;
                 Box::new(Dot3::new(a, b, *count, *parallel, *clamp, *out))
@@ -256,6 +268,7 @@ impl UnitSpec {
                 if !(1..=8).contains(count) {
                     return Err(format!("count {count}: expected 1 to 8 inputs"));
                 }
+                check_parallel(*parallel, *count)?;
                 if !(1..=16).contains(index_bits) {
                     return Err(format!("index_bits {index_bits}: expected 1 to 16"));
                 }
@@ -300,6 +313,7 @@ impl UnitSpec {
                         "the scene has no light with bump: true: expected at least one".into(),
                     );
                 }
+                check_parallel(*parallel, lights.len() as u32)?;
                 let m = &ctx.scene.material;
                 let params = ShadeParams {
                     ambient: m.ambient,
