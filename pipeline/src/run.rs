@@ -1,7 +1,7 @@
 //! One run of a config: scene, geometry, rasterizer, the engine in both modes, the float
 //! reference, the comparisons, the report and the pictures.
 
-use crate::config::{AttributeConfig, InputError, Loaded};
+use crate::config::{AttrSource, AttributeConfig, InputError, Loaded};
 use crate::engine::{self, attributes, Engine};
 use crate::metrics::{self, Rgb64};
 use crate::raster::{self, packet::PacketLayout, Fragment};
@@ -262,6 +262,15 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
     let covered = mask.iter().filter(|&&m| m).count() as u64;
     let mismatch = mask.iter().zip(rmask).filter(|(a, b)| a != b).count() as u64;
 
+    let extras: u64 = bit
+        .attributes
+        .iter()
+        .filter(|a| !matches!(a.source, AttrSource::Uv | AttrSource::Gouraud { .. }))
+        .map(|a| {
+            let bits = a.source.lanes() as u64 * a.enc.width() as u64;
+            if a.source.per_triangle() { bits } else { 3 * bits }
+        })
+        .sum();
     let packet = bit.packet();
     let baseline = PacketLayout::baseline_textured_gouraud();
     let bits = packet.bits_per_triangle();
@@ -289,6 +298,8 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
             baseline_bits_per_triangle: base_bits,
             extra_percent: ((bits as f64 - base_bits as f64) / base_bits as f64 * 1000.0).round()
                 / 10.0,
+            bump_extra_bits_per_triangle: extras,
+            bump_extra_percent: (extras as f64 / base_bits as f64 * 1000.0).round() / 10.0,
             bits_per_texel: bit.texels.first().map_or(0, |t| t.1),
             textures: bit.texels.iter().cloned().collect(),
             packet,

@@ -222,9 +222,14 @@ pub enum AttrSource {
         #[serde(default)]
         per_triangle: bool,
     },
-    /// The Gouraud colour (§4.2 C_src): the lights with `bump: false` evaluated per vertex with
-    /// the vertex normal (§5.4.1, Fig. 6), plus the material's ambient colour if `ambient`.
-    Gouraud { ambient: bool },
+    /// The Gouraud colour (§4.2 C_src): the lights with `bump: false` (every light if
+    /// `all_lights`) evaluated per vertex with the vertex normal (§5.4.1, Fig. 6), plus the
+    /// material's ambient colour if `ambient`.
+    Gouraud {
+        ambient: bool,
+        #[serde(default)]
+        all_lights: bool,
+    },
 }
 
 impl AttrSource {

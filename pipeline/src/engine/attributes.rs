@@ -96,13 +96,13 @@ pub fn compute(scene: &Scene, attrs: &[AttributeConfig]) -> VertexData {
                     let l = scene.lights[light].dir_from(p);
                     local(f, (l + view).normalize_or_zero())
                 }
-                AttrSource::Gouraud { ambient } => {
+                AttrSource::Gouraud { ambient, all_lights } => {
                     let a = if ambient {
                         DVec3::from(scene.material.ambient)
                     } else {
                         DVec3::ZERO
                     };
-                    let c = a + gouraud(scene, frame.n, p, view);
+                    let c = a + gouraud(scene, frame.n, p, view, all_lights);
                     [c.x, c.y, c.z, 0.0]
                 }
             }
@@ -139,12 +139,12 @@ pub fn compute(scene: &Scene, attrs: &[AttributeConfig]) -> VertexData {
     VertexData { clip, values, flat }
 }
 
-/// The Gouraud colour at a vertex: the lights that do not take part in bump mapping,
-/// evaluated with the vertex normal (Ernst et al. §5.4.1).
-pub fn gouraud(scene: &Scene, n: DVec3, p: DVec3, view: DVec3) -> DVec3 {
+/// The Gouraud colour at a vertex: the lights that do not take part in bump mapping (or all
+/// lights), evaluated with the vertex normal (Ernst et al. §5.4.1).
+pub fn gouraud(scene: &Scene, n: DVec3, p: DVec3, view: DVec3, all_lights: bool) -> DVec3 {
     let mat = &scene.material;
     let mut c = DVec3::ZERO;
-    for light in scene.lights.iter().filter(|l| !l.bump) {
+    for light in scene.lights.iter().filter(|l| all_lights || !l.bump) {
         c += light_term(
             light,
             n,

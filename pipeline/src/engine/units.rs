@@ -6,6 +6,7 @@
 
 use crate::scene::{NormalMethod, Scene};
 use bumpsim_hw::units::{
+    BlendKind, BumpBlend, BumpBlendParams, LightState, Modulate, Selective, SpecGen, VecSource,
     Clamp, Dot3, EmbossFilter, Filter, Normalize, PowerTable, Shade, ShadeInputs, ShadeParams,
     TexFetch, Texels,
 };
@@ -23,6 +24,10 @@ pub enum TextureSource {
     BumpHeights { size: u32 },
     /// The scene's colour texture (RGB in [0, 1]); its sides must be powers of two.
     ColorTexture,
+    /// The mesh's perturbed normals in object space, baked by rasterising the mesh in uv space
+    /// (`scene/bake.rs`): a bump map "containing the computed surface normals ... plus the
+    /// bump-structure" (Ernst et al. §5.4.2, Fig. 8).
+    ObjectNormals { size: u32 },
 }
 
 fn default_ports() -> u32 {
@@ -39,6 +44,9 @@ fn default_weight_bits() -> u32 {
 }
 fn yes() -> bool {
     true
+}
+fn default_spec() -> SpecGen {
+    SpecGen::Table { index_bits: 8, value_bits: 8 }
 }
 
 /// A hardware unit and its parameters, as written in a config.
@@ -104,6 +112,32 @@ pub enum UnitSpec {
         coef: Encoding,
         out: Encoding,
     },
+    /// Gouraud bump blend unit (`hw/src/units/blend.rs`, Ernst et al. 1998 §4.2) over the
+    /// scene's bump lights. Bump-state vectors (`State`) are the lights' directions and the
+    /// half vectors of a parallel viewer in the object's frame (the bump vector space),
+    /// computed once per frame; `Port` vectors arrive as `l0..`, `h0..` inputs.
+    BumpBlend {
+        kind: BlendKind,
+        #[serde(default)]
+        l_source: VecSource,
+        #[serde(default)]
+        h_source: VecSource,
+        #[serde(default = "default_spec")]
+        spec: SpecGen,
+        /// Defaults to the scene material's shininess.
+        #[serde(default)]
+        shininess: Option<f64>,
+        state: Encoding,
+        color: Encoding,
+        dot: Encoding,
+        out: Encoding,
+        #[serde(default)]
+        selective: Selective,
+        #[serde(default = "one")]
+        parallel: u32,
+    },
+    /// Texture stage: `c * t` per channel (`hw/src/units/modulate.rs`, Ernst et al. §5.1).
+    Modulate { out: Encoding },
     /// Schlag's 3x3 emboss masks over the bump heights (`hw/src/units/emboss.rs`).
     EmbossFilter {
         size: u32,
@@ -173,6 +207,8 @@ impl UnitSpec {
     pub fn input_names(&self, ctx: &BuildCtx) -> Vec<String> {
         match self {
             UnitSpec::TexFetch { .. } | UnitSpec::EmbossFilter { .. } => vec!["uv".into()],
+            UnitSpec::BumpBlend { .. } => self.blend_params(ctx).map_or_else(|_| vec!["c".into(), "b".into()], |p| p.input_names()),
+            UnitSpec::Modulate { .. } => vec!["c".into(), "t".into()],
             UnitSpec::Dot3 { count, .. } => std::iter::once("a".to_string())
                 .chain(seq("b", *count))
                 .collect(),
@@ -347,6 +383,11 @@ impl UnitSpec {
                     *out,
                 ))
             }
+            UnitSpec::BumpBlend { .. } => {
+                let params = self.blend_params(ctx)?;
+                Box::new(BumpBlend::new(params, |n| ins.get(n).map(|p| p.enc))?)
+            }
+            UnitSpec::Modulate { out } => Box::new(Modulate::new(input(ins, "c")?.enc, input(ins, "t")?.enc, *out)),
             UnitSpec::EmbossFilter {
                 size,
                 texel,
@@ -390,6 +431,58 @@ fn height_range(h: &[f64]) -> (f64, f64) {
         })
 }
 
+impl UnitSpec {
+    /// The blend unit's parameters: the scene's bump lights with their bump-state vectors in
+    /// the object's frame (a parallel light and a parallel viewer taken at the object's origin).
+    fn blend_params(&self, ctx: &BuildCtx) -> Result<BumpBlendParams, String> {
+        let UnitSpec::BumpBlend { kind, l_source, h_source, spec, shininess, state, color, dot, out, selective, parallel } = self else {
+            return Err("not a blend unit".into());
+        };
+        let scene = ctx.scene;
+        let lights = ctx.bump_lights();
+        if lights.is_empty() {
+            return Err("the scene has no light with bump: true: expected at least one".into());
+        }
+        check_parallel(*parallel, lights.len() as u32)?;
+        let m3 = glam::DMat3::from_mat4(scene.model);
+        let to_object = m3.inverse();
+        let origin = scene.model.transform_point3(glam::DVec3::ZERO);
+        let v = (to_object * scene.camera.view_dir(origin)).normalize_or_zero();
+        let lights = lights
+            .iter()
+            .map(|&i| {
+                let light = &scene.lights[i];
+                let l = (to_object * light.dir_from(origin)).normalize_or_zero();
+                // The colour register holds the light colour weighted by the material term the
+                // unit adds (kd for diffuse, ks for specular), as a host would load it; `Both`
+                // adds both terms with one register, so it takes the plain light colour
+                // (kd = ks = 1, the paper's equation).
+                let w = match kind {
+                    BlendKind::Diffuse => scene.material.diffuse,
+                    BlendKind::Specular => scene.material.specular,
+                    BlendKind::Both => [1.0; 3],
+                };
+                let color = std::array::from_fn(|c| light.color[c] * w[c]);
+                LightState { color, l: l.to_array(), h: (l + v).normalize_or_zero().to_array(), k: 1.0 }
+            })
+            .collect();
+        Ok(BumpBlendParams {
+            kind: *kind,
+            lights,
+            l_source: *l_source,
+            h_source: *h_source,
+            spec: *spec,
+            shininess: shininess.unwrap_or(scene.material.shininess),
+            state: *state,
+            color: *color,
+            dot: *dot,
+            out: *out,
+            selective: *selective,
+            parallel: *parallel,
+        })
+    }
+}
+
 /// Heights rescaled to [0, 1] over the map's range (a constant map becomes 0.5).
 fn normalise_heights(h: &[f64]) -> Vec<f64> {
     let (lo, hi) = height_range(h);
@@ -428,6 +521,12 @@ fn texels(source: &TextureSource, ctx: &BuildCtx) -> Result<Texels, String> {
                 lanes: 1,
                 values,
             })
+        }
+        TextureSource::ObjectNormals { size } => {
+            check_size(size)?;
+            let b = crate::scene::bake::bake(&ctx.scene.mesh, &ctx.scene.bump, size, crate::scene::bake::BakeSpace::Object, crate::reference::Perturbation::ScaleInvariant);
+            let values = b.map.texels.iter().map(|n| [n.x, n.y, n.z, 0.0]).collect();
+            Ok(Texels { width: size, height: size, lanes: 3, values })
         }
         TextureSource::ColorTexture => {
             let img =

@@ -18,6 +18,7 @@ use std::path::Path;
 use glam::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};
 
+use super::check_count;
 use super::normals::{is_16bit, read_png};
 use super::{NormalMap, NormalMethod, SceneError};
 
@@ -138,17 +139,6 @@ fn finite(field: String, name: &str, x: f64) -> Result<(), SceneError> {
     }
 }
 
-fn count(field: String, x: u32, lo: u32, hi: u32) -> Result<(), SceneError> {
-    if (lo..=hi).contains(&x) {
-        Ok(())
-    } else {
-        Err(SceneError::invalid(
-            field,
-            format!("expected an integer in {lo}..={hi}, found {x}"),
-        ))
-    }
-}
-
 fn fraction(field: String, x: f64, what: &str) -> Result<(), SceneError> {
     if x.is_finite() && x > 0.0 && x <= 0.5 {
         Ok(())
@@ -176,14 +166,14 @@ impl BumpSpec {
                 bevel,
                 depth,
             } => {
-                count("bump.Bricks.rows".into(), rows, 2, MAX_CELLS)?;
+                check_count("bump.Bricks.rows".into(), rows, 2, MAX_CELLS)?;
                 if rows % 2 != 0 {
                     return Err(SceneError::invalid(
                         "bump.Bricks.rows",
                         format!("expected an even number so the running bond tiles, found {rows}"),
                     ));
                 }
-                count("bump.Bricks.cols".into(), cols, 1, MAX_CELLS)?;
+                check_count("bump.Bricks.cols".into(), cols, 1, MAX_CELLS)?;
                 if !(mortar.is_finite() && mortar >= 0.0) {
                     return Err(SceneError::invalid(
                         "bump.Bricks.mortar",
@@ -229,7 +219,7 @@ impl BumpSpec {
                 sigma,
                 depth,
             } => {
-                count("bump.MexicanHat.cells".into(), cells, 1, MAX_CELLS)?;
+                check_count("bump.MexicanHat.cells".into(), cells, 1, MAX_CELLS)?;
                 fraction("bump.MexicanHat.sigma".into(), sigma, "a width")?;
                 finite("bump.MexicanHat.depth".into(), "depth", depth)?;
                 Ok(BumpMap::Height(Box::new(MexicanHat::new(
@@ -241,7 +231,7 @@ impl BumpSpec {
                 radius,
                 depth,
             } => {
-                count("bump.SphereCaps.cells".into(), cells, 1, MAX_CELLS)?;
+                check_count("bump.SphereCaps.cells".into(), cells, 1, MAX_CELLS)?;
                 fraction("bump.SphereCaps.radius".into(), radius, "a radius")?;
                 finite("bump.SphereCaps.depth".into(), "depth", depth)?;
                 Ok(BumpMap::Height(Box::new(SphereCaps {
@@ -256,8 +246,8 @@ impl BumpSpec {
                 depth,
                 seed,
             } => {
-                count("bump.Noise.octaves".into(), octaves, 1, 16)?;
-                count("bump.Noise.frequency".into(), frequency, 1, 1 << 24)?;
+                check_count("bump.Noise.octaves".into(), octaves, 1, 16)?;
+                check_count("bump.Noise.frequency".into(), frequency, 1, 1 << 24)?;
                 if u64::from(frequency) << (octaves - 1) > 1 << 24 {
                     return Err(SceneError::invalid(
                         "bump.Noise.frequency",

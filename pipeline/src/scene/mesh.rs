@@ -20,7 +20,7 @@ use std::path::Path;
 use glam::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};
 
-use super::SceneError;
+use super::{check_count, SceneError};
 
 /// A mesh vertex with its tangent frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -234,17 +234,6 @@ fn check_positive(field: String, x: f64) -> Result<(), SceneError> {
         Err(SceneError::invalid(
             field,
             format!("expected a finite value > 0, found {x}"),
-        ))
-    }
-}
-
-fn check_count(field: String, x: u32, lo: u32, hi: u32) -> Result<(), SceneError> {
-    if (lo..=hi).contains(&x) {
-        Ok(())
-    } else {
-        Err(SceneError::invalid(
-            field,
-            format!("expected an integer in {lo}..={hi}, found {x}"),
         ))
     }
 }

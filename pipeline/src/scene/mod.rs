@@ -159,6 +159,15 @@ impl Light {
     }
 }
 
+/// An integer parameter in `lo..=hi`, shared by the scene builders' checks.
+pub(crate) fn check_count(field: String, x: u32, lo: u32, hi: u32) -> Result<(), SceneError> {
+    if (lo..=hi).contains(&x) {
+        Ok(())
+    } else {
+        Err(SceneError::invalid(field, format!("expected an integer in {lo}..={hi}, found {x}")))
+    }
+}
+
 fn check_pos(field: &str, pos: [f64; 3]) -> Result<(), SceneError> {
     if DVec3::from(pos).is_finite() {
         Ok(())
