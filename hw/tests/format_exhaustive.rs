@@ -1,126 +1,16 @@
 //! Exhaustive checks of `bumpsim_hw::format` for every width from 1 to 12 bits.
 //!
-//! Every result is compared with an exact oracle written here with integer arithmetic only
-//! (an `i128` numerator over a power-of-two or small denominator), whose rounding and
-//! overflow rules are taken from the Algorithmic C datatypes reference (`ac_fixed`):
-//!
-//! * AC_TRN: toward minus infinity; AC_TRN_ZERO: toward zero;
-//! * AC_RND: nearest, ties toward plus infinity; AC_RND_ZERO: ties toward zero;
-//!   AC_RND_INF: ties away from zero; AC_RND_MIN_INF: ties toward minus infinity;
-//!   AC_RND_CONV: ties to even; AC_RND_CONV_ODD: ties to odd;
-//! * AC_WRAP: two's complement, modulo 2^W; AC_SAT: clamp to MIN or MAX; AC_SAT_ZERO: zero
-//!   on overflow; AC_SAT_SYM: for signed formats, on overflow *or when the result is MIN*, the
-//!   closest of -MAX or MAX (unsigned formats: as AC_SAT).
+//! Every result is compared with an exact oracle (`common/mod.rs`) written with integer
+//! arithmetic only (an `i128` numerator over a power-of-two or small denominator), whose
+//! rounding and overflow rules are taken from the Algorithmic C datatypes reference
+//! (`ac_fixed`).
 //!
 //! Widths above 12 bits are covered by random inputs in `format_props.rs`.
 
+mod common;
+
 use bumpsim_hw::format::{shift_round, Codec, Encoding, Format, Overflow, Quant};
-use std::cmp::Ordering;
-
-const QUANTS: [Quant; 8] = [
-    Quant::Trn,
-    Quant::TrnZero,
-    Quant::Rnd,
-    Quant::RndZero,
-    Quant::RndInf,
-    Quant::RndMinInf,
-    Quant::RndConv,
-    Quant::RndConvOdd,
-];
-const OVERFLOWS: [Overflow; 4] = [
-    Overflow::Wrap,
-    Overflow::Sat,
-    Overflow::SatZero,
-    Overflow::SatSym,
-];
-
-// ------------------------------------------------------------------------------------------
-// The oracle.
-// ------------------------------------------------------------------------------------------
-
-/// `num / den` (den > 0) rounded to an integer by `q`, computed exactly.
-fn round_div(num: i128, den: i128, q: Quant) -> i128 {
-    assert!(den > 0);
-    let lo = num.div_euclid(den); // floor
-    let r = num.rem_euclid(den); // num = lo * den + r, 0 <= r < den
-    if r == 0 {
-        return lo;
-    }
-    let hi = lo + 1; // the exact value lies strictly between lo and hi
-    let (toward_zero, away_from_zero) = if num < 0 { (hi, lo) } else { (lo, hi) };
-    let even = if lo.rem_euclid(2) == 0 { lo } else { hi };
-    let odd = if lo.rem_euclid(2) == 1 { lo } else { hi };
-    match q {
-        Quant::Trn => lo,
-        Quant::TrnZero => toward_zero,
-        _ => match (2 * r).cmp(&den) {
-            Ordering::Less => lo,
-            Ordering::Greater => hi,
-            Ordering::Equal => match q {
-                Quant::Rnd => hi,
-                Quant::RndZero => toward_zero,
-                Quant::RndInf => away_from_zero,
-                Quant::RndMinInf => lo,
-                Quant::RndConv => even,
-                Quant::RndConvOdd => odd,
-                Quant::Trn | Quant::TrnZero => unreachable!(),
-            },
-        },
-    }
-}
-
-/// Smallest and largest raw word of a `width`-bit word.
-fn range(signed: bool, width: u32) -> (i128, i128) {
-    if signed {
-        (-(1i128 << (width - 1)), (1i128 << (width - 1)) - 1)
-    } else {
-        (0, (1i128 << width) - 1)
-    }
-}
-
-/// An exact integer (at the target scale) put into a `width`-bit word by the overflow mode.
-fn overflow_oracle(signed: bool, width: u32, v: i128, o: Overflow) -> i64 {
-    let (min, max) = range(signed, width);
-    let r = match o {
-        Overflow::Wrap => {
-            // keep the low `width` bits, then sign-extend from bit width-1
-            let bits = (v as u128) & ((1u128 << width) - 1);
-            if signed && (bits >> (width - 1)) & 1 == 1 {
-                bits as i128 - (1i128 << width)
-            } else {
-                bits as i128
-            }
-        }
-        Overflow::Sat => {
-            if v > max {
-                max
-            } else if v < min {
-                min
-            } else {
-                v
-            }
-        }
-        Overflow::SatZero => {
-            if v > max || v < min {
-                0
-            } else {
-                v
-            }
-        }
-        Overflow::SatSym => {
-            if !signed {
-                v.clamp(min, max)
-            } else if v > max {
-                max
-            } else if v <= min {
-                -max // MIN itself becomes -MAX too
-            } else {
-                v
-            }
-        }
-    };
-    r as i64
-}
+use common::{overflow_oracle, range, round_div, texel, OVERFLOWS, QUANTS};
 
 // ------------------------------------------------------------------------------------------
 // Helpers.
@@ -450,14 +340,6 @@ fn texel_value(codec: Codec, n: u32, c: i128) -> (i128, i128) {
 }
 
 const UNIT_CODECS: [Codec; 3] = [Codec::UnitUnsigned, Codec::UnitSigned, Codec::UnitSymmetric];
-
-fn texel(codec: Codec, n: u32, q: Quant, o: Overflow) -> Encoding {
-    let mut e = Encoding::texel(codec, codec != Codec::UnitUnsigned, n as u8);
-    e.quant = q;
-    e.overflow = o;
-    e.validate().unwrap();
-    e
-}
 
 #[test]
 fn texel_round_trip_every_code() {

@@ -2,9 +2,10 @@
 //! checked exhaustively in `format_exhaustive.rs`), and cross-checks against the `fixed`
 //! crate as an independent implementation.
 //!
-//! The oracle is the same as in `format_exhaustive.rs` (exact integer arithmetic, modes as
-//! the `ac_fixed` reference defines them), extended to divisors beyond `i128` with a sticky
-//! bit, and to products beyond `i128` by keeping the sign and the low 128 bits.
+//! The oracle is shared with `format_exhaustive.rs` (`common/mod.rs`: exact integer
+//! arithmetic, modes as the `ac_fixed` reference defines them), here extended to divisors
+//! beyond `i128` with a sticky bit, and to products beyond `i128` by keeping the sign and
+//! the low 128 bits.
 //!
 //! What the `fixed` crate documents, and so what it is compared with:
 //! * `from_num` / `saturating_from_num` / `wrapping_from_num` / `checked_from_num` from a
@@ -20,22 +21,14 @@
 //! shifts the double-width product right, which is truncation toward -inf, so it is compared
 //! with `Quant::Trn`, and with the documented route `wide_mul` + `from_num`.
 
+mod common;
+
 use bumpsim_hw::format::{shift_round, Codec, Encoding, Format, Overflow, Quant};
+use common::{overflow_oracle, range, round_div, texel, Wide, OVERFLOWS, QUANTS};
 use fixed::types::{I16F16, I1F15, I4F12, I8F8, U0F16, U16F16, U8F8};
 use proptest::prelude::*;
 use proptest::test_runner::Config;
-use std::cmp::Ordering;
 
-const QUANTS: [Quant; 8] = [
-    Quant::Trn,
-    Quant::TrnZero,
-    Quant::Rnd,
-    Quant::RndZero,
-    Quant::RndInf,
-    Quant::RndMinInf,
-    Quant::RndConv,
-    Quant::RndConvOdd,
-];
 const NEAREST: [Quant; 6] = [
     Quant::Rnd,
     Quant::RndZero,
@@ -43,12 +36,6 @@ const NEAREST: [Quant; 6] = [
     Quant::RndMinInf,
     Quant::RndConv,
     Quant::RndConvOdd,
-];
-const OVERFLOWS: [Overflow; 4] = [
-    Overflow::Wrap,
-    Overflow::Sat,
-    Overflow::SatZero,
-    Overflow::SatSym,
 ];
 
 /// Cases per property: each case checks every quantization and overflow mode, and the whole
@@ -67,37 +54,6 @@ fn cfg(cases: u32) -> Config {
 // ------------------------------------------------------------------------------------------
 // The oracle.
 // ------------------------------------------------------------------------------------------
-
-/// `num / den` (den > 0) rounded to an integer by `q`, computed exactly.
-fn round_div(num: i128, den: i128, q: Quant) -> i128 {
-    assert!(den > 0);
-    let lo = num.div_euclid(den);
-    let r = num.rem_euclid(den);
-    if r == 0 {
-        return lo;
-    }
-    let hi = lo + 1;
-    let (toward_zero, away_from_zero) = if num < 0 { (hi, lo) } else { (lo, hi) };
-    let even = if lo.rem_euclid(2) == 0 { lo } else { hi };
-    let odd = if lo.rem_euclid(2) == 1 { lo } else { hi };
-    match q {
-        Quant::Trn => lo,
-        Quant::TrnZero => toward_zero,
-        _ => match (2 * r).cmp(&den) {
-            Ordering::Less => lo,
-            Ordering::Greater => hi,
-            Ordering::Equal => match q {
-                Quant::Rnd => hi,
-                Quant::RndZero => toward_zero,
-                Quant::RndInf => away_from_zero,
-                Quant::RndMinInf => lo,
-                Quant::RndConv => even,
-                Quant::RndConvOdd => odd,
-                Quant::Trn | Quant::TrnZero => unreachable!(),
-            },
-        },
-    }
-}
 
 /// `v / 2^by` rounded by `q`, for any `by` (2^by may not fit in an i128).
 ///
@@ -118,17 +74,6 @@ fn round_shift(v: i128, by: u32, q: Quant) -> i128 {
     round_div(2 * floor_j + sticky as i128, 1i128 << 63, q)
 }
 
-/// An integer at the target scale, which may lie beyond i128.
-#[derive(Debug, Clone, Copy)]
-enum Wide {
-    Exact(i128),
-    /// Out of the i128 range: its sign and its low 128 bits.
-    Huge {
-        negative: bool,
-        low: u128,
-    },
-}
-
 /// `v * 2^s`, exactly or as its sign and low bits.
 fn shl_wide(v: i128, s: u32) -> Wide {
     if s < 127 {
@@ -143,71 +88,6 @@ fn shl_wide(v: i128, s: u32) -> Wide {
         negative: v < 0,
         low,
     }
-}
-
-fn range(signed: bool, width: u32) -> (i128, i128) {
-    if signed {
-        (-(1i128 << (width - 1)), (1i128 << (width - 1)) - 1)
-    } else {
-        (0, (1i128 << width) - 1)
-    }
-}
-
-fn overflow_oracle(signed: bool, width: u32, v: Wide, o: Overflow) -> i64 {
-    let (min, max) = range(signed, width);
-    let wrap = |bits: u128| {
-        let bits = bits & ((1u128 << width) - 1);
-        if signed && (bits >> (width - 1)) & 1 == 1 {
-            bits as i128 - (1i128 << width)
-        } else {
-            bits as i128
-        }
-    };
-    let r = match v {
-        Wide::Exact(v) => match o {
-            Overflow::Wrap => wrap(v as u128),
-            Overflow::Sat => v.clamp(min, max),
-            Overflow::SatZero => {
-                if v > max || v < min {
-                    0
-                } else {
-                    v
-                }
-            }
-            Overflow::SatSym => {
-                if !signed {
-                    v.clamp(min, max)
-                } else if v > max {
-                    max
-                } else if v <= min {
-                    -max
-                } else {
-                    v
-                }
-            }
-        },
-        Wide::Huge { negative, low } => match o {
-            Overflow::Wrap => wrap(low),
-            Overflow::Sat => {
-                if negative {
-                    min
-                } else {
-                    max
-                }
-            }
-            Overflow::SatZero => 0,
-            Overflow::SatSym => {
-                if !negative {
-                    max
-                } else if signed {
-                    -max
-                } else {
-                    0
-                }
-            }
-        },
-    };
-    r as i64
 }
 
 fn expected_cast(f: Format, raw: i128, from_frac: u32, q: Quant, o: Overflow) -> i64 {
@@ -495,14 +375,6 @@ fn cast_of_huge_source_words() {
 // ------------------------------------------------------------------------------------------
 // Encodings, widths 13..=32.
 // ------------------------------------------------------------------------------------------
-
-fn texel(codec: Codec, n: u32, q: Quant, o: Overflow) -> Encoding {
-    let mut e = Encoding::texel(codec, codec != Codec::UnitUnsigned, n as u8);
-    e.quant = q;
-    e.overflow = o;
-    e.validate().unwrap();
-    e
-}
 
 fn unit_codec() -> impl Strategy<Value = Codec> {
     prop::sample::select(vec![

@@ -98,13 +98,13 @@ struct Front<'a> {
 }
 
 impl Front<'_> {
-    fn token(&self, attrs: &[AttributeConfig], nslots: usize, mode: Mode, f: usize) -> Token {
+    /// Fill a token with fragment `f`'s interpolated attributes.
+    fn fill(&self, attrs: &[AttributeConfig], mode: Mode, f: usize, t: &mut Token) {
         let frag = &self.frags[f];
         let tri = self.tris[frag.tri as usize];
-        let mut slots = vec![Word::default(); nslots];
         for (a, attr) in attrs.iter().enumerate() {
             let lanes = attr.source.lanes() as usize;
-            slots[a] = if self.vd.flat[a] {
+            t.slots[a] = if self.vd.flat[a] {
                 attributes::flat(
                     mode,
                     &attr.enc,
@@ -116,12 +116,7 @@ impl Front<'_> {
                 attributes::interpolate(mode, &attr.enc, lanes, [v[0], v[1], v[2]], frag.bary)
             };
         }
-        Token {
-            id: f as u64,
-            x: frag.x,
-            y: frag.y,
-            slots,
-        }
+        (t.id, t.x, t.y) = (f as u64, frag.x, frag.y);
     }
 }
 
@@ -182,7 +177,7 @@ impl Prepared {
             vd: &self.vertices,
         };
         let (attrs, nslots) = (self.bit.attributes.clone(), self.bit.slots());
-        let mut make = |f: usize| front.token(&attrs, nslots, Mode::BitAccurate, f);
+        let mut fill = |f: usize, t: &mut Token| front.fill(&attrs, Mode::BitAccurate, f, t);
         let ranges = triangle_ranges(front.frags, self.scene.mesh.triangles.len());
         let setup = self
             .raster
@@ -193,7 +188,8 @@ impl Prepared {
         let workload = sim::Workload {
             triangles: ranges,
             setup,
-            make_token: &mut make,
+            fill_token: &mut fill,
+            slots: nslots,
             fifo_depth: self.fifo_depth,
         };
         sim::run(&mut self.bit.stages, self.bit.output.slot, workload, trace)
@@ -207,12 +203,13 @@ impl Prepared {
             vd: &self.vertices,
         };
         let (attrs, nslots) = (self.exact.attributes.clone(), self.exact.slots());
-        let mut make = |f: usize| front.token(&attrs, nslots, Mode::Exact, f);
+        let mut fill = |f: usize, t: &mut Token| front.fill(&attrs, Mode::Exact, f, t);
         sim::evaluate(
             &mut self.exact.stages,
             self.exact.output.slot,
             front.frags.len(),
-            &mut make,
+            nslots,
+            &mut fill,
         )
     }
 
@@ -268,7 +265,11 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
         .filter(|a| !matches!(a.source, AttrSource::Uv | AttrSource::Gouraud { .. }))
         .map(|a| {
             let bits = a.source.lanes() as u64 * a.enc.width() as u64;
-            if a.source.per_triangle() { bits } else { 3 * bits }
+            if a.source.per_triangle() {
+                bits
+            } else {
+                3 * bits
+            }
         })
         .sum();
     let packet = bit.packet();

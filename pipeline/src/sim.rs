@@ -41,7 +41,9 @@ pub struct Workload<'a> {
     /// Setup cycles of each triangle (a clipped triangle may need several setups).
     pub setup: Vec<u32>,
     /// Builds the token of a fragment (interpolated attributes).
-    pub make_token: &'a mut dyn FnMut(usize) -> Token,
+    pub fill_token: &'a mut dyn FnMut(usize, &mut Token),
+    /// Slots of a token.
+    pub slots: usize,
     pub fifo_depth: usize,
 }
 
@@ -73,6 +75,8 @@ pub fn run(
     let mut ready: Option<usize> = None;
     let mut scanning: Option<(usize, usize)> = None; // (triangle, next fragment)
     let mut written = 0usize;
+    // tokens leaving the frame buffer are reused by the scan converter
+    let mut pool: Vec<Token> = Vec::new();
     let mut cycle = frame;
     let bump = |c: &mut Counters, busy: bool, stall: bool| {
         if stall {
@@ -89,6 +93,7 @@ pub fn run(
         if let Some(t) = fifos[nstage].pop() {
             outputs[t.id as usize] = t.slots[output_slot];
             written += 1;
+            pool.push(t);
         }
         for i in (0..nstage).rev() {
             let (a, b) = fifos.split_at_mut(i + 1);
@@ -113,7 +118,14 @@ pub fn run(
         if let Some((t, k)) = scanning {
             if fifos[0].has_room() {
                 let f = w.triangles[t].start + k;
-                fifos[0].push((w.make_token)(f));
+                let mut token = pool.pop().unwrap_or_else(|| Token {
+                    id: 0,
+                    x: 0,
+                    y: 0,
+                    slots: vec![Word::default(); w.slots],
+                });
+                (w.fill_token)(f, &mut token);
+                fifos[0].push(token);
                 scanning = Some((t, k + 1));
                 scan_busy = true;
             } else {
@@ -185,11 +197,18 @@ pub fn evaluate(
     stages: &mut [Stage],
     output_slot: usize,
     nfrag: usize,
-    make_token: &mut dyn FnMut(usize) -> Token,
+    slots: usize,
+    fill_token: &mut dyn FnMut(usize, &mut Token),
 ) -> Vec<Word> {
+    let mut t = Token {
+        id: 0,
+        x: 0,
+        y: 0,
+        slots: vec![Word::default(); slots],
+    };
     (0..nfrag)
         .map(|f| {
-            let mut t = make_token(f);
+            fill_token(f, &mut t);
             for s in stages.iter_mut() {
                 s.eval_token(&mut t);
             }

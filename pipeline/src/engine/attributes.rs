@@ -96,7 +96,10 @@ pub fn compute(scene: &Scene, attrs: &[AttributeConfig]) -> VertexData {
                     let l = scene.lights[light].dir_from(p);
                     local(f, (l + view).normalize_or_zero())
                 }
-                AttrSource::Gouraud { ambient, all_lights } => {
+                AttrSource::Gouraud {
+                    ambient,
+                    all_lights,
+                } => {
                     let a = if ambient {
                         DVec3::from(scene.material.ambient)
                     } else {

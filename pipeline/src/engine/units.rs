@@ -6,9 +6,9 @@
 
 use crate::scene::{NormalMethod, Scene};
 use bumpsim_hw::units::{
-    BlendKind, BumpBlend, BumpBlendParams, LightState, Modulate, Selective, SpecGen, VecSource,
-    Clamp, Dot3, EmbossFilter, Filter, Normalize, PowerTable, Shade, ShadeInputs, ShadeParams,
-    TexFetch, Texels,
+    BlendKind, BumpBlend, BumpBlendParams, Clamp, Dot3, EmbossFilter, Filter, LightState, Modulate,
+    Normalize, PowerTable, Selective, Shade, ShadeInputs, ShadeParams, SpecGen, TexFetch, Texels,
+    VecSource,
 };
 use bumpsim_hw::{Codec, Encoding, Format, PortSpec, Unit};
 use serde::{Deserialize, Serialize};
@@ -46,7 +46,10 @@ fn yes() -> bool {
     true
 }
 fn default_spec() -> SpecGen {
-    SpecGen::Table { index_bits: 8, value_bits: 8 }
+    SpecGen::Table {
+        index_bits: 8,
+        value_bits: 8,
+    }
 }
 
 /// A hardware unit and its parameters, as written in a config.
@@ -207,7 +210,9 @@ impl UnitSpec {
     pub fn input_names(&self, ctx: &BuildCtx) -> Vec<String> {
         match self {
             UnitSpec::TexFetch { .. } | UnitSpec::EmbossFilter { .. } => vec!["uv".into()],
-            UnitSpec::BumpBlend { .. } => self.blend_params(ctx).map_or_else(|_| vec!["c".into(), "b".into()], |p| p.input_names()),
+            UnitSpec::BumpBlend { .. } => self
+                .blend_params(ctx)
+                .map_or_else(|_| vec!["c".into(), "b".into()], |p| p.input_names()),
             UnitSpec::Modulate { .. } => vec!["c".into(), "t".into()],
             UnitSpec::Dot3 { count, .. } => std::iter::once("a".to_string())
                 .chain(seq("b", *count))
@@ -387,7 +392,11 @@ impl UnitSpec {
                 let params = self.blend_params(ctx)?;
                 Box::new(BumpBlend::new(params, |n| ins.get(n).map(|p| p.enc))?)
             }
-            UnitSpec::Modulate { out } => Box::new(Modulate::new(input(ins, "c")?.enc, input(ins, "t")?.enc, *out)),
+            UnitSpec::Modulate { out } => Box::new(Modulate::new(
+                input(ins, "c")?.enc,
+                input(ins, "t")?.enc,
+                *out,
+            )),
             UnitSpec::EmbossFilter {
                 size,
                 texel,
@@ -435,7 +444,20 @@ impl UnitSpec {
     /// The blend unit's parameters: the scene's bump lights with their bump-state vectors in
     /// the object's frame (a parallel light and a parallel viewer taken at the object's origin).
     fn blend_params(&self, ctx: &BuildCtx) -> Result<BumpBlendParams, String> {
-        let UnitSpec::BumpBlend { kind, l_source, h_source, spec, shininess, state, color, dot, out, selective, parallel } = self else {
+        let UnitSpec::BumpBlend {
+            kind,
+            l_source,
+            h_source,
+            spec,
+            shininess,
+            state,
+            color,
+            dot,
+            out,
+            selective,
+            parallel,
+        } = self
+        else {
             return Err("not a blend unit".into());
         };
         let scene = ctx.scene;
@@ -463,7 +485,12 @@ impl UnitSpec {
                     BlendKind::Both => [1.0; 3],
                 };
                 let color = std::array::from_fn(|c| light.color[c] * w[c]);
-                LightState { color, l: l.to_array(), h: (l + v).normalize_or_zero().to_array(), k: 1.0 }
+                LightState {
+                    color,
+                    l: l.to_array(),
+                    h: (l + v).normalize_or_zero().to_array(),
+                    k: 1.0,
+                }
             })
             .collect();
         Ok(BumpBlendParams {
@@ -524,9 +551,20 @@ fn texels(source: &TextureSource, ctx: &BuildCtx) -> Result<Texels, String> {
         }
         TextureSource::ObjectNormals { size } => {
             check_size(size)?;
-            let b = crate::scene::bake::bake(&ctx.scene.mesh, &ctx.scene.bump, size, crate::scene::bake::BakeSpace::Object, crate::reference::Perturbation::ScaleInvariant);
+            let b = crate::scene::bake::bake(
+                &ctx.scene.mesh,
+                &ctx.scene.bump,
+                size,
+                crate::scene::bake::BakeSpace::Object,
+                crate::reference::Perturbation::ScaleInvariant,
+            );
             let values = b.map.texels.iter().map(|n| [n.x, n.y, n.z, 0.0]).collect();
-            Ok(Texels { width: size, height: size, lanes: 3, values })
+            Ok(Texels {
+                width: size,
+                height: size,
+                lanes: 3,
+                values,
+            })
         }
         TextureSource::ColorTexture => {
             let img =

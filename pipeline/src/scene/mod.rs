@@ -164,7 +164,10 @@ pub(crate) fn check_count(field: String, x: u32, lo: u32, hi: u32) -> Result<(),
     if (lo..=hi).contains(&x) {
         Ok(())
     } else {
-        Err(SceneError::invalid(field, format!("expected an integer in {lo}..={hi}, found {x}")))
+        Err(SceneError::invalid(
+            field,
+            format!("expected an integer in {lo}..={hi}, found {x}"),
+        ))
     }
 }
 
