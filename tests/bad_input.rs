@@ -122,46 +122,39 @@ fn fails_at(b: &Bad, at: Option<&str>, needles: &[&str]) -> String {
     msg
 }
 
+/// One test per edited config that `check` and `render` reject ([`fails_at`]):
+/// `name: (scratch name, base config, edits, Some(text whose line the message points at)
+/// or None, needles);`.
+macro_rules! config_errors {
+    ($($name:ident: ($test:expr, $base:expr, $edits:expr, $at:expr, $needles:expr $(,)?);)*) => {
+        $(
+            #[test]
+            fn $name() {
+                let b = bad($test, $base, $edits, &[]);
+                fails_at(&b, $at, $needles);
+            }
+        )*
+    };
+}
+
+/// [`fails`] for an error about the file `name` next to the config: the message names its
+/// path, and every needle.
+fn file_fails(b: &Bad, name: &str, needles: &[&str]) {
+    let path = b.scratch.join(name).display().to_string();
+    let mut all = vec![path.as_str()];
+    all.extend_from_slice(needles);
+    fails(b, &[], &all);
+}
+
 // ---------------------------------------------------------------- unknown names and keys
 
-#[test]
-fn unknown_unit_kind() {
-    let b = bad("unit-kind", "sgi-teapot", &[("Dot3(", "Dot4(")], &[]);
-    fails_at(
-        &b,
-        Some("Dot4("),
-        &["engine.units[1].unit", "Dot4", "expected one of", "Dot3"],
-    );
-}
-
-#[test]
-fn unknown_key_in_scene() {
-    let b = bad(
-        "scene-key",
-        "sgi-teapot",
-        &[("width: 256,", "width: 256, colour: 1,")],
-        &[],
-    );
-    fails_at(
-        &b,
-        Some("colour: 1"),
-        &["scene.colour", "colour", "expected one of", "width"],
-    );
-}
-
-#[test]
-fn unknown_top_level_key() {
-    let b = bad(
-        "top-key",
-        "emboss",
-        &[("name: \"emboss\",", "name: \"emboss\", frobnicate: true,")],
-        &[],
-    );
-    fails_at(
-        &b,
-        Some("frobnicate"),
-        &["frobnicate", "expected one of", "engine"],
-    );
+config_errors! {
+    unknown_unit_kind: ("unit-kind", "sgi-teapot", &[("Dot3(", "Dot4(")], Some("Dot4("),
+        &["engine.units[1].unit", "Dot4", "expected one of", "Dot3"]);
+    unknown_key_in_scene: ("scene-key", "sgi-teapot", &[("width: 256,", "width: 256, colour: 1,")], Some("colour: 1"),
+        &["scene.colour", "colour", "expected one of", "width"]);
+    unknown_top_level_key: ("top-key", "emboss", &[("name: \"emboss\",", "name: \"emboss\", frobnicate: true,")], Some("frobnicate"),
+        &["frobnicate", "expected one of", "engine"]);
 }
 
 // ---------------------------------------------------------------- number formats
@@ -169,80 +162,28 @@ fn unknown_top_level_key() {
 const L0_FORMAT: &str =
     "(name: \"l0\", source: LightDir(light: 0, frame: Tangent), enc: (format: (signed: true, width: 10, frac: 8))),";
 
-#[test]
-fn format_width_zero() {
-    let to = L0_FORMAT.replace("width: 10, frac: 8", "width: 0, frac: 0");
-    let b = bad("width0", "sgi-teapot", &[(L0_FORMAT, &to)], &[]);
-    fails_at(
-        &b,
-        Some("width: 0,"),
-        &[
-            "engine.attributes[1].enc.format",
-            "width 0",
-            "expected 1 to 32 bits",
-        ],
-    );
-}
-
-#[test]
-fn format_width_33() {
-    let to = L0_FORMAT.replace("width: 10, frac: 8", "width: 33, frac: 8");
-    let b = bad("width33", "sgi-teapot", &[(L0_FORMAT, &to)], &[]);
-    fails_at(
-        &b,
-        Some("width: 33,"),
-        &[
-            "engine.attributes[1].enc.format",
-            "width 33",
-            "expected 1 to 32 bits",
-        ],
-    );
-}
-
-#[test]
-fn format_frac_above_width() {
+config_errors! {
+    format_width_zero: ("width0", "sgi-teapot", &[(L0_FORMAT, &L0_FORMAT.replace("width: 10, frac: 8", "width: 0, frac: 0"))], Some("width: 0,"),
+        &["engine.attributes[1].enc.format", "width 0", "expected 1 to 32 bits"]);
+    format_width_33: ("width33", "sgi-teapot", &[(L0_FORMAT, &L0_FORMAT.replace("width: 10, frac: 8", "width: 33, frac: 8"))], Some("width: 33,"),
+        &["engine.attributes[1].enc.format", "width 33", "expected 1 to 32 bits"]);
     // in a unit's output format this time
-    let b = bad(
-        "frac",
-        "emboss",
-        &[(
-            "out: (format: (signed: true, width: 16, frac: 4)),",
-            "out: (format: (signed: true, width: 16, frac: 17)),",
-        )],
-        &[],
-    );
-    fails_at(
-        &b,
-        Some("frac: 17"),
-        &[
-            "engine.units[0].unit",
-            "fraction bits 17 exceed the width 16",
-            "expected 0 to 16",
-        ],
-    );
+    format_frac_above_width: ("frac", "emboss", &[("out: (format: (signed: true, width: 16, frac: 4)),", "out: (format: (signed: true, width: 16, frac: 17)),")], Some("frac: 17"),
+        &["engine.units[0].unit", "fraction bits 17 exceed the width 16", "expected 0 to 16"]);
 }
 
 // ---------------------------------------------------------------- wiring
 
-#[test]
-fn expected_port_width_mismatch() {
+config_errors! {
     // fetch.t is s2.8, 10 bits per lane
-    let b = bad(
-        "expect",
-        "sgi-teapot",
-        &[("\"b3\": \"h1\"},", "\"b3\": \"h1\"}, expect: {\"a\": 12},")],
-        &[],
-    );
-    fails_at(
-        &b,
-        Some("name: \"dot\""),
-        &[
-            "engine.units[1].expect.a",
-            "port width mismatch",
-            "12 bits",
-            "fetch.t carries 10",
-        ],
-    );
+    expected_port_width_mismatch: ("expect", "sgi-teapot", &[("\"b3\": \"h1\"},", "\"b3\": \"h1\"}, expect: {\"a\": 12},")], Some("name: \"dot\""),
+        &["engine.units[1].expect.a", "port width mismatch", "12 bits", "fetch.t carries 10"]);
+    input_wired_to_a_missing_signal: ("missing-signal", "sgi-teapot", &[("\"b3\": \"h1\"}", "\"b3\": \"h9\"}")], Some("name: \"dot\""),
+        &["engine.units[1].inputs.b3", "no signal \"h9\"", "expected one of", "fetch.t"]);
+    unwired_input_port: ("unwired", "sgi-teapot", &[(", \"b3\": \"h1\"}", "}")], Some("name: \"dot\""),
+        &["engine.units[1].inputs", "\"b3\"", "not wired", "expected a signal"]);
+    input_port_that_does_not_exist: ("no-port", "sgi-teapot", &[("\"b3\": \"h1\"}", "\"b3\": \"h1\", \"b4\": \"h1\"}")], Some("name: \"dot\""),
+        &["engine.units[1].inputs", "no input port \"b4\"", "expected a, b0, b1, b2, b3"]);
 }
 
 #[test]
@@ -287,99 +228,32 @@ fn wiring_cycle() {
     );
 }
 
-#[test]
-fn input_wired_to_a_missing_signal() {
-    let b = bad(
-        "missing-signal",
-        "sgi-teapot",
-        &[("\"b3\": \"h1\"}", "\"b3\": \"h9\"}")],
-        &[],
-    );
-    fails_at(
-        &b,
-        Some("name: \"dot\""),
-        &[
-            "engine.units[1].inputs.b3",
-            "no signal \"h9\"",
-            "expected one of",
-            "fetch.t",
-        ],
-    );
-}
-
-#[test]
-fn unwired_input_port() {
-    let b = bad("unwired", "sgi-teapot", &[(", \"b3\": \"h1\"}", "}")], &[]);
-    fails_at(
-        &b,
-        Some("name: \"dot\""),
-        &[
-            "engine.units[1].inputs",
-            "\"b3\"",
-            "not wired",
-            "expected a signal",
-        ],
-    );
-}
-
-#[test]
-fn input_port_that_does_not_exist() {
-    let b = bad(
-        "no-port",
-        "sgi-teapot",
-        &[("\"b3\": \"h1\"}", "\"b3\": \"h1\", \"b4\": \"h1\"}")],
-        &[],
-    );
-    fails_at(
-        &b,
-        Some("name: \"dot\""),
-        &[
-            "engine.units[1].inputs",
-            "no input port \"b4\"",
-            "expected a, b0, b1, b2, b3",
-        ],
-    );
-}
-
 // ---------------------------------------------------------------- files
 
 const TEAPOT_MESH: &str = "Teapot(subdivisions: 8, uv_repeat: (2.0, 2.0))";
 
-fn obj_config(test: &str, obj: &[u8]) -> Bad {
-    bad(
-        test,
-        "sgi-teapot",
-        &[(
-            TEAPOT_MESH,
-            "Obj(path: \"mesh.obj\", uv_repeat: (1.0, 1.0))",
-        )],
-        &[("mesh.obj", obj)],
-    )
+/// The teapot config with its mesh read from the OBJ file `name`, and `files` next to it.
+fn obj_config(test: &str, name: &str, files: &[(&str, &[u8])]) -> Bad {
+    let mesh = format!("Obj(path: \"{name}\", uv_repeat: (1.0, 1.0))");
+    bad(test, "sgi-teapot", &[(TEAPOT_MESH, &mesh)], files)
+}
+
+/// The teapot config with `obj` as its mesh, `mesh.obj`.
+fn mesh_obj(test: &str, obj: &[u8]) -> Bad {
+    obj_config(test, "mesh.obj", &[("mesh.obj", obj)])
 }
 
 #[test]
 fn missing_obj_file() {
-    let b = bad(
-        "obj-missing",
-        "sgi-teapot",
-        &[(
-            TEAPOT_MESH,
-            "Obj(path: \"nope.obj\", uv_repeat: (1.0, 1.0))",
-        )],
-        &[],
-    );
-    let path = b.scratch.join("nope.obj").display().to_string();
-    fails(&b, &[], &[&path, "scene.mesh", "OBJ", "no such file"]);
+    let b = obj_config("obj-missing", "nope.obj", &[]);
+    file_fails(&b, "nope.obj", &["scene.mesh", "OBJ", "no such file"]);
 }
 
 #[test]
 fn corrupt_obj_file() {
-    let b = obj_config(
-        "obj-corrupt",
-        &[0xff, 0xfe, 0x00, 0x13, 0x80, 0x81, b'\n', 0xc3],
-    );
-    let path = b.scratch.join("mesh.obj").display().to_string();
-    fails(&b, &[], &[&path, "scene.mesh", "could not load OBJ"]);
+    let obj = [0xff, 0xfe, 0x00, 0x13, 0x80, 0x81, b'\n', 0xc3];
+    let b = mesh_obj("obj-corrupt", &obj);
+    file_fails(&b, "mesh.obj", &["scene.mesh", "could not load OBJ"]);
 }
 
 #[test]
@@ -388,30 +262,17 @@ fn obj_with_a_zero_area_triangle() {
     let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\n\
                vt 0 0\nvt 1 0\nvt 0 1\n\
                f 1/1 2/2 3/3\nf 1/1 2/2 4/3\n";
-    let b = obj_config("obj-degenerate", obj.as_bytes());
-    let path = b.scratch.join("mesh.obj").display().to_string();
-    fails(
-        &b,
-        &[],
-        &[&path, "scene.mesh", "triangle 1", "degenerate (zero area)"],
-    );
+    let b = mesh_obj("obj-degenerate", obj.as_bytes());
+    let needles = ["scene.mesh", "triangle 1", "degenerate (zero area)"];
+    file_fails(&b, "mesh.obj", &needles);
 }
 
 #[test]
 fn obj_with_a_zero_uv_area_triangle() {
     let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.25 0.5\nf 1/1 2/1 3/1\n";
-    let b = obj_config("obj-degenerate-uv", obj.as_bytes());
-    let path = b.scratch.join("mesh.obj").display().to_string();
-    fails(
-        &b,
-        &[],
-        &[
-            &path,
-            "scene.mesh",
-            "triangle 0",
-            "degenerate texture coordinates",
-        ],
-    );
+    let b = mesh_obj("obj-degenerate-uv", obj.as_bytes());
+    let needles = ["scene.mesh", "triangle 0", "degenerate texture coordinates"];
+    file_fails(&b, "mesh.obj", &needles);
 }
 
 const EMBOSS_BUMP: &str = "Bricks(rows: 8, cols: 4, mortar: 0.12, bevel: 0.1, depth: 0.01)";
@@ -419,41 +280,28 @@ const GARBAGE_PNG: &[u8] = b"\x89PNX\r\n\x1a\nthis is not a PNG image at all";
 
 #[test]
 fn missing_height_png() {
-    let b = bad(
-        "png-missing",
-        "emboss",
-        &[(EMBOSS_BUMP, "HeightPng(path: \"nope.png\", depth: 0.1)")],
-        &[],
-    );
-    let path = b.scratch.join("nope.png").display().to_string();
-    fails(&b, &[], &[&path, "scene.bump", "could not read"]);
+    let to = "HeightPng(path: \"nope.png\", depth: 0.1)";
+    let b = bad("png-missing", "emboss", &[(EMBOSS_BUMP, to)], &[]);
+    file_fails(&b, "nope.png", &["scene.bump", "could not read"]);
+}
+
+/// A bump map of `from` replaced by `to`, which reads `name`: a file that is not a PNG.
+fn garbage_png_fails(test: &str, base: &str, from: &str, to: &str, name: &str) {
+    let b = bad(test, base, &[(from, to)], &[(name, GARBAGE_PNG)]);
+    file_fails(&b, name, &["scene.bump", "PNG"]);
 }
 
 #[test]
 fn corrupt_height_png() {
-    let b = bad(
-        "png-corrupt",
-        "emboss",
-        &[(EMBOSS_BUMP, "HeightPng(path: \"bumps.png\", depth: 0.1)")],
-        &[("bumps.png", GARBAGE_PNG)],
-    );
-    let path = b.scratch.join("bumps.png").display().to_string();
-    fails(&b, &[], &[&path, "scene.bump", "PNG"]);
+    let to = "HeightPng(path: \"bumps.png\", depth: 0.1)";
+    garbage_png_fails("png-corrupt", "emboss", EMBOSS_BUMP, to, "bumps.png");
 }
 
 #[test]
 fn corrupt_normal_png() {
-    let b = bad(
-        "normal-png-corrupt",
-        "sgi-teapot",
-        &[(
-            "MexicanHat(cells: 4, sigma: 0.18, depth: 0.012)",
-            "NormalPng(path: \"normals.png\")",
-        )],
-        &[("normals.png", GARBAGE_PNG)],
-    );
-    let path = b.scratch.join("normals.png").display().to_string();
-    fails(&b, &[], &[&path, "scene.bump", "PNG"]);
+    let from = "MexicanHat(cells: 4, sigma: 0.18, depth: 0.012)";
+    let to = "NormalPng(path: \"normals.png\")";
+    garbage_png_fails("normal-png-corrupt", "sgi-teapot", from, to, "normals.png");
 }
 
 #[test]
@@ -482,41 +330,11 @@ fn config_file_that_does_not_exist() {
 
 const LIGHT0_DIR: &str = "dir: (1.0, 1.0, 1.0)";
 
-#[test]
-fn nan_light_direction() {
-    let b = bad(
-        "light-nan",
-        "sgi-teapot",
-        &[(LIGHT0_DIR, "dir: (NaN, 0.0, 1.0)")],
-        &[],
-    );
-    fails_at(
-        &b,
-        None,
-        &[
-            "scene.lights[0].kind.dir",
-            "expected a finite non-zero direction",
-            "NaN",
-        ],
-    );
-}
-
-#[test]
-fn zero_light_direction() {
-    let b = bad(
-        "light-zero",
-        "sgi-teapot",
-        &[(LIGHT0_DIR, "dir: (0.0, 0.0, 0.0)")],
-        &[],
-    );
-    fails_at(
-        &b,
-        None,
-        &[
-            "scene.lights[0].kind.dir",
-            "expected a finite non-zero direction",
-        ],
-    );
+config_errors! {
+    nan_light_direction: ("light-nan", "sgi-teapot", &[(LIGHT0_DIR, "dir: (NaN, 0.0, 1.0)")], None,
+        &["scene.lights[0].kind.dir", "expected a finite non-zero direction", "NaN"]);
+    zero_light_direction: ("light-zero", "sgi-teapot", &[(LIGHT0_DIR, "dir: (0.0, 0.0, 0.0)")], None,
+        &["scene.lights[0].kind.dir", "expected a finite non-zero direction"]);
 }
 
 #[test]
@@ -608,29 +426,11 @@ fn scene_errors_point_at_the_field_not_a_comment() {
 
 // ---------------------------------------------------------------- image size
 
-#[test]
-fn image_width_zero() {
-    let b = bad("size0", "sgi-teapot", &[("width: 256,", "width: 0,")], &[]);
-    fails_at(
-        &b,
-        Some("width: 0,"),
-        &["scene.width", "image side 0", "expected 1 to 16384"],
-    );
-}
-
-#[test]
-fn image_height_16385() {
-    let b = bad(
-        "size16385",
-        "emboss",
-        &[("height: 256,", "height: 16385,")],
-        &[],
-    );
-    fails_at(
-        &b,
-        Some("height: 16385,"),
-        &["scene.height", "image side 16385", "expected 1 to 16384"],
-    );
+config_errors! {
+    image_width_zero: ("size0", "sgi-teapot", &[("width: 256,", "width: 0,")], Some("width: 0,"),
+        &["scene.width", "image side 0", "expected 1 to 16384"]);
+    image_height_16385: ("size16385", "emboss", &[("height: 256,", "height: 16385,")], Some("height: 16385,"),
+        &["scene.height", "image side 16385", "expected 1 to 16384"]);
 }
 
 // ---------------------------------------------------------------- arguments
@@ -689,28 +489,25 @@ fn set_value_of_the_wrong_type() {
     );
 }
 
+/// Run `bumpsim args`: it must exit 2 with every needle on stderr.
+fn exits_2(args: &[&str], needles: &[&str]) {
+    let o = bumpsim(args);
+    o.expect_code(2, &args.join(" "));
+    for n in needles {
+        assert!(o.stderr.contains(n), "stderr lacks {n:?}: {}", o.stderr);
+    }
+}
+
 #[test]
 fn trace_cycle_window_reversed() {
     let scratch = Scratch::new("bad-trace-window");
-    let out = scratch.join("t.txt");
-    let cfg = config("sgi-teapot");
-    let o = bumpsim(&[
-        "trace".as_ref(),
-        cfg.as_os_str(),
-        "--cycles".as_ref(),
-        "50..10".as_ref(),
-        "--out".as_ref(),
-        out.as_os_str(),
-    ]);
-    o.expect_code(2, "trace --cycles 50..10");
-    assert!(o.stderr.contains("--cycles"), "{}", o.stderr);
-    assert!(o.stderr.contains("\"50..10\""), "{}", o.stderr);
-    assert!(
-        o.stderr.contains("expected A..B with A < B"),
-        "{}",
-        o.stderr
+    let out = scratch.join("t.txt").display().to_string();
+    let cfg = config("sgi-teapot").display().to_string();
+    exits_2(
+        &["trace", &cfg, "--cycles", "50..10", "--out", &out],
+        &["--cycles", "\"50..10\"", "expected A..B with A < B"],
     );
-    assert!(!out.exists());
+    assert!(!std::path::Path::new(&out).exists());
     assert!(listing(&scratch.path).is_empty());
 }
 
@@ -719,19 +516,8 @@ fn render_out_onto_an_existing_file() {
     let b = bad("out-is-file", "emboss", &[], &[]);
     let blocker = b.scratch.join("blocker");
     std::fs::write(&blocker, b"keep").unwrap();
-    let o = bumpsim(&[
-        "render".as_ref(),
-        b.cfg.as_os_str(),
-        "--out".as_ref(),
-        blocker.as_os_str(),
-    ]);
-    o.expect_code(2, "render --out <a file>");
-    assert!(
-        o.stderr.contains(&blocker.display().to_string()),
-        "{}",
-        o.stderr
-    );
-    assert!(o.stderr.contains("--out"), "{}", o.stderr);
+    let (cfg, path) = (b.cfg.display().to_string(), blocker.display().to_string());
+    exits_2(&["render", &cfg, "--out", &path], &[&path, "--out"]);
     assert_eq!(std::fs::read(&blocker).unwrap(), b"keep");
     // no temporary files are left next to it
     assert_eq!(listing(&b.scratch.path), ["blocker", "out-is-file.ron"]);
@@ -740,24 +526,12 @@ fn render_out_onto_an_existing_file() {
 #[test]
 fn trace_out_into_a_missing_directory() {
     let scratch = Scratch::new("bad-trace-out");
-    let out = scratch.join("no/such/dir/t.vcd");
-    let cfg = config("emboss");
-    let o = bumpsim(&[
-        "trace".as_ref(),
-        cfg.as_os_str(),
-        "--cycles".as_ref(),
-        "10..20".as_ref(),
-        "--format".as_ref(),
-        "vcd".as_ref(),
-        "--out".as_ref(),
-        out.as_os_str(),
-    ]);
-    o.expect_code(2, "trace --out into a missing directory");
-    assert!(
-        o.stderr.contains(&out.display().to_string()),
-        "{}",
-        o.stderr
-    );
+    let out = scratch.join("no/such/dir/t.vcd").display().to_string();
+    let cfg = config("emboss").display().to_string();
+    let args = [
+        "trace", &cfg, "--cycles", "10..20", "--format", "vcd", "--out", &out,
+    ];
+    exits_2(&args, &[&out]);
     assert!(listing(&scratch.path).is_empty());
 }
 

@@ -29,6 +29,15 @@ fn trace(out: &Path, format: &str, units: Option<&str>) -> Out {
     bumpsim(&args)
 }
 
+/// The bytes of a successful `trace --format <format> [--units <units>]` of the window.
+fn traced(test: &str, format: &str, units: Option<&str>) -> Vec<u8> {
+    let scratch = Scratch::new(test);
+    let out = scratch.join("t.out");
+    let what = format!("trace --format {format} --units {units:?}");
+    trace(&out, format, units).expect_code(0, &what);
+    std::fs::read(&out).unwrap()
+}
+
 /// Body lines of a text trace grouped by unit name: `unit -> [(cycle, line)]`.
 fn body(text: &str) -> BTreeMap<String, Vec<(u64, String)>> {
     let mut m: BTreeMap<String, Vec<(u64, String)>> = BTreeMap::new();
@@ -57,10 +66,7 @@ fn body(text: &str) -> BTreeMap<String, Vec<(u64, String)>> {
 
 #[test]
 fn text_trace_has_every_unit_every_cycle() {
-    let scratch = Scratch::new("trace-text");
-    let out = scratch.join("t.txt");
-    trace(&out, "text", None).expect_code(0, "trace --format text");
-    let text = std::fs::read_to_string(&out).unwrap();
+    let text = String::from_utf8(traced("trace-text", "text", None)).unwrap();
     assert!(!text.is_empty());
     let n = WINDOW.1 - WINDOW.0;
     let first = text.lines().next().unwrap();
@@ -207,11 +213,7 @@ fn vars(h: &vcd::Header, unit: &str) -> Vec<(String, IdCode, u32)> {
 
 #[test]
 fn vcd_trace_parses_and_has_every_unit() {
-    let scratch = Scratch::new("trace-vcd");
-    let out = scratch.join("t.vcd");
-    trace(&out, "vcd", None).expect_code(0, "trace --format vcd");
-    let bytes = std::fs::read(&out).unwrap();
-    let (h, ch) = changes(&bytes);
+    let (h, ch) = changes(&traced("trace-vcd", "vcd", None));
     assert_eq!(scopes(&h), UNITS);
     let clk = h.find_var(&["bumpsim", "clk"]).expect("clk").code;
     let cycle = h.find_var(&["bumpsim", "cycle"]).expect("cycle").code;
@@ -259,10 +261,7 @@ fn vcd_trace_parses_and_has_every_unit() {
 
 #[test]
 fn vcd_unit_selection() {
-    let scratch = Scratch::new("trace-vcd-units");
-    let out = scratch.join("t.vcd");
-    trace(&out, "vcd", Some("dot,spec")).expect_code(0, "trace --format vcd --units dot,spec");
-    let (h, _) = changes(&std::fs::read(&out).unwrap());
+    let (h, _) = changes(&traced("trace-vcd-units", "vcd", Some("dot,spec")));
     assert_eq!(scopes(&h), ["dot", "spec"]);
 }
 

@@ -24,19 +24,12 @@
 mod common;
 
 use bumpsim_hw::format::{shift_round, Codec, Encoding, Format, Overflow, Quant};
-use common::{overflow_oracle, range, round_div, texel, Wide, OVERFLOWS, QUANTS};
+use common::{
+    overflow_oracle, range, round_div, texel, texel_endpoints, Wide, NEAREST, OVERFLOWS, QUANTS,
+};
 use fixed::types::{I16F16, I1F15, I4F12, I8F8, U0F16, U16F16, U8F8};
 use proptest::prelude::*;
 use proptest::test_runner::Config;
-
-const NEAREST: [Quant; 6] = [
-    Quant::Rnd,
-    Quant::RndZero,
-    Quant::RndInf,
-    Quant::RndMinInf,
-    Quant::RndConv,
-    Quant::RndConvOdd,
-];
 
 /// Cases per property: each case checks every quantization and overflow mode, and the whole
 /// file runs in well under a second at opt-level 1.
@@ -393,7 +386,7 @@ proptest! {
         (Just(codec), Just(n), prop_oneof![(min..=max), min..=min + 3, max - 3..=max])
     })) {
         let c = c as i64;
-        for q in NEAREST {
+        for &q in NEAREST {
             let e = texel(codec, n, q, Overflow::Sat);
             let x = e.decode(c);
             prop_assert_eq!(e.encode(x), c, "{} {:?} encode(decode({}))", e, q, c);
@@ -464,21 +457,7 @@ proptest! {
 #[test]
 fn texel_endpoints_wide() {
     for n in 13..=32u32 {
-        let half = 1i64 << (n - 1);
-        let all = (1i64 << n) - 1;
-        let s = texel(Codec::UnitSigned, n, Quant::Rnd, Overflow::Sat);
-        assert_eq!(s.decode(-half), -1.0);
-        assert_eq!(s.encode(-1.0), -half);
-        assert_eq!(s.encode(1.0), half - 1);
-        let y = texel(Codec::UnitSymmetric, n, Quant::Rnd, Overflow::Sat);
-        assert_eq!(y.decode(half - 1), 1.0);
-        assert_eq!(y.decode(-half), -1.0);
-        assert_eq!(y.encode(1.0), half - 1);
-        assert_eq!(y.encode(-1.0), -half);
-        let u = texel(Codec::UnitUnsigned, n, Quant::Rnd, Overflow::Sat);
-        assert_eq!(u.decode(all), 1.0);
-        assert_eq!(u.encode(1.0), all);
-        assert_eq!(u.encode(0.0), 0);
+        texel_endpoints(n);
     }
 }
 

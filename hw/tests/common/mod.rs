@@ -25,6 +25,9 @@ pub const QUANTS: [Quant; 8] = [
     Quant::RndConv,
     Quant::RndConvOdd,
 ];
+/// The modes that round to nearest: all but the truncating `Trn` and `TrnZero`.
+pub const NEAREST: &[Quant] = QUANTS.split_at(2).1;
+
 pub const OVERFLOWS: [Overflow; 4] = [
     Overflow::Wrap,
     Overflow::Sat,
@@ -155,4 +158,27 @@ pub fn texel(codec: Codec, n: u32, q: Quant, o: Overflow) -> Encoding {
     e.overflow = o;
     e.validate().unwrap();
     e
+}
+
+/// The three unit texel codecs of `n` bits (UnitSigned, UnitSymmetric, UnitUnsigned), rounding
+/// and saturating, after checking the endpoints every width shares: UnitSigned -2^(n-1) is
+/// exactly -1.0 and 1.0 saturates to the top code; UnitSymmetric has +-1.0 at the extremes;
+/// UnitUnsigned has 0.0 at 0 and 1.0 at all-ones.
+pub fn texel_endpoints(n: u32) -> (Encoding, Encoding, Encoding) {
+    let half = 1i64 << (n - 1);
+    let all = (1i64 << n) - 1;
+    let s = texel(Codec::UnitSigned, n, Quant::Rnd, Overflow::Sat);
+    assert_eq!(s.decode(-half), -1.0);
+    assert_eq!(s.encode(-1.0), -half);
+    assert_eq!(s.encode(1.0), half - 1); // saturates
+    let y = texel(Codec::UnitSymmetric, n, Quant::Rnd, Overflow::Sat);
+    assert_eq!(y.decode(half - 1), 1.0);
+    assert_eq!(y.decode(-half), -1.0);
+    assert_eq!(y.encode(1.0), half - 1);
+    assert_eq!(y.encode(-1.0), -half);
+    let u = texel(Codec::UnitUnsigned, n, Quant::Rnd, Overflow::Sat);
+    assert_eq!(u.decode(all), 1.0);
+    assert_eq!(u.encode(1.0), all);
+    assert_eq!(u.encode(0.0), 0);
+    (s, y, u)
 }

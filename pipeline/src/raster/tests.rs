@@ -19,6 +19,16 @@ fn win(x: f64, y: f64, z: f64, w: f64, width: u32, height: u32) -> DVec4 {
     DVec4::new(nx * w, ny * w, z * w, w)
 }
 
+/// Clip-space corners of a triangle given in window space (pixels, y up) at depth 0, w = 1.
+fn flat_tri(p: [(f64, f64); 3], w: u32, h: u32) -> [DVec4; 3] {
+    p.map(|(x, y)| win(x, y, 0.0, 1.0, w, h))
+}
+
+/// The one triangle `v` rasterized into a `w` x `h` image with `bits` subpixel bits.
+fn draw_one(v: &[DVec4], w: u32, h: u32, bits: u32) -> RasterOutput {
+    rasterize(v, &[[0, 1, 2]], w, h, &cfg(bits))
+}
+
 /// Per-pixel count of emitted fragments (image rows).
 fn coverage(out: &RasterOutput, width: u32, height: u32) -> Vec<u32> {
     let mut c = vec![0u32; (width * height) as usize];
@@ -64,20 +74,12 @@ fn fill_rule_right_triangles_on_pixel_corners() {
     let (w, h) = (32u32, 32u32);
     for bits in [0, 4, 8] {
         // Hypotenuse on the upper right: a right edge, excluded. N(N-1)/2 = 45.
-        let a = [
-            win(2.0, 3.0, 0.0, 1.0, w, h),
-            win(12.0, 3.0, 0.0, 1.0, w, h),
-            win(2.0, 13.0, 0.0, 1.0, w, h),
-        ];
-        let out = rasterize(&a, &[[0, 1, 2]], w, h, &cfg(bits));
+        let a = flat_tri([(2.0, 3.0), (12.0, 3.0), (2.0, 13.0)], w, h);
+        let out = draw_one(&a, w, h, bits);
         assert_eq!(out.fragments.len(), 45, "bits {bits}");
         // Hypotenuse on the upper left: a left edge, included. N(N+1)/2 = 55.
-        let b = [
-            win(2.0, 3.0, 0.0, 1.0, w, h),
-            win(12.0, 3.0, 0.0, 1.0, w, h),
-            win(12.0, 13.0, 0.0, 1.0, w, h),
-        ];
-        let out = rasterize(&b, &[[0, 1, 2]], w, h, &cfg(bits));
+        let b = flat_tri([(2.0, 3.0), (12.0, 3.0), (12.0, 13.0)], w, h);
+        let out = draw_one(&b, w, h, bits);
         assert_eq!(out.fragments.len(), 55, "bits {bits}");
     }
 }
@@ -87,12 +89,8 @@ fn fill_rule_edges_through_pixel_centres() {
     let (w, h) = (32u32, 32u32);
     // Legs through pixel centres. Bottom edge (window y = 0.5) excluded, left edge included,
     // hypotenuse (right) excluded: sum_{j=1..9} (10 - j) = 45.
-    let a = [
-        win(0.5, 0.5, 0.0, 1.0, w, h),
-        win(10.5, 0.5, 0.0, 1.0, w, h),
-        win(0.5, 10.5, 0.0, 1.0, w, h),
-    ];
-    let out = rasterize(&a, &[[0, 1, 2]], w, h, &cfg(4));
+    let a = flat_tri([(0.5, 0.5), (10.5, 0.5), (0.5, 10.5)], w, h);
+    let out = draw_one(&a, w, h, 4);
     assert_eq!(out.fragments.len(), 45);
     assert!(
         out.fragments.iter().all(|f| f.y != h - 1),
@@ -103,12 +101,8 @@ fn fill_rule_edges_through_pixel_centres() {
         "left column included"
     );
     // Top edge (window y = 10.5) included, left included, hypotenuse excluded: 55.
-    let b = [
-        win(0.5, 10.5, 0.0, 1.0, w, h),
-        win(10.5, 10.5, 0.0, 1.0, w, h),
-        win(0.5, 0.5, 0.0, 1.0, w, h),
-    ];
-    let out = rasterize(&b, &[[0, 1, 2]], w, h, &cfg(4));
+    let b = flat_tri([(0.5, 10.5), (10.5, 10.5), (0.5, 0.5)], w, h);
+    let out = draw_one(&b, w, h, 4);
     assert_eq!(out.fragments.len(), 55);
     assert_eq!(out.fragments.iter().map(|f| f.y).min(), Some(h - 1 - 10));
 }
@@ -116,12 +110,8 @@ fn fill_rule_edges_through_pixel_centres() {
 #[test]
 fn image_rows_are_flipped_and_scan_order_is_rows_then_columns() {
     let (w, h) = (8u32, 8u32);
-    let v = [
-        win(0.0, 0.0, 0.0, 1.0, w, h),
-        win(4.0, 0.0, 0.0, 1.0, w, h),
-        win(0.0, 4.0, 0.0, 1.0, w, h),
-    ];
-    let out = rasterize(&v, &[[0, 1, 2]], w, h, &cfg(4));
+    let v = flat_tri([(0.0, 0.0), (4.0, 0.0), (0.0, 4.0)], w, h);
+    let out = draw_one(&v, w, h, 4);
     let xy: Vec<(u32, u32)> = out.fragments.iter().map(|f| (f.x, f.y)).collect();
     assert_eq!(xy, vec![(0, 5), (0, 6), (1, 6), (0, 7), (1, 7), (2, 7)]);
 }
@@ -130,11 +120,7 @@ fn image_rows_are_flipped_and_scan_order_is_rows_then_columns() {
 fn cull_modes() {
     let (w, h) = (16u32, 16u32);
     // Counter-clockwise in window coordinates (y up): front-facing.
-    let v = [
-        win(2.0, 2.0, 0.0, 1.0, w, h),
-        win(10.0, 2.0, 0.0, 1.0, w, h),
-        win(2.0, 10.0, 0.0, 1.0, w, h),
-    ];
+    let v = flat_tri([(2.0, 2.0), (10.0, 2.0), (2.0, 10.0)], w, h);
     let ccw = [[0u32, 1, 2]];
     let cw = [[0u32, 2, 1]];
     let run = |t: &[[u32; 3]], cull| {
@@ -229,7 +215,7 @@ fn near_plane_clipping_matches_the_visible_part() {
         DVec4::new(0.5, -0.5, 0.0, 1.0),
         DVec4::new(0.0, 0.8, -3.0, -1.0),
     ];
-    let out = rasterize(&v, &[[0, 1, 2]], w, h, &cfg(4));
+    let out = draw_one(&v, w, h, 4);
     assert_eq!(out.triangles[0].status, TriStatus::Drawn);
     assert_eq!(out.triangles[0].setups, 2);
     assert!(!out.fragments.is_empty());
@@ -427,16 +413,8 @@ fn degenerate_invalid_and_huge_inputs() {
 #[test]
 fn subpixel_precision_changes_a_sliver() {
     let (w, h) = (32u32, 32u32);
-    let v = [
-        win(0.2, 4.45, 0.0, 1.0, w, h),
-        win(28.7, 5.2, 0.0, 1.0, w, h),
-        win(0.2, 4.8, 0.0, 1.0, w, h),
-    ];
-    let n = |bits| {
-        rasterize(&v, &[[0, 1, 2]], w, h, &cfg(bits))
-            .fragments
-            .len()
-    };
+    let v = flat_tri([(0.2, 4.45), (28.7, 5.2), (0.2, 4.8)], w, h);
+    let n = |bits| draw_one(&v, w, h, bits).fragments.len();
     // At 0 bits the vertices snap to (0,4) (29,5) (0,5): the centres of row y = 4.5 left of
     // the lower edge's crossing at x = 14.5 (excluded: a bottom edge), i.e. 14 pixels.
     // At 8 bits the lower edge (4.449, slope 0.75/28.5) crosses y = 4.5 at x = 2.13: centres
@@ -509,6 +487,75 @@ fn on_segment(a: (i64, i64), b: (i64, i64), p: (i64, i64)) -> bool {
         && p.1 <= a.1.max(b.1)
 }
 
+/// The random shape of a fan of `n` triangles around a centre: each spoke's angle jittered,
+/// each vertex's clip w a power of two, each triangle's winding flipped or not.
+#[derive(Debug, Clone)]
+struct Fan {
+    n: usize,
+    jitter: Vec<f64>,
+    wexp: Vec<i32>,
+    flip: Vec<bool>,
+}
+
+fn fan() -> impl Strategy<Value = Fan> {
+    (
+        4usize..=9,
+        proptest::collection::vec(-1.0f64..1.0, 9),
+        proptest::collection::vec(-1i32..=2, 10),
+        proptest::collection::vec(any::<bool>(), 9),
+    )
+        .prop_map(|(n, jitter, wexp, flip)| Fan {
+            n,
+            jitter,
+            wexp,
+            flip,
+        })
+}
+
+impl Fan {
+    /// Window-space points: the centre `(cx, cy)`, then the end of spoke k at `radius[k]`,
+    /// every coordinate passed through `snap`.
+    fn points(
+        &self,
+        cx: f64,
+        cy: f64,
+        radius: &[f64],
+        snap: impl Fn(f64) -> f64,
+    ) -> Vec<(f64, f64)> {
+        let n = self.n;
+        let mut pts = vec![(snap(cx), snap(cy))];
+        for k in 0..n {
+            let a = std::f64::consts::TAU * (k as f64 + 0.5 * self.jitter[k]) / n as f64;
+            pts.push((
+                snap(cx + radius[k] * a.cos()),
+                snap(cy + radius[k] * a.sin()),
+            ));
+        }
+        pts
+    }
+
+    /// The fan on `pts` rasterized into a `w` x `h` image with `bits` subpixel bits.
+    fn draw(&self, pts: &[(f64, f64)], w: u32, h: u32, bits: u32) -> RasterOutput {
+        let n = self.n;
+        let verts: Vec<DVec4> = pts
+            .iter()
+            .zip(self.wexp.iter())
+            .map(|(&(x, y), &e)| win(x, y, 0.0, 2f64.powi(e), w, h))
+            .collect();
+        let tris: Vec<[u32; 3]> = (0..n)
+            .map(|k| {
+                let (a, b) = (1 + k as u32, 1 + ((k + 1) % n) as u32);
+                if self.flip[k] {
+                    [0, b, a]
+                } else {
+                    [0, a, b]
+                }
+            })
+            .collect();
+        rasterize(&verts, &tris, w, h, &cfg(bits))
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(48))]
 
@@ -516,35 +563,16 @@ proptest! {
     /// centre inside is covered exactly once, none outside.
     #[test]
     fn fan_has_no_holes_or_double_hits(
-        bits in 0u32..=8,
-        cx in 8.0f64..56.0,
-        cy in 6.0f64..26.0,
-        n in 4usize..=9,
-        jitter in proptest::collection::vec(-1.0f64..1.0, 9),
+        (bits, cx, cy) in (0u32..=8, 8.0f64..56.0, 6.0f64..26.0),
+        fan in fan(),
         radius in proptest::collection::vec(4.0f64..40.0, 9),
-        wexp in proptest::collection::vec(-1i32..=2, 10),
-        flip in proptest::collection::vec(any::<bool>(), 9),
     ) {
         let (w, h) = (64u32, 32u32);
+        let n = fan.n;
         let s = f64::from(1u32 << bits);
         let grid = |x: f64| (x * s).round() / s;
-        let mut pts = vec![(grid(cx), grid(cy))];
-        for k in 0..n {
-            let a = std::f64::consts::TAU * (k as f64 + 0.5 * jitter[k]) / n as f64;
-            pts.push((grid(cx + radius[k] * a.cos()), grid(cy + radius[k] * a.sin())));
-        }
-        let verts: Vec<DVec4> = pts
-            .iter()
-            .zip(wexp.iter())
-            .map(|(&(x, y), &e)| win(x, y, 0.0, 2f64.powi(e), w, h))
-            .collect();
-        let tris: Vec<[u32; 3]> = (0..n)
-            .map(|k| {
-                let (a, b) = (1 + k as u32, 1 + ((k + 1) % n) as u32);
-                if flip[k] { [0, b, a] } else { [0, a, b] }
-            })
-            .collect();
-        let out = rasterize(&verts, &tris, w, h, &cfg(bits));
+        let pts = fan.points(cx, cy, &radius, grid);
+        let out = fan.draw(&pts, w, h, bits);
         prop_assert_eq!(out.depth_rejected, 0);
         let cov = coverage(&out, w, h);
         // Independent classification in units of 1/2^(bits+1) pixel, window y up.
@@ -582,33 +610,12 @@ proptest! {
     /// band planes, and the clipped shared edges still tile the viewport exactly.
     #[test]
     fn guard_band_clipped_fan_tiles_the_viewport(
-        bits in 0u32..=8,
-        cx in 0.0f64..64.0,
-        cy in 0.0f64..32.0,
-        n in 4usize..=9,
-        jitter in proptest::collection::vec(-1.0f64..1.0, 9),
+        (bits, cx, cy) in (0u32..=8, 0.0f64..64.0, 0.0f64..32.0),
+        fan in fan(),
         radius in proptest::collection::vec(1e5f64..1e9, 9),
-        wexp in proptest::collection::vec(-1i32..=2, 10),
-        flip in proptest::collection::vec(any::<bool>(), 9),
     ) {
         let (w, h) = (64u32, 32u32);
-        let mut pts = vec![(cx, cy)];
-        for k in 0..n {
-            let a = std::f64::consts::TAU * (k as f64 + 0.5 * jitter[k]) / n as f64;
-            pts.push((cx + radius[k] * a.cos(), cy + radius[k] * a.sin()));
-        }
-        let verts: Vec<DVec4> = pts
-            .iter()
-            .zip(wexp.iter())
-            .map(|(&(x, y), &e)| win(x, y, 0.0, 2f64.powi(e), w, h))
-            .collect();
-        let tris: Vec<[u32; 3]> = (0..n)
-            .map(|k| {
-                let (a, b) = (1 + k as u32, 1 + ((k + 1) % n) as u32);
-                if flip[k] { [0, b, a] } else { [0, a, b] }
-            })
-            .collect();
-        let out = rasterize(&verts, &tris, w, h, &cfg(bits));
+        let out = fan.draw(&fan.points(cx, cy, &radius, |x| x), w, h, bits);
         prop_assert_eq!(out.depth_rejected, 0);
         prop_assert_eq!(out.fragments.len(), (w * h) as usize);
         prop_assert!(coverage(&out, w, h).iter().all(|&c| c == 1));
