@@ -4,9 +4,9 @@
 //! is parsed back (so every check that parsing does applies to overridden values too).
 //! Path segments are field names; a list element is chosen by index (`units[2]` or `units.2`)
 //! or by its `name` field (`units.dot`); an enum variant's fields can be reached without naming
-//! the variant (`unit.index_bits` for `unit: PowerTable(index_bits: 8, ...)`). Values are RON:
-//! numbers, `true`/`false`, strings, lists, and bare identifiers for unit enum variants
-//! (`filter=Nearest`).
+//! the variant (`unit.index_bits` for `unit: PowerTable(index_bits: 8, ...)`). Values are RON,
+//! enum variants included (`filter=Nearest`, `scene.bump=Bricks(rows: 8, ...)`,
+//! `scene.lights=[(kind: Directional(dir: (1, 1, 1)), color: (1, 1, 1))]`).
 
 use super::{Config, InputError};
 use serde_json::Value;
@@ -41,16 +41,161 @@ fn split_path(path: &str) -> Vec<String> {
 }
 
 fn parse_value(text: &str) -> Result<Value, String> {
-    let t = text.trim();
-    if !t.is_empty()
-        && t.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
-        && t.starts_with(|c: char| c.is_ascii_alphabetic())
-        && t != "true"
-        && t != "false"
-    {
-        return Ok(Value::String(t.to_string()));
+    let mut p = RonValue { s: text.as_bytes(), i: 0 };
+    let v = p.value().map_err(|m| format!("value {text:?} is not a RON value: {m}"))?;
+    p.ws();
+    if p.i != p.s.len() {
+        return Err(format!("value {text:?} is not a RON value: unexpected text at byte {}", p.i));
     }
-    ron::from_str::<Value>(t).map_err(|e| format!("value {t:?} is not a RON value: {e}"))
+    Ok(v)
+}
+
+/// A small RON reader for override values that keeps enum variant names, in serde's externally
+/// tagged form (what the JSON tree of a config holds): `Name` is `"Name"`, `Name(x)` is
+/// `{"Name": x}`, `Name(a: 1)` is `{"Name": {"a": 1}}`, `(a: 1)` is `{"a": 1}`, `(1, 2)` and
+/// `[1, 2]` are lists, `Some(x)` is `x` and `None` is `null`.
+struct RonValue<'a> {
+    s: &'a [u8],
+    i: usize,
+}
+
+impl RonValue<'_> {
+    fn ws(&mut self) {
+        while self.i < self.s.len() && self.s[self.i].is_ascii_whitespace() {
+            self.i += 1;
+        }
+    }
+    fn peek(&mut self) -> Option<u8> {
+        self.ws();
+        self.s.get(self.i).copied()
+    }
+    fn eat(&mut self, c: u8) -> bool {
+        if self.peek() == Some(c) {
+            self.i += 1;
+            true
+        } else {
+            false
+        }
+    }
+    fn ident(&mut self) -> String {
+        let start = self.i;
+        while self.i < self.s.len() && (self.s[self.i].is_ascii_alphanumeric() || self.s[self.i] == b'_') {
+            self.i += 1;
+        }
+        String::from_utf8_lossy(&self.s[start..self.i]).into_owned()
+    }
+    fn value(&mut self) -> Result<Value, String> {
+        match self.peek().ok_or("unexpected end")? {
+            b'"' => {
+                let start = self.i;
+                self.i += 1;
+                while self.i < self.s.len() && self.s[self.i] != b'"' {
+                    self.i += if self.s[self.i] == b'\\' { 2 } else { 1 };
+                }
+                self.i += 1;
+                let lit = std::str::from_utf8(&self.s[start..self.i.min(self.s.len())]).map_err(|e| e.to_string())?;
+                serde_json::from_str(lit).map_err(|e| format!("bad string {lit}: {e}"))
+            }
+            b'[' => {
+                self.i += 1;
+                Ok(Value::Array(self.items(b']')?))
+            }
+            b'{' => {
+                // a map (RON's `{"key": value}`, also the JSON form of the config tree)
+                self.i += 1;
+                let mut m = serde_json::Map::new();
+                loop {
+                    if self.eat(b'}') {
+                        return Ok(Value::Object(m));
+                    }
+                    let k = match self.value()? {
+                        Value::String(k) => k,
+                        other => other.to_string(),
+                    };
+                    if !self.eat(b':') {
+                        return Err(format!("expected ':' at byte {}", self.i));
+                    }
+                    let v = self.value()?;
+                    m.insert(k, v);
+                    if !self.eat(b',') && self.peek() != Some(b'}') {
+                        return Err(format!("expected ',' or '}}' at byte {}", self.i));
+                    }
+                }
+            }
+            b'(' => {
+                self.i += 1;
+                self.group()
+            }
+            c if c.is_ascii_alphabetic() => {
+                let name = self.ident();
+                match name.as_str() {
+                    "true" => return Ok(Value::Bool(true)),
+                    "false" => return Ok(Value::Bool(false)),
+                    "None" => return Ok(Value::Null),
+                    "NaN" | "inf" => return Err(format!("{name} is not allowed in an override")),
+                    _ => {}
+                }
+                if !self.eat(b'(') {
+                    return Ok(Value::String(name));
+                }
+                let inner = self.group()?;
+                if name == "Some" {
+                    return Ok(inner);
+                }
+                let mut m = serde_json::Map::new();
+                m.insert(name, inner);
+                Ok(Value::Object(m))
+            }
+            _ => {
+                let start = self.i;
+                while self.i < self.s.len() && (self.s[self.i].is_ascii_alphanumeric() || b"+-.".contains(&self.s[self.i])) {
+                    self.i += 1;
+                }
+                let lit = std::str::from_utf8(&self.s[start..self.i]).map_err(|e| e.to_string())?;
+                serde_json::from_str::<serde_json::Number>(lit).map(Value::Number).map_err(|_| format!("bad number {lit:?}"))
+            }
+        }
+    }
+    /// After `(`: named fields make an object, a single value is itself, several a list.
+    fn group(&mut self) -> Result<Value, String> {
+        let save = self.i;
+        self.ws();
+        let key = self.ident();
+        if !key.is_empty() && self.eat(b':') {
+            self.i = save;
+            let mut m = serde_json::Map::new();
+            loop {
+                if self.eat(b')') {
+                    return Ok(Value::Object(m));
+                }
+                self.ws();
+                let k = self.ident();
+                if k.is_empty() || !self.eat(b':') {
+                    return Err(format!("expected a field name and ':' at byte {}", self.i));
+                }
+                let v = self.value()?;
+                m.insert(k, v);
+                if !self.eat(b',') && self.peek() != Some(b')') {
+                    return Err(format!("expected ',' or ')' at byte {}", self.i));
+                }
+            }
+        }
+        self.i = save;
+        let mut items = self.items(b')')?;
+        Ok(if items.len() == 1 { items.pop().expect("one item") } else { Value::Array(items) })
+    }
+    fn items(&mut self, close: u8) -> Result<Vec<Value>, String> {
+        let mut v = Vec::new();
+        loop {
+            if self.eat(close) {
+                return Ok(v);
+            }
+            v.push(self.value()?);
+            if !self.eat(b',') && self.peek() != Some(close) {
+                return Err(format!("expected ',' or '{}' at byte {}", close as char, self.i));
+            }
+        }
+    }
 }
 
 fn walk<'a>(mut node: &'a mut Value, segments: &[String]) -> Result<&'a mut Value, String> {
@@ -116,6 +261,13 @@ mod tests {
         assert_eq!(parse_value("true").unwrap(), Value::from(true));
         assert_eq!(parse_value("[1, 2]").unwrap(), serde_json::json!([1, 2]));
         assert!(parse_value("(").is_err());
+        let light = parse_value("[(kind: Directional(dir: (1.0, 0.5, 1.0)), color: (1, 1, 1))]").unwrap();
+        assert_eq!(light, serde_json::json!([{"kind": {"Directional": {"dir": [1.0, 0.5, 1.0]}}, "color": [1, 1, 1]}]));
+        assert_eq!(parse_value("Png(\"a.png\")").unwrap(), serde_json::json!({"Png": "a.png"}));
+        assert_eq!(parse_value("Some(2.5)").unwrap(), serde_json::json!(2.5));
+        assert_eq!(parse_value("(format: (signed: true, width: 8, frac: 7), codec: UnitSigned)").unwrap(), serde_json::json!({"format": {"signed": true, "width": 8, "frac": 7}, "codec": "UnitSigned"}));
+        assert!(parse_value("(a: 1").is_err());
+        assert_eq!(parse_value("{\"c\": \"g\", \"b\": [1]}").unwrap(), serde_json::json!({"c": "g", "b": [1]}));
     }
 
     #[test]
