@@ -19,7 +19,13 @@ fn tiny() -> std::path::PathBuf {
 
 fn report(lights: usize, parallel: u32) -> serde_json::Value {
     let set_lights = format!("scene.lights=[{}]", LIGHTS[..lights].join(", "));
-    let mut args: Vec<String> = vec!["report".into(), tiny().display().to_string(), "--json".into(), "--set".into(), set_lights];
+    let mut args: Vec<String> = vec![
+        "report".into(),
+        tiny().display().to_string(),
+        "--json".into(),
+        "--set".into(),
+        set_lights,
+    ];
     for unit in ["diffuse", "specular"] {
         args.push("--set".into());
         args.push(format!("engine.units.{unit}.unit.parallel={parallel}"));
@@ -39,14 +45,21 @@ fn n_lights_take_n_clocks_per_fragment_on_one_datapath() {
             // two pipeline stages behind the accumulator (latency = interval + 2)
             let busy = uint(&r, &format!("cycles.per_unit.{unit}.busy"));
             assert_eq!(busy, 16 * n as u64 + 2, "{n} lights, {unit}");
-            assert_eq!(uint(&r, &format!("cycles.per_unit.{unit}.stall")), 0, "{n} lights, {unit}");
+            assert_eq!(
+                uint(&r, &format!("cycles.per_unit.{unit}.stall")),
+                0,
+                "{n} lights, {unit}"
+            );
         }
         // per frame: a 16-entry power table, 3 colour words per light in each unit, 3 L words
         // per light (diffuse), 3 H words per light (specular)
         assert_eq!(uint(&r, "cycles.frame"), 16 + 12 * n as u64, "{n} lights");
         if n > 1 {
             // the units before the blend units are held back by them
-            assert!(uint(&r, "cycles.per_unit.bump.stall") > 0, "{n} lights: the fetch must stall");
+            assert!(
+                uint(&r, "cycles.per_unit.bump.stall") > 0,
+                "{n} lights: the fetch must stall"
+            );
         }
     }
 }
@@ -56,9 +69,16 @@ fn two_datapaths_halve_the_interval_and_cost_gates() {
     let one = report(4, 1);
     let two = report(4, 2);
     for unit in ["diffuse", "specular"] {
-        assert_eq!(uint(&two, &format!("cycles.per_unit.{unit}.busy")), 16 * 2 + 2, "{unit}");
+        assert_eq!(
+            uint(&two, &format!("cycles.per_unit.{unit}.busy")),
+            16 * 2 + 2,
+            "{unit}"
+        );
         let gates = |r: &serde_json::Value| num(r, &format!("gates.per_unit.{unit}.total"));
-        assert!(gates(&two) > gates(&one), "{unit}: a second datapath costs gates");
+        assert!(
+            gates(&two) > gates(&one),
+            "{unit}: a second datapath costs gates"
+        );
     }
     assert!(uint(&two, "cycles.total") < uint(&one, "cycles.total"));
     // the images are the same: the datapaths change time, not values
@@ -84,7 +104,10 @@ fn two_light_trace_snapshot() {
     ];
     bumpsim(&args).expect_code(0, "trace of the tiny scene");
     let text = std::fs::read_to_string(&out).unwrap();
-    assert!(text.contains("stall"), "the fetch stalls behind the two-clock blend units");
+    assert!(
+        text.contains("stall"),
+        "the fetch stalls behind the two-clock blend units"
+    );
     insta::with_settings!({
         snapshot_path => concat!(env!("CARGO_MANIFEST_DIR"), "/traces"),
         prepend_module_to_snapshot => false,

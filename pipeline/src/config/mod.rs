@@ -230,12 +230,20 @@ pub enum AttrSource {
         #[serde(default)]
         all_lights: bool,
     },
+    /// A 1-lane blend switch sent with the Gouraud colour (Ernst et al. §4.2: "Both blending
+    /// units can selectively be turned off ... according to the color information given in
+    /// the interpolated Gouraud color fragment"): 1 at a vertex whose normal faces `light`,
+    /// 0 elsewhere, interpolated; a blend unit with `selective: Enable` passes `C_src` through
+    /// where it reads 0, so bumps do not light up beyond the shadow terminator. Which colour
+    /// information drives the switch is bumpsim's choice; the paper does not say.
+    BlendEnable { light: usize },
 }
 
 impl AttrSource {
     pub fn lanes(&self) -> u8 {
         match self {
             AttrSource::Uv => 2,
+            AttrSource::BlendEnable { .. } => 1,
             _ => 3,
         }
     }
@@ -255,7 +263,9 @@ impl AttrSource {
     /// The light the attribute is about, if any.
     pub fn light(&self) -> Option<usize> {
         match *self {
-            AttrSource::LightDir { light, .. } | AttrSource::HalfVec { light, .. } => Some(light),
+            AttrSource::LightDir { light, .. }
+            | AttrSource::HalfVec { light, .. }
+            | AttrSource::BlendEnable { light } => Some(light),
             _ => None,
         }
     }

@@ -41,11 +41,19 @@ fn split_path(path: &str) -> Vec<String> {
 }
 
 fn parse_value(text: &str) -> Result<Value, String> {
-    let mut p = RonValue { s: text.as_bytes(), i: 0 };
-    let v = p.value().map_err(|m| format!("value {text:?} is not a RON value: {m}"))?;
+    let mut p = RonValue {
+        s: text.as_bytes(),
+        i: 0,
+    };
+    let v = p
+        .value()
+        .map_err(|m| format!("value {text:?} is not a RON value: {m}"))?;
     p.ws();
     if p.i != p.s.len() {
-        return Err(format!("value {text:?} is not a RON value: unexpected text at byte {}", p.i));
+        return Err(format!(
+            "value {text:?} is not a RON value: unexpected text at byte {}",
+            p.i
+        ));
     }
     Ok(v)
 }
@@ -79,7 +87,9 @@ impl RonValue<'_> {
     }
     fn ident(&mut self) -> String {
         let start = self.i;
-        while self.i < self.s.len() && (self.s[self.i].is_ascii_alphanumeric() || self.s[self.i] == b'_') {
+        while self.i < self.s.len()
+            && (self.s[self.i].is_ascii_alphanumeric() || self.s[self.i] == b'_')
+        {
             self.i += 1;
         }
         String::from_utf8_lossy(&self.s[start..self.i]).into_owned()
@@ -93,7 +103,8 @@ impl RonValue<'_> {
                     self.i += if self.s[self.i] == b'\\' { 2 } else { 1 };
                 }
                 self.i += 1;
-                let lit = std::str::from_utf8(&self.s[start..self.i.min(self.s.len())]).map_err(|e| e.to_string())?;
+                let lit = std::str::from_utf8(&self.s[start..self.i.min(self.s.len())])
+                    .map_err(|e| e.to_string())?;
                 serde_json::from_str(lit).map_err(|e| format!("bad string {lit}: {e}"))
             }
             b'[' => {
@@ -148,11 +159,15 @@ impl RonValue<'_> {
             }
             _ => {
                 let start = self.i;
-                while self.i < self.s.len() && (self.s[self.i].is_ascii_alphanumeric() || b"+-.".contains(&self.s[self.i])) {
+                while self.i < self.s.len()
+                    && (self.s[self.i].is_ascii_alphanumeric() || b"+-.".contains(&self.s[self.i]))
+                {
                     self.i += 1;
                 }
                 let lit = std::str::from_utf8(&self.s[start..self.i]).map_err(|e| e.to_string())?;
-                serde_json::from_str::<serde_json::Number>(lit).map(Value::Number).map_err(|_| format!("bad number {lit:?}"))
+                serde_json::from_str::<serde_json::Number>(lit)
+                    .map(Value::Number)
+                    .map_err(|_| format!("bad number {lit:?}"))
             }
         }
     }
@@ -182,7 +197,11 @@ impl RonValue<'_> {
         }
         self.i = save;
         let mut items = self.items(b')')?;
-        Ok(if items.len() == 1 { items.pop().expect("one item") } else { Value::Array(items) })
+        Ok(if items.len() == 1 {
+            items.pop().expect("one item")
+        } else {
+            Value::Array(items)
+        })
     }
     fn items(&mut self, close: u8) -> Result<Vec<Value>, String> {
         let mut v = Vec::new();
@@ -192,7 +211,10 @@ impl RonValue<'_> {
             }
             v.push(self.value()?);
             if !self.eat(b',') && self.peek() != Some(close) {
-                return Err(format!("expected ',' or '{}' at byte {}", close as char, self.i));
+                return Err(format!(
+                    "expected ',' or '{}' at byte {}",
+                    close as char, self.i
+                ));
             }
         }
     }
@@ -261,13 +283,26 @@ mod tests {
         assert_eq!(parse_value("true").unwrap(), Value::from(true));
         assert_eq!(parse_value("[1, 2]").unwrap(), serde_json::json!([1, 2]));
         assert!(parse_value("(").is_err());
-        let light = parse_value("[(kind: Directional(dir: (1.0, 0.5, 1.0)), color: (1, 1, 1))]").unwrap();
-        assert_eq!(light, serde_json::json!([{"kind": {"Directional": {"dir": [1.0, 0.5, 1.0]}}, "color": [1, 1, 1]}]));
-        assert_eq!(parse_value("Png(\"a.png\")").unwrap(), serde_json::json!({"Png": "a.png"}));
+        let light =
+            parse_value("[(kind: Directional(dir: (1.0, 0.5, 1.0)), color: (1, 1, 1))]").unwrap();
+        assert_eq!(
+            light,
+            serde_json::json!([{"kind": {"Directional": {"dir": [1.0, 0.5, 1.0]}}, "color": [1, 1, 1]}])
+        );
+        assert_eq!(
+            parse_value("Png(\"a.png\")").unwrap(),
+            serde_json::json!({"Png": "a.png"})
+        );
         assert_eq!(parse_value("Some(2.5)").unwrap(), serde_json::json!(2.5));
-        assert_eq!(parse_value("(format: (signed: true, width: 8, frac: 7), codec: UnitSigned)").unwrap(), serde_json::json!({"format": {"signed": true, "width": 8, "frac": 7}, "codec": "UnitSigned"}));
+        assert_eq!(
+            parse_value("(format: (signed: true, width: 8, frac: 7), codec: UnitSigned)").unwrap(),
+            serde_json::json!({"format": {"signed": true, "width": 8, "frac": 7}, "codec": "UnitSigned"})
+        );
         assert!(parse_value("(a: 1").is_err());
-        assert_eq!(parse_value("{\"c\": \"g\", \"b\": [1]}").unwrap(), serde_json::json!({"c": "g", "b": [1]}));
+        assert_eq!(
+            parse_value("{\"c\": \"g\", \"b\": [1]}").unwrap(),
+            serde_json::json!({"c": "g", "b": [1]})
+        );
     }
 
     #[test]

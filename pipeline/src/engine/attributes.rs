@@ -96,6 +96,10 @@ pub fn compute(scene: &Scene, attrs: &[AttributeConfig]) -> VertexData {
                     let l = scene.lights[light].dir_from(p);
                     local(f, (l + view).normalize_or_zero())
                 }
+                AttrSource::BlendEnable { light } => {
+                    let faces = frame.n.dot(scene.lights[light].dir_from(p)) > 0.0;
+                    [f64::from(u8::from(faces)), 0.0, 0.0, 0.0]
+                }
                 AttrSource::Gouraud {
                     ambient,
                     all_lights,
