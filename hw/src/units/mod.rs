@@ -19,3 +19,7 @@ pub mod blend;
 pub use blend::{BlendKind, BumpBlend, BumpBlendParams, LightState, Selective, VecSource};
 pub mod modulate;
 pub use modulate::Modulate;
+pub mod palette_lut;
+pub use palette_lut::{PaletteLut, PaletteTable};
+pub mod palette_builder;
+pub use palette_builder::{BuilderFormats, Light, LightingFn, PaletteBuilder};

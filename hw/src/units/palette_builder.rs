@@ -1,0 +1,1198 @@
+//! Per-frame colour-table builder of the quantized normal maps engine.
+//!
+//! Tarini, Cignoni, Rocchini, Scopigno, §5.1: "The color table C is produced by applying to
+//! each normal n in the set N a function f(n) -> c". The normals of `N` are unit vectors in
+//! object space; the light and view directions are handed to the builder already in object
+//! space (§5: they "are first transformed using the inverse of the current modeling
+//! transformation", the caller's job) and are normalised here. §6: several lighting models on
+//! one object are contiguous intervals of `N` (the pairs (material, normal) are sorted by
+//! material), one [`LightingFn`] per interval.
+//!
+//! # Not a per-fragment unit
+//! The builder runs once per frame over the `s_N` entries and has no per-fragment ports, so it
+//! does not implement [`crate::unit::Unit`]: it is a plain struct with [`PaletteBuilder::build`]
+//! (the table `C` in either mode, as a [`PaletteTable`]), [`PaletteBuilder::cycles_per_frame`]
+//! and [`PaletteBuilder::gates`]. The pipeline hands the table to
+//! [`crate::units::PaletteLut`] and charges the build cycles as the LUT's frame work.
+//!
+//! # Datapath assumed
+//! `entries_per_clock` identical pipelines, each with: a normal read from the normal-table
+//! SRAM (`entries x 3 x normal width`), one 3-term dot-product unit (`normal x vector`
+//! multipliers, exact sum), an intensity clamp/cast, one power generator
+//! ([`SpecularGenerator`], shared configuration), and an RGB multiply-accumulate (3
+//! `intensity x coefficient` multipliers and 3 accumulators) ending in a cast to the entry
+//! encoding. Light, half-way and view vectors and the colour coefficients sit in registers
+//! loaded by the host; the half-way vectors `H = normalize(L + V)` are computed by the host
+//! per frame, like `L` and `V`. The dot-product unit is used once per clock, so
+//! `cycles_per_entry` is the number of dot products (plus the extra steps below); the power
+//! lookup and the MAC of one step overlap the next dot product. Pipeline fill (a few clocks)
+//! is not counted. Per material interval of `m` entries: `ceil(m / entries_per_clock) x
+//! cycles_per_entry`, summed over the intervals; with one material this is
+//! `ceil(entries / entries_per_clock) x cycles_per_entry`. The builder never sees the indexed
+//! normal texture, so its time does not depend on the texture size (§1: "rendering time does
+//! not depend much on texture size").
+//!
+//! | function | cycles per entry |
+//! |---|---|
+//! | Lambert, `L` lights | `max(1, L)`: one `N.L` and one MAC per light |
+//! | Specular, `L` lights | `max(1, 2L)`: `N.L` and `N.H` per light |
+//! | Cartoon, `L` lights | `L + 1`: the dot products, then the band select |
+//! | DoubledAnglePhong | 3: `N.L`, `N.V`, then `2 (R.V)^2 - 1` and the power |
+//! | Chrome | 2: `N.V`, then `R_z` and the lerp |
+//! | EnvMap | 4: `N.V`, `R`, the sphere-map address, the texel read |
+//!
+//! # The functions (exact mode; `sat` clamps each channel to [0, 1], alpha is always 1)
+//! * `Lambert`: `c = sat(ambient + diffuse . sum_l color_l max(0, N.L_l))`.
+//! * `Specular` (Blinn-Phong, per-light `H_l = normalize(L_l + V)`): Lambert `+ specular .
+//!   sum_l color_l max(0, N.H_l)^shininess`.
+//! * `Cartoon`: the scalar Lambert term `d = min(1, sum_l max(0, N.L_l))` falls into band
+//!   `k = min(floor(d bands), bands - 1)` and `c = sat(ambient + diffuse k / (bands - 1))`: at
+//!   most `bands` distinct colours (the band colours are a `bands`-entry table loaded by the
+//!   host, so this also holds bit-accurately).
+//! * `DoubledAnglePhong` (Fig. 6): with `R = 2 (N.L) N - L` and `cos a = R.V`, the Phong term
+//!   uses the doubled angle: `s = max(0, cos 2a)^shininess = max(0, 2 (R.V)^2 - 1)^shininess`
+//!   for `R.V > 0`, and 0 for `R.V <= 0` (angles beyond 90 degrees); `c = sat(ambient + diffuse
+//!   . color max(0, N.L) + specular . color s)`.
+//! * `Chrome` (Fig. 7, "brown below, and blue above"): `R = 2 (N.V) N - V`; object-space `+z`
+//!   is up; `t = clamp((1 + R_z) / 2, 0, 1)` and `c = ground + t (sky - ground)`: a gradient from
+//!   the ground colour (reflection straight down) to the sky colour (straight up).
+//! * `EnvMap` (§5.1 item 3): sphere map with its axis along object `+z` (OpenGL's eye-space
+//!   sphere map for a viewer on `+z`): `m = 2 sqrt(R_x^2 + R_y^2 + (R_z + 1)^2)`, `s = R_x/m +
+//!   1/2`, `t = R_y/m + 1/2`, nearest texel `(floor(s w), floor(t h))` clamped, row `t`.
+//!
+//! # Bit-accurate mode
+//! The normal is quantized to `normal` per component, the (normalised) light, half-way and
+//! view vectors to `vector`; dot products and reflection vectors are exact ([`Acc`]); each
+//! intensity is clamped to [0, 1] and cast to `intensity`; powers come from the
+//! [`SpecularGenerator`] (`power`) reading `intensity` words; colour coefficients (ambient,
+//! diffuse, specular, light colours, sky, ground, environment texels) are words of the entry
+//! encoding; the sum of products is exact and cast once to the entry encoding (whose
+//! saturation is the final clamp). Two steps are not modelled bit by bit: the sphere-map
+//! address (computed in f64 from the exact reflection of the quantized vectors) and the
+//! cartoon band colours (host-computed words).
+
+use std::ops::Range;
+
+use crate::arith::Acc;
+use crate::format::Encoding;
+use crate::gates::{CostTable, GateBudget};
+use crate::unit::Mode;
+use crate::units::palette_lut::PaletteTable;
+use crate::units::specgen::{SpecGen, SpecularGenerator};
+
+/// A light: (direction towards the light in object space, RGB colour).
+pub type Light = ([f64; 3], [f64; 3]);
+
+/// The function `f(n) -> c` of one material. See the module documentation.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub enum LightingFn {
+    Lambert {
+        ambient: [f64; 3],
+        diffuse: [f64; 3],
+        lights: Vec<Light>,
+    },
+    Specular {
+        ambient: [f64; 3],
+        diffuse: [f64; 3],
+        specular: [f64; 3],
+        shininess: f64,
+        view: [f64; 3],
+        lights: Vec<Light>,
+    },
+    Cartoon {
+        bands: u32,
+        ambient: [f64; 3],
+        diffuse: [f64; 3],
+        lights: Vec<Light>,
+    },
+    DoubledAnglePhong {
+        ambient: [f64; 3],
+        diffuse: [f64; 3],
+        specular: [f64; 3],
+        shininess: f64,
+        view: [f64; 3],
+        light: Light,
+    },
+    Chrome {
+        view: [f64; 3],
+        sky: [f64; 3],
+        ground: [f64; 3],
+    },
+    EnvMap {
+        view: [f64; 3],
+        image: Vec<[f64; 3]>,
+        width: u32,
+        height: u32,
+    },
+}
+
+impl LightingFn {
+    /// Clocks per entry on one pipeline (module documentation).
+    pub fn cycles_per_entry(&self) -> u64 {
+        match self {
+            LightingFn::Lambert { lights, .. } => (lights.len() as u64).max(1),
+            LightingFn::Specular { lights, .. } => (2 * lights.len() as u64).max(1),
+            LightingFn::Cartoon { lights, .. } => lights.len() as u64 + 1,
+            LightingFn::DoubledAnglePhong { .. } => 3,
+            LightingFn::Chrome { .. } => 2,
+            LightingFn::EnvMap { .. } => 4,
+        }
+    }
+    fn shininess(&self) -> Option<f64> {
+        match self {
+            LightingFn::Specular { shininess, .. }
+            | LightingFn::DoubledAnglePhong { shininess, .. } => Some(*shininess),
+            _ => None,
+        }
+    }
+    fn validate(&self) -> Result<(), String> {
+        let dir = |v: &[f64; 3], what: &str| {
+            let l = norm(*v);
+            if l.is_finite() && l > 0.0 {
+                Ok(())
+            } else {
+                Err(format!("{what} {v:?}: expected a finite non-zero vector"))
+            }
+        };
+        let fin = |v: &[f64; 3], what: &str| {
+            if v.iter().all(|x| x.is_finite()) {
+                Ok(())
+            } else {
+                Err(format!("{what} {v:?}: expected finite values"))
+            }
+        };
+        let lights_ok = |ls: &[Light]| {
+            ls.iter().try_for_each(|(d, c)| {
+                dir(d, "light direction")?;
+                fin(c, "light colour")
+            })
+        };
+        match self {
+            LightingFn::Lambert {
+                ambient,
+                diffuse,
+                lights,
+            } => {
+                fin(ambient, "ambient")?;
+                fin(diffuse, "diffuse")?;
+                lights_ok(lights)
+            }
+            LightingFn::Specular {
+                ambient,
+                diffuse,
+                specular,
+                view,
+                lights,
+                ..
+            } => {
+                fin(ambient, "ambient")?;
+                fin(diffuse, "diffuse")?;
+                fin(specular, "specular")?;
+                dir(view, "view")?;
+                lights_ok(lights)?;
+                for (l, _) in lights {
+                    let h = add(unit(*l), unit(*view));
+                    dir(&h, "light + view (half-way vector)")?;
+                }
+                Ok(())
+            }
+            LightingFn::Cartoon {
+                bands,
+                ambient,
+                diffuse,
+                lights,
+            } => {
+                if !(2..=256).contains(bands) {
+                    return Err(format!("bands {bands}: expected 2 to 256"));
+                }
+                fin(ambient, "ambient")?;
+                fin(diffuse, "diffuse")?;
+                lights_ok(lights)
+            }
+            LightingFn::DoubledAnglePhong {
+                ambient,
+                diffuse,
+                specular,
+                view,
+                light,
+                ..
+            } => {
+                fin(ambient, "ambient")?;
+                fin(diffuse, "diffuse")?;
+                fin(specular, "specular")?;
+                dir(view, "view")?;
+                lights_ok(std::slice::from_ref(light))
+            }
+            LightingFn::Chrome { view, sky, ground } => {
+                dir(view, "view")?;
+                fin(sky, "sky")?;
+                fin(ground, "ground")
+            }
+            LightingFn::EnvMap {
+                view,
+                image,
+                width,
+                height,
+            } => {
+                dir(view, "view")?;
+                if *width == 0 || *height == 0 || *width > 4096 || *height > 4096 {
+                    return Err(format!(
+                        "environment map {width}x{height}: expected 1 to 4096 texels a side"
+                    ));
+                }
+                if image.len() != (*width as usize) * (*height as usize) {
+                    return Err(format!(
+                        "environment map has {} texels: expected {width}x{height}",
+                        image.len()
+                    ));
+                }
+                image.iter().try_for_each(|t| fin(t, "environment texel"))
+            }
+        }
+    }
+}
+
+/// Encodings of the builder's datapath.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct BuilderFormats {
+    /// A normal component (e.g. signed 10-bit).
+    pub normal: Encoding,
+    /// A light, half-way or view vector component.
+    pub vector: Encoding,
+    /// An intensity after the dot product (unsigned, holds 1.0 e.g. `UnitUnsigned` 10).
+    pub intensity: Encoding,
+    /// The power generator reading intensities.
+    pub power: SpecGen,
+    /// Each RGBA lane of an entry of `C` (the [`crate::units::PaletteLut`] entry encoding);
+    /// also the encoding of the colour coefficients.
+    pub entry: Encoding,
+}
+
+/// The per-frame colour-table builder. See the module documentation.
+#[derive(Debug, Clone)]
+pub struct PaletteBuilder {
+    normals: Vec<[f64; 3]>,
+    materials: Vec<(Range<usize>, LightingFn)>,
+    gens: Vec<Option<SpecularGenerator>>,
+    f: BuilderFormats,
+    entries_per_clock: u32,
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+fn norm(a: [f64; 3]) -> f64 {
+    dot(a, a).sqrt()
+}
+fn unit(a: [f64; 3]) -> [f64; 3] {
+    let l = norm(a);
+    a.map(|x| x / l)
+}
+fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    std::array::from_fn(|i| a[i] + b[i])
+}
+/// `2 (n.v) n - v`.
+fn reflect(n: [f64; 3], v: [f64; 3]) -> [f64; 3] {
+    let k = 2.0 * dot(n, v);
+    std::array::from_fn(|i| k * n[i] - v[i])
+}
+fn adot(a: [Acc; 3], b: [Acc; 3]) -> Acc {
+    a[0].mul(b[0]).add(a[1].mul(b[1])).add(a[2].mul(b[2]))
+}
+fn sphere_texel(r: [f64; 3], width: u32, height: u32) -> usize {
+    let m = 2.0 * (r[0] * r[0] + r[1] * r[1] + (r[2] + 1.0) * (r[2] + 1.0)).sqrt();
+    let (s, t) = if m > 0.0 {
+        (r[0] / m + 0.5, r[1] / m + 0.5)
+    } else {
+        (0.5, 0.5)
+    };
+    let i = ((s * width as f64).floor().max(0.0) as usize).min(width as usize - 1);
+    let j = ((t * height as f64).floor().max(0.0) as usize).min(height as usize - 1);
+    j * width as usize + i
+}
+
+impl PaletteBuilder {
+    /// `normals`: the table `N` (1 to 16384 finite vectors, normalised here); `materials`:
+    /// contiguous intervals covering `0..normals.len()` in order, each with its function;
+    /// `entries_per_clock`: parallel pipelines (1 to 64). Errors name what was expected.
+    pub fn new(
+        normals: Vec<[f64; 3]>,
+        materials: Vec<(Range<usize>, LightingFn)>,
+        formats: BuilderFormats,
+        entries_per_clock: u32,
+    ) -> Result<Self, String> {
+        let n = normals.len();
+        if !(1..=16384).contains(&n) {
+            return Err(format!("normal table of {n} entries: expected 1 to 16384"));
+        }
+        if let Some(v) = normals
+            .iter()
+            .find(|v| !(norm(**v).is_finite() && norm(**v) > 0.0))
+        {
+            return Err(format!("normal {v:?}: expected a finite non-zero vector"));
+        }
+        if !(1..=64).contains(&entries_per_clock) {
+            return Err(format!(
+                "entries_per_clock {entries_per_clock}: expected 1 to 64"
+            ));
+        }
+        formats.normal.validate()?;
+        formats.vector.validate()?;
+        formats.intensity.validate()?;
+        formats.entry.validate()?;
+        if formats.intensity.format.signed {
+            return Err("intensity encoding: expected an unsigned format".into());
+        }
+        if formats.intensity.decode(formats.intensity.format.max_raw()) < 1.0 {
+            return Err(format!(
+                "intensity encoding {}: expected one that holds 1.0",
+                formats.intensity
+            ));
+        }
+        let mut next = 0;
+        for (r, f) in &materials {
+            if r.start != next || r.end <= r.start {
+                return Err(format!(
+                    "material interval {r:?}: expected a non-empty interval starting at {next}"
+                ));
+            }
+            next = r.end;
+            f.validate()?;
+        }
+        if next != n {
+            return Err(format!(
+                "material intervals end at {next}: expected them to cover 0..{n}"
+            ));
+        }
+        let gens = materials
+            .iter()
+            .map(|(_, f)| {
+                f.shininess()
+                    .map(|s| SpecularGenerator::new(formats.power, s, formats.intensity))
+                    .transpose()
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(PaletteBuilder {
+            normals: normals.into_iter().map(unit).collect(),
+            materials,
+            gens,
+            f: formats,
+            entries_per_clock,
+        })
+    }
+
+    /// One function over the whole table.
+    pub fn single(
+        normals: Vec<[f64; 3]>,
+        f: LightingFn,
+        formats: BuilderFormats,
+        entries_per_clock: u32,
+    ) -> Result<Self, String> {
+        let n = normals.len();
+        Self::new(normals, vec![(0..n, f)], formats, entries_per_clock)
+    }
+
+    pub fn entries(&self) -> usize {
+        self.normals.len()
+    }
+    pub fn formats(&self) -> &BuilderFormats {
+        &self.f
+    }
+
+    /// The colour table `C`: in exact mode the f64 values (words encoded for traces), in
+    /// bit-accurate mode the hardware's words (values decoded).
+    pub fn build(&self, mode: Mode) -> PaletteTable {
+        match mode {
+            Mode::Exact => PaletteTable::from_values(&self.f.entry, self.build_exact()),
+            Mode::BitAccurate => PaletteTable::from_codes(&self.f.entry, self.build_codes()),
+        }
+    }
+
+    /// Exact mode: `f(n)` in f64 for every entry.
+    pub fn build_exact(&self) -> Vec<[f64; 4]> {
+        let mut out = Vec::with_capacity(self.entries());
+        for (r, f) in &self.materials {
+            for n in &self.normals[r.clone()] {
+                let c = exact_entry(f, *n);
+                out.push([c[0], c[1], c[2], 1.0]);
+            }
+        }
+        out
+    }
+
+    /// Bit-accurate mode: the entry words for every entry.
+    pub fn build_codes(&self) -> Vec<[i64; 4]> {
+        let mut out = Vec::with_capacity(self.entries());
+        let one = self.f.entry.encode(1.0);
+        for ((r, f), g) in self.materials.iter().zip(&self.gens) {
+            let dp = Datapath::new(&self.f, g.as_ref());
+            for n in &self.normals[r.clone()] {
+                let c = dp.entry(f, *n);
+                out.push([c[0], c[1], c[2], one]);
+            }
+        }
+        out
+    }
+
+    /// Clocks to build the table: per interval `ceil(m / entries_per_clock) x
+    /// cycles_per_entry`, summed.
+    pub fn cycles_per_frame(&self) -> u64 {
+        let p = self.entries_per_clock as u64;
+        self.materials
+            .iter()
+            .map(|(r, f)| (r.len() as u64).div_ceil(p) * f.cycles_per_entry())
+            .sum()
+    }
+
+    /// Gate estimate: the normal table, the host-loaded registers, and `entries_per_clock`
+    /// pipelines with what the functions in use need.
+    pub fn gates(&self, t: &CostTable) -> GateBudget {
+        let (wn, wv, wi, we) = (
+            self.f.normal.width(),
+            self.f.vector.width(),
+            self.f.intensity.width(),
+            self.f.entry.width(),
+        );
+        let p = self.entries_per_clock;
+        let n = self.entries() as u64;
+        let mut g = GateBudget::new();
+        g.add(
+            format!("normal table {n}x{} (loadable)", 3 * wn),
+            1,
+            t.sram(n, 3 * wn),
+        );
+        // host-loaded registers: every vector and colour of every material
+        let (mut vecs, mut cols) = (0u32, 0u32);
+        let (mut power, mut refl, mut band, mut lerp) = (false, false, false, false);
+        let mut env_bits = 0u64;
+        for (_, f) in &self.materials {
+            match f {
+                LightingFn::Lambert { lights, .. } => {
+                    vecs += lights.len() as u32;
+                    cols += 2 + lights.len() as u32;
+                }
+                LightingFn::Specular { lights, .. } => {
+                    vecs += 2 * lights.len() as u32;
+                    cols += 3 + lights.len() as u32;
+                    power = true;
+                }
+                LightingFn::Cartoon { bands, lights, .. } => {
+                    vecs += lights.len() as u32;
+                    cols += *bands;
+                    band = true;
+                }
+                LightingFn::DoubledAnglePhong { .. } => {
+                    vecs += 2;
+                    cols += 4;
+                    power = true;
+                    refl = true;
+                }
+                LightingFn::Chrome { .. } => {
+                    vecs += 1;
+                    cols += 2;
+                    refl = true;
+                    lerp = true;
+                }
+                LightingFn::EnvMap { image, .. } => {
+                    vecs += 1;
+                    refl = true;
+                    env_bits += image.len() as u64 * 3 * we as u64;
+                }
+            }
+        }
+        g.add(format!("vector registers 3x{wv}"), vecs, t.register(3 * wv));
+        g.add(format!("colour registers 3x{we}"), cols, t.register(3 * we));
+        if env_bits > 0 {
+            g.add(
+                "environment map (loadable)",
+                1,
+                t.sram_bit * env_bits as f64,
+            );
+        }
+        let wd = wn + wv + 2; // exact dot-product width
+        g.add(format!("normal register {}", 3 * wn), p, t.register(3 * wn));
+        g.add(
+            format!("dot multiplier {wn}x{wv}"),
+            3 * p,
+            t.multiplier(wn, wv),
+        );
+        g.add(format!("dot adder {wd}"), 2 * p, t.adder(wd));
+        g.add(format!("intensity clamp {wi}"), p, t.clamp(wi));
+        if refl {
+            // 2 (n.v) n - v: the scalar register, 3 multipliers and 3 subtractors
+            g.add(format!("dot register {wd}"), p, t.register(wd));
+            g.add(
+                format!("reflect multiplier {wd}x{wn}"),
+                3 * p,
+                t.multiplier(wd, wn),
+            );
+            g.add(
+                format!("reflect subtractor {}", wd + wn),
+                3 * p,
+                t.adder(wd + wn),
+            );
+        }
+        if power {
+            if let Some(gen) = self.gens.iter().flatten().next() {
+                for item in gen.gates(t).items {
+                    g.add(item.what, p, item.ge);
+                }
+            }
+            // doubled angle: 2 x^2 - 1
+            if self
+                .materials
+                .iter()
+                .any(|(_, f)| matches!(f, LightingFn::DoubledAnglePhong { .. }))
+            {
+                g.add(format!("doubled-angle squarer {wd}"), p, t.squarer(wd));
+            }
+        }
+        if band {
+            g.add(
+                format!("band select multiplier {wi}x8"),
+                p,
+                t.multiplier(wi, 8),
+            );
+            g.add(format!("band colour mux 3x{we}"), p, t.mux(3 * we, 2));
+        }
+        if lerp {
+            g.add(format!("gradient adder {we}"), 3 * p, t.adder(we + 1));
+        }
+        if env_bits > 0 {
+            // sphere-map address: 1/m from a 1024 x 12 ROM and two multipliers
+            g.add("sphere-map 1/m table 1024x12", p, t.rom(1024, 12));
+            g.add(
+                format!("sphere-map address multiplier {wd}x12"),
+                2 * p,
+                t.multiplier(wd, 12),
+            );
+        }
+        g.add(
+            format!("colour multiplier {wi}x{we}"),
+            3 * p,
+            t.multiplier(wi, we),
+        );
+        g.add(
+            format!("colour accumulator {}", wi + we + 2),
+            3 * p,
+            t.adder(wi + we + 2),
+        );
+        g.add(
+            format!("accumulator register {}", wi + we + 2),
+            3 * p,
+            t.register(wi + we + 2),
+        );
+        g.add(format!("entry saturation {we}"), 3 * p, t.clamp(we));
+        g.add(format!("entry register {}", 4 * we), p, t.register(4 * we));
+        g
+    }
+}
+
+fn exact_entry(f: &LightingFn, n: [f64; 3]) -> [f64; 3] {
+    let sat = |c: [f64; 3]| c.map(|x| x.clamp(0.0, 1.0));
+    let lambert = |lights: &[Light]| {
+        let mut s = [0.0; 3];
+        for (d, col) in lights {
+            let k = dot(n, unit(*d)).max(0.0);
+            for i in 0..3 {
+                s[i] += col[i] * k;
+            }
+        }
+        s
+    };
+    match f {
+        LightingFn::Lambert {
+            ambient,
+            diffuse,
+            lights,
+        } => {
+            let s = lambert(lights);
+            sat(std::array::from_fn(|i| ambient[i] + diffuse[i] * s[i]))
+        }
+        LightingFn::Specular {
+            ambient,
+            diffuse,
+            specular,
+            shininess,
+            view,
+            lights,
+        } => {
+            let s = lambert(lights);
+            let v = unit(*view);
+            let mut sp = [0.0; 3];
+            for (d, col) in lights {
+                let h = unit(add(unit(*d), v));
+                let k = dot(n, h).clamp(0.0, 1.0).powf(*shininess);
+                for i in 0..3 {
+                    sp[i] += col[i] * k;
+                }
+            }
+            sat(std::array::from_fn(|i| {
+                ambient[i] + diffuse[i] * s[i] + specular[i] * sp[i]
+            }))
+        }
+        LightingFn::Cartoon {
+            bands,
+            ambient,
+            diffuse,
+            lights,
+        } => {
+            let d: f64 = lights
+                .iter()
+                .map(|(l, _)| dot(n, unit(*l)).max(0.0))
+                .sum::<f64>()
+                .min(1.0);
+            let k = ((d * *bands as f64).floor() as u32).min(bands - 1);
+            band_colour(*ambient, *diffuse, k, *bands)
+        }
+        LightingFn::DoubledAnglePhong {
+            ambient,
+            diffuse,
+            specular,
+            shininess,
+            view,
+            light: (l, col),
+        } => {
+            let l = unit(*l);
+            let nl = dot(n, l);
+            let rv = dot(reflect(n, l), unit(*view));
+            let s = if rv > 0.0 {
+                (2.0 * rv * rv - 1.0).clamp(0.0, 1.0).powf(*shininess)
+            } else {
+                0.0
+            };
+            sat(std::array::from_fn(|i| {
+                ambient[i] + diffuse[i] * col[i] * nl.max(0.0) + specular[i] * col[i] * s
+            }))
+        }
+        LightingFn::Chrome { view, sky, ground } => {
+            let r = reflect(n, unit(*view));
+            let t = ((1.0 + r[2]) / 2.0).clamp(0.0, 1.0);
+            sat(std::array::from_fn(|i| {
+                ground[i] + t * (sky[i] - ground[i])
+            }))
+        }
+        LightingFn::EnvMap {
+            view,
+            image,
+            width,
+            height,
+        } => sat(image[sphere_texel(reflect(n, unit(*view)), *width, *height)]),
+    }
+}
+
+/// Band `k` of `bands`: `sat(ambient + diffuse k / (bands - 1))`.
+fn band_colour(ambient: [f64; 3], diffuse: [f64; 3], k: u32, bands: u32) -> [f64; 3] {
+    let q = k as f64 / (bands - 1) as f64;
+    std::array::from_fn(|i| (ambient[i] + diffuse[i] * q).clamp(0.0, 1.0))
+}
+
+/// The bit-accurate datapath for one material: its registers, loaded once.
+struct Datapath<'a> {
+    f: &'a BuilderFormats,
+    gen: Option<&'a SpecularGenerator>,
+}
+
+impl<'a> Datapath<'a> {
+    fn new(f: &'a BuilderFormats, gen: Option<&'a SpecularGenerator>) -> Self {
+        Datapath { f, gen }
+    }
+    /// A register vector: normalised by the host, quantized to `vector`.
+    fn vreg(&self, v: [f64; 3]) -> [Acc; 3] {
+        let e = &self.f.vector;
+        unit(v).map(|x| Acc::from_code(e.encode(x), e))
+    }
+    /// A colour coefficient register: an entry word.
+    fn creg(&self, c: [f64; 3]) -> [Acc; 3] {
+        let e = &self.f.entry;
+        c.map(|x| Acc::from_code(e.encode(x), e))
+    }
+    /// Clamp to [0, 1] and cast to the intensity encoding: (word, value read back).
+    fn intensity(&self, x: Acc) -> (i64, Acc) {
+        let e = &self.f.intensity;
+        let raw = x.clamp(Acc::ZERO, Acc::new(1, 0)).to_code(e);
+        (raw, Acc::from_code(raw, e))
+    }
+    fn out(&self, c: [Acc; 3]) -> [i64; 3] {
+        c.map(|x| x.to_code(&self.f.entry))
+    }
+    fn lambert(&self, nq: [Acc; 3], lights: &[Light]) -> [Acc; 3] {
+        let mut s = [Acc::ZERO; 3];
+        for (d, col) in lights {
+            let (_, k) = self.intensity(adot(nq, self.vreg(*d)));
+            let c = self.creg(*col);
+            for i in 0..3 {
+                s[i] = s[i].add(c[i].mul(k));
+            }
+        }
+        s
+    }
+
+    fn entry(&self, f: &LightingFn, n: [f64; 3]) -> [i64; 3] {
+        let ne = &self.f.normal;
+        let nq = n.map(|x| Acc::from_code(ne.encode(x), ne));
+        match f {
+            LightingFn::Lambert {
+                ambient,
+                diffuse,
+                lights,
+            } => {
+                let (a, d) = (self.creg(*ambient), self.creg(*diffuse));
+                let s = self.lambert(nq, lights);
+                self.out(std::array::from_fn(|i| a[i].add(d[i].mul(s[i]))))
+            }
+            LightingFn::Specular {
+                ambient,
+                diffuse,
+                specular,
+                view,
+                lights,
+                ..
+            } => {
+                let (a, d, sc) = (
+                    self.creg(*ambient),
+                    self.creg(*diffuse),
+                    self.creg(*specular),
+                );
+                let s = self.lambert(nq, lights);
+                let v = unit(*view);
+                let gen = self.gen.expect("specular has a generator");
+                let mut sp = [Acc::ZERO; 3];
+                for (l, col) in lights {
+                    let h = self.vreg(add(unit(*l), v));
+                    let (raw, _) = self.intensity(adot(nq, h));
+                    let k = gen.bits(raw);
+                    let c = self.creg(*col);
+                    for i in 0..3 {
+                        sp[i] = sp[i].add(c[i].mul(k));
+                    }
+                }
+                self.out(std::array::from_fn(|i| {
+                    a[i].add(d[i].mul(s[i])).add(sc[i].mul(sp[i]))
+                }))
+            }
+            LightingFn::Cartoon {
+                bands,
+                ambient,
+                diffuse,
+                lights,
+            } => {
+                let mut sum = Acc::ZERO;
+                for (l, _) in lights {
+                    sum = sum.add(adot(nq, self.vreg(*l)).clamp(Acc::ZERO, Acc::new(1, 0)));
+                }
+                let (_, d) = self.intensity(sum);
+                let k = d
+                    .scale(*bands as i128)
+                    .round_int(crate::format::Quant::Trn)
+                    .clamp(0, *bands as i128 - 1) as u32;
+                // the host loads the band colours as entry words
+                band_colour(*ambient, *diffuse, k, *bands).map(|x| self.f.entry.encode(x))
+            }
+            LightingFn::DoubledAnglePhong {
+                ambient,
+                diffuse,
+                specular,
+                view,
+                light: (l, col),
+                ..
+            } => {
+                let (a, d, sc, c) = (
+                    self.creg(*ambient),
+                    self.creg(*diffuse),
+                    self.creg(*specular),
+                    self.creg(*col),
+                );
+                let (lq, vq) = (self.vreg(*l), self.vreg(*view));
+                let nl = adot(nq, lq);
+                let nv = adot(nq, vq);
+                // R.V = 2 (N.L)(N.V) - L.V
+                let rv = nl.mul(nv).scale(2).sub(adot(lq, vq));
+                let s = if Acc::ZERO.lt(rv) {
+                    let (raw, _) = self.intensity(rv.mul(rv).scale(2).sub(Acc::new(1, 0)));
+                    self.gen.expect("phong has a generator").bits(raw)
+                } else {
+                    Acc::ZERO
+                };
+                let (_, kd) = self.intensity(nl);
+                self.out(std::array::from_fn(|i| {
+                    a[i].add(d[i].mul(c[i]).mul(kd)).add(sc[i].mul(c[i]).mul(s))
+                }))
+            }
+            LightingFn::Chrome { view, sky, ground } => {
+                let vq = self.vreg(*view);
+                let nv = adot(nq, vq);
+                let rz = nv.scale(2).mul(nq[2]).sub(vq[2]);
+                let (_, t) = self.intensity(Acc::new(1, 0).add(rz).shr(1));
+                let (s, g) = (self.creg(*sky), self.creg(*ground));
+                self.out(std::array::from_fn(|i| g[i].add(s[i].sub(g[i]).mul(t))))
+            }
+            LightingFn::EnvMap {
+                view,
+                image,
+                width,
+                height,
+            } => {
+                let vq = self.vreg(*view);
+                let nv = adot(nq, vq);
+                let r: [f64; 3] =
+                    std::array::from_fn(|i| nv.scale(2).mul(nq[i]).sub(vq[i]).to_f64());
+                let texel = image[sphere_texel(r, *width, *height)];
+                texel.map(|x| self.f.entry.encode(x))
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::format::{Codec, Format};
+    use crate::units::PaletteLut;
+
+    fn formats() -> BuilderFormats {
+        BuilderFormats {
+            normal: Encoding::texel(Codec::UnitSigned, true, 10),
+            vector: Encoding::texel(Codec::UnitSigned, true, 10),
+            intensity: Encoding::texel(Codec::UnitUnsigned, false, 10),
+            power: SpecGen::Table {
+                index_bits: 10,
+                value_bits: 12,
+            },
+            entry: Encoding::texel(Codec::UnitUnsigned, false, 8),
+        }
+    }
+    fn lcg(seed: &mut u64) -> f64 {
+        *seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (*seed >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn random_normals(n: usize, seed: u64) -> Vec<[f64; 3]> {
+        let mut s = seed;
+        (0..n)
+            .map(|_| loop {
+                let v: [f64; 3] = std::array::from_fn(|_| 2.0 * lcg(&mut s) - 1.0);
+                let l = norm(v);
+                if l > 0.1 && l <= 1.0 {
+                    break unit(v);
+                }
+            })
+            .collect()
+    }
+    fn axes() -> Vec<[f64; 3]> {
+        vec![
+            [1.0, 0.0, 0.0],
+            [-1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, -1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [0.0, 0.0, -1.0],
+        ]
+    }
+    fn lambert() -> LightingFn {
+        LightingFn::Lambert {
+            ambient: [0.1, 0.1, 0.1],
+            diffuse: [0.8, 0.6, 0.4],
+            lights: vec![([0.0, 0.0, 2.0], [1.0, 1.0, 1.0])],
+        }
+    }
+    fn specular(view: [f64; 3]) -> LightingFn {
+        LightingFn::Specular {
+            ambient: [0.1, 0.1, 0.1],
+            diffuse: [0.5, 0.4, 0.3],
+            specular: [0.4, 0.4, 0.4],
+            shininess: 16.0,
+            view,
+            lights: vec![([0.3, 0.2, 1.0], [1.0, 1.0, 1.0])],
+        }
+    }
+
+    #[test]
+    fn palette_builder_lambert_axis_normals_by_hand() {
+        let b = PaletteBuilder::single(axes(), lambert(), formats(), 1).unwrap();
+        let e = b.build_exact();
+        for (i, c) in e.iter().enumerate() {
+            let want = if i == 4 {
+                [0.9, 0.7, 0.5, 1.0]
+            } else {
+                [0.1, 0.1, 0.1, 1.0]
+            };
+            for l in 0..4 {
+                assert!((c[l] - want[l]).abs() < 1e-12, "{i} {l}");
+            }
+        }
+        // words: ambient 26/255, diffuse 204, 153, 102 /255. Signed 10-bit (c / 512) has no
+        // 1.0: n_z = l_z = 511/512, N.L = 0.996098 -> intensity round(1019.01) = 1019/1023;
+        // R = 26 + 204 x 0.996090 = 229.2 -> 229, G = 26 + 153 x 0.99609 = 178.4 -> 178,
+        // B = 26 + 102 x 0.99609 = 127.6 -> 128
+        let w = b.build_codes();
+        assert_eq!(w[4], [229, 178, 128, 255]);
+        for i in [0, 1, 2, 3, 5] {
+            assert_eq!(w[i], [26, 26, 26, 255], "{i}");
+        }
+        // s1.8 fixed vectors hold 1.0: N.L = 1 and the words are the rounded hand values
+        let mut f = formats();
+        f.normal = Encoding::fixed(Format::s(10, 8));
+        f.vector = f.normal;
+        let b = PaletteBuilder::single(axes(), lambert(), f, 1).unwrap();
+        assert_eq!(b.build_codes()[4], [230, 179, 128, 255]);
+    }
+
+    /// Bound for one `coef x intensity` term: the coefficient word (half an entry step, plus
+    /// the bit-replication read), the intensity's input error `dx`, and the product of both.
+    fn term(f: &BuilderFormats, dx: f64) -> f64 {
+        let ec = f.entry.max_error() + (-2.0 * f.entry.width() as f64).exp2();
+        ec + dx + ec * dx
+    }
+
+    #[test]
+    fn palette_builder_exact_and_bit_accurate_agree_within_the_derived_bound() {
+        let f = formats();
+        let normals = random_normals(2048, 11);
+        // dot product error of quantized unit vectors: |dn.l| + |n.dl| + |dn.dl|
+        let (en, ev) = (f.normal.max_error(), f.vector.max_error());
+        let edot = 3f64.sqrt() * (en + ev) + 3.0 * en * ev;
+        let ei = f.intensity.max_error() + (-2.0 * f.intensity.width() as f64).exp2();
+        let eout = f.entry.max_error();
+        let ecoef = f.entry.max_error() + (-2.0 * f.entry.width() as f64).exp2();
+
+        // Lambert: ambient word + diffuse x (colour x intensity) + the output cast
+        let lam_bound = ecoef + term(&f, term(&f, edot + ei)) + eout;
+        let b = PaletteBuilder::single(normals.clone(), lambert(), f, 2).unwrap();
+        let (e, w) = (b.build(Mode::Exact), b.build(Mode::BitAccurate));
+        let mut worst: f64 = 0.0;
+        for (x, y) in e.values.iter().zip(&w.values) {
+            for l in 0..4 {
+                worst = worst.max((x[l] - y[l]).abs());
+            }
+        }
+        println!("lambert: worst {worst:.5} bound {lam_bound:.5}");
+        assert!(worst <= lam_bound, "lambert {worst} > {lam_bound}");
+
+        // Specular: plus the power term, the generator's bound and its slope n on the input
+        // error (the half-way vector is one more quantized vector: edot covers it)
+        let func = specular([0.0, 0.3, 1.0]);
+        let b = PaletteBuilder::single(normals, func, f, 1).unwrap();
+        let gen = SpecularGenerator::new(f.power, 16.0, f.intensity).unwrap();
+        let epow = gen.error_bound() + 16.0 * (edot + f.intensity.max_error());
+        let spec_bound = ecoef + term(&f, term(&f, edot + ei)) + term(&f, term(&f, epow)) + eout;
+        let (e, w) = (b.build(Mode::Exact), b.build(Mode::BitAccurate));
+        let mut worst: f64 = 0.0;
+        for (x, y) in e.values.iter().zip(&w.values) {
+            for l in 0..4 {
+                worst = worst.max((x[l] - y[l]).abs());
+            }
+        }
+        println!("specular: worst {worst:.5} bound {spec_bound:.5}");
+        assert!(worst <= spec_bound, "specular {worst} > {spec_bound}");
+    }
+
+    #[test]
+    fn palette_builder_cartoon_has_at_most_bands_values() {
+        let normals = random_normals(2048, 5);
+        for bands in [2u32, 3, 4] {
+            let func = LightingFn::Cartoon {
+                bands,
+                ambient: [0.1, 0.1, 0.2],
+                diffuse: [0.7, 0.5, 0.3],
+                lights: vec![([0.2, 0.5, 1.0], [1.0, 1.0, 1.0])],
+            };
+            let b = PaletteBuilder::single(normals.clone(), func, formats(), 4).unwrap();
+            for mode in [Mode::Exact, Mode::BitAccurate] {
+                let mut distinct: Vec<[i64; 4]> = b.build(mode).codes;
+                distinct.sort();
+                distinct.dedup();
+                assert!(distinct.len() <= bands as usize, "{bands} {mode:?}");
+                assert!(distinct.len() >= 2, "{bands} {mode:?}");
+            }
+            let mut xs: Vec<String> = b.build_exact().iter().map(|c| format!("{c:?}")).collect();
+            xs.sort();
+            xs.dedup();
+            assert!(xs.len() <= bands as usize);
+        }
+    }
+
+    #[test]
+    fn palette_builder_doubled_angle_phong_at_two_angles() {
+        // light = normal = +z, so R = +z; the view at angle a from z gives R.V = cos a
+        let at = |deg: f64| {
+            let a = deg.to_radians();
+            let func = LightingFn::DoubledAnglePhong {
+                ambient: [0.0; 3],
+                diffuse: [0.0; 3],
+                specular: [1.0; 3],
+                shininess: 2.0,
+                view: [a.sin(), 0.0, a.cos()],
+                light: ([0.0, 0.0, 1.0], [1.0; 3]),
+            };
+            // s1.10 vectors: 1.0 and 0.5 exact, cos 30 = 887/1024 (error 1.8e-4)
+            let mut f = formats();
+            f.normal = Encoding::fixed(Format::s(12, 10));
+            f.vector = f.normal;
+            let b = PaletteBuilder::single(vec![[0.0, 0.0, 1.0]], func, f, 1).unwrap();
+            (
+                b.build_exact()[0][0],
+                b.build(Mode::BitAccurate).values[0][0],
+            )
+        };
+        // 0 degrees: cos 0 = 1; 30 degrees: cos 60 = 0.5, squared 0.25; 60: cos 120 < 0
+        for (deg, want) in [(0.0, 1.0), (30.0, 0.25), (60.0, 0.0)] {
+            let (e, b) = at(deg);
+            assert!((e - want).abs() < 1e-12, "{deg}: {e}");
+            assert!((b - want).abs() <= 2.0 / 255.0, "{deg}: {b}");
+        }
+    }
+
+    #[test]
+    fn palette_builder_chrome_sky_above_ground_below() {
+        let s = std::f64::consts::FRAC_1_SQRT_2;
+        let (sky, ground) = ([0.2, 0.4, 1.0], [0.5, 0.3, 0.1]);
+        let func = LightingFn::Chrome {
+            view: [1.0, 0.0, 0.0],
+            sky,
+            ground,
+        };
+        // n = (1,0,1)/sqrt2 reflects V = +x to +z (up); n = (1,0,-1)/sqrt2 to -z (down)
+        let b =
+            PaletteBuilder::single(vec![[s, 0.0, s], [s, 0.0, -s]], func, formats(), 1).unwrap();
+        let e = b.build_exact();
+        let w = b.build(Mode::BitAccurate).values;
+        for (i, want) in [sky, ground].iter().enumerate() {
+            for l in 0..3 {
+                assert!((e[i][l] - want[l]).abs() < 1e-12, "{i} {l}");
+                assert!((w[i][l] - want[l]).abs() <= 2.0 / 255.0, "{i} {l}");
+            }
+        }
+    }
+
+    #[test]
+    fn palette_builder_env_map_reads_the_reflected_texel() {
+        // 2x2 map: R = +z (looking back at the viewer) hits the centre: texel (1, 1)
+        let image = vec![[0.0; 3], [0.25; 3], [0.5; 3], [1.0, 0.0, 0.0]];
+        let func = LightingFn::EnvMap {
+            view: [0.0, 0.0, 1.0],
+            image,
+            width: 2,
+            height: 2,
+        };
+        let b = PaletteBuilder::single(vec![[0.0, 0.0, 1.0]], func, formats(), 1).unwrap();
+        assert_eq!(b.build_exact()[0], [1.0, 0.0, 0.0, 1.0]);
+        assert_eq!(b.build_codes()[0], [255, 0, 0, 255]);
+    }
+
+    #[test]
+    fn palette_builder_cycles_grow_linearly_and_ignore_texture_size() {
+        let env = |w: u32| LightingFn::EnvMap {
+            view: [0.0, 0.0, 1.0],
+            image: vec![[0.5; 3]; (w * w) as usize],
+            width: w,
+            height: w,
+        };
+        for p in [1u32, 4] {
+            let c = |n: usize, f: LightingFn| {
+                PaletteBuilder::single(random_normals(n, 3), f, formats(), p)
+                    .unwrap()
+                    .cycles_per_frame()
+            };
+            let c1 = c(1024, lambert());
+            assert_eq!(c1, 1024 / p as u64);
+            assert_eq!(c(2048, lambert()), 2 * c1);
+            assert_eq!(c(4096, lambert()), 4 * c1);
+            assert_eq!(c(2048, specular([0.0, 0.0, 1.0])), 2 * 2048 / p as u64);
+            assert_eq!(c(2048, env(4)), c(2048, env(64)));
+            assert_eq!(c(2048, env(4)), 4 * 2048 / p as u64);
+        }
+        assert_eq!(
+            PaletteBuilder::single(random_normals(10, 3), lambert(), formats(), 4)
+                .unwrap()
+                .cycles_per_frame(),
+            3
+        );
+    }
+
+    #[test]
+    fn palette_builder_materials_apply_to_their_intervals_only() {
+        let normals = random_normals(64, 9);
+        let chrome = LightingFn::Chrome {
+            view: [0.0, 0.2, 1.0],
+            sky: [0.2, 0.4, 1.0],
+            ground: [0.5, 0.3, 0.1],
+        };
+        let f = formats();
+        let mixed = PaletteBuilder::new(
+            normals.clone(),
+            vec![(0..20, lambert()), (20..64, chrome.clone())],
+            f,
+            2,
+        )
+        .unwrap();
+        let a = PaletteBuilder::single(normals.clone(), lambert(), f, 2).unwrap();
+        let c = PaletteBuilder::single(normals, chrome, f, 2).unwrap();
+        for mode in [Mode::Exact, Mode::BitAccurate] {
+            let (m, a, c) = (mixed.build(mode), a.build(mode), c.build(mode));
+            assert_eq!(m.codes[..20], a.codes[..20]);
+            assert_eq!(m.codes[20..], c.codes[20..]);
+            assert_ne!(m.codes[20..], a.codes[20..]);
+        }
+        assert_eq!(mixed.cycles_per_frame(), 10 + 22 * 2);
+        // intervals must cover the table in order
+        let bad = |m: Vec<(Range<usize>, LightingFn)>| {
+            PaletteBuilder::new(random_normals(8, 1), m, f, 1).is_err()
+        };
+        assert!(bad(vec![(0..4, lambert())]));
+        assert!(bad(vec![(0..4, lambert()), (5..8, lambert())]));
+        assert!(bad(vec![(0..0, lambert()), (0..8, lambert())]));
+        assert!(!bad(vec![(0..4, lambert()), (4..8, lambert())]));
+    }
+
+    #[test]
+    fn palette_builder_output_loads_into_the_lut() {
+        use crate::unit::Unit;
+        let f = formats();
+        let b = PaletteBuilder::single(random_normals(256, 2), lambert(), f, 1).unwrap();
+        let mut lut = PaletteLut::new(
+            Encoding::fixed(Format::u(8, 0)),
+            f.entry,
+            vec![[0.0; 4]; 256],
+            1,
+        )
+        .unwrap();
+        lut.load(b.build(Mode::BitAccurate)).unwrap();
+        assert_eq!(lut.frame_cycles(), 256);
+    }
+
+    #[test]
+    fn palette_builder_and_lut_numbers_for_256_2048_16384_entries() {
+        let t = CostTable::default();
+        let f = formats();
+        for (n, bits) in [(256usize, 8u8), (2048, 11), (16384, 14)] {
+            for (name, func) in [
+                ("lambert", lambert()),
+                ("specular", specular([0.0, 0.0, 1.0])),
+            ] {
+                let b = PaletteBuilder::single(random_normals(n, 1), func, f, 1).unwrap();
+                let lut = PaletteLut::new(
+                    Encoding::fixed(Format::u(bits, 0)),
+                    f.entry,
+                    vec![[0.0; 4]; n],
+                    1,
+                )
+                .unwrap();
+                use crate::unit::Unit;
+                println!(
+                    "entries {n} {name}: builder {:.0} GE {} cycles; lut {:.0} GE {} load cycles {} bits",
+                    b.gates(&t).total(),
+                    b.cycles_per_frame(),
+                    lut.gates(&t).total(),
+                    lut.frame_cycles(),
+                    lut.load_bits()
+                );
+                assert_eq!(
+                    b.cycles_per_frame(),
+                    n as u64 * b.materials[0].1.cycles_per_entry()
+                );
+            }
+        }
+    }
+}
