@@ -187,7 +187,8 @@ fn main() {
     );
     let widths = [6u32, 8, 10, 12];
     let mut all_ge = Vec::new();
-    let sweeps: Vec<(&str, Box<dyn Fn(u32) -> Vec<String>>)> = vec![
+    type Sweep<'a> = (&'a str, Box<dyn Fn(u32) -> Vec<String>>);
+    let sweeps: Vec<Sweep> = vec![
         (
             "B width (bump texel out)",
             Box::new(|w| vec![format!("engine.units.bump.unit.out={}", s_enc(w))]),

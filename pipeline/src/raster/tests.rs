@@ -524,12 +524,9 @@ impl Fan {
     ) -> Vec<(f64, f64)> {
         let n = self.n;
         let mut pts = vec![(snap(cx), snap(cy))];
-        for k in 0..n {
+        for (k, r) in radius.iter().enumerate().take(n) {
             let a = std::f64::consts::TAU * (k as f64 + 0.5 * self.jitter[k]) / n as f64;
-            pts.push((
-                snap(cx + radius[k] * a.cos()),
-                snap(cy + radius[k] * a.sin()),
-            ));
+            pts.push((snap(cx + r * a.cos()), snap(cy + r * a.sin())));
         }
         pts
     }
