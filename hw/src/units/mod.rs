@@ -23,3 +23,5 @@ pub mod palette_lut;
 pub use palette_lut::{PaletteLut, PaletteTable};
 pub mod palette_builder;
 pub use palette_builder::{BuilderFormats, Light, LightingFn, PaletteBuilder};
+pub mod quantized_fetch;
+pub use quantized_fetch::QuantizedFetch;

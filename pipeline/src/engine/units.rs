@@ -10,6 +10,7 @@ use bumpsim_hw::units::{
     Normalize, PowerTable, Selective, Shade, ShadeInputs, ShadeParams, SpecGen, TexFetch, Texels,
     VecSource,
 };
+use bumpsim_hw::units::{BuilderFormats, LightingFn, PaletteBuilder, QuantizedFetch};
 use bumpsim_hw::{Codec, Encoding, Format, PortSpec, Unit};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -50,6 +51,22 @@ fn default_spec() -> SpecGen {
         index_bits: 8,
         value_bits: 8,
     }
+}
+
+/// The colour-table function of a quantized normal map unit (Tarini et al. §5.1), taken with
+/// the scene's bump lights, material and viewer (`hw/src/units/palette_builder.rs`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum QuantizedFn {
+    /// Ambient + diffuse over the bump lights.
+    Lambert,
+    /// Blinn-Phong: Lambert + specular with the material's shininess.
+    Specular,
+    /// Toon shading with `bands` levels.
+    Cartoon { bands: u32 },
+    /// Phong with the doubled angle (Fig. 6), the first bump light.
+    DoubledAnglePhong,
+    /// Reflection gradient from `ground` (below) to `sky` (above) (Fig. 7).
+    Chrome { sky: [f64; 3], ground: [f64; 3] },
 }
 
 /// A hardware unit and its parameters, as written in a config.
@@ -141,6 +158,25 @@ pub enum UnitSpec {
     },
     /// Texture stage: `c * t` per channel (`hw/src/units/modulate.rs`, Ernst et al. §5.1).
     Modulate { out: Encoding },
+    /// Quantized normal maps (Tarini et al. §3–5, `hw/src/units/quantized_fetch.rs`): the
+    /// object-space normals baked at `size` x `size` are quantized to `s_n` entries (median
+    /// cut or NeuQuant, optionally Floyd–Steinberg dithered) stored as `index_bits`-bit
+    /// indices; per frame the table is shaded by `function` in object space and loaded into
+    /// the colour LUT; per fragment the index under `uv` (nearest) reads its colour.
+    QuantizedNormals {
+        size: u32,
+        s_n: u32,
+        quantizer: crate::quantize::Quantizer,
+        #[serde(default)]
+        dither: bool,
+        index_bits: u32,
+        function: QuantizedFn,
+        entry: Encoding,
+        #[serde(default = "one")]
+        entries_per_clock: u32,
+        #[serde(default = "one")]
+        load_width: u32,
+    },
     /// Schlag's 3x3 emboss masks over the bump heights (`hw/src/units/emboss.rs`).
     EmbossFilter {
         size: u32,
@@ -209,7 +245,9 @@ impl UnitSpec {
     /// Names of the input ports this unit will have, for wiring before it is built.
     pub fn input_names(&self, ctx: &BuildCtx) -> Vec<String> {
         match self {
-            UnitSpec::TexFetch { .. } | UnitSpec::EmbossFilter { .. } => vec!["uv".into()],
+            UnitSpec::TexFetch { .. }
+            | UnitSpec::EmbossFilter { .. }
+            | UnitSpec::QuantizedNormals { .. } => vec!["uv".into()],
             UnitSpec::BumpBlend { .. } => self
                 .blend_params(ctx)
                 .map_or_else(|_| vec!["c".into(), "b".into()], |p| p.input_names()),
@@ -397,6 +435,7 @@ impl UnitSpec {
                 input(ins, "t")?.enc,
                 *out,
             )),
+            UnitSpec::QuantizedNormals { .. } => Box::new(self.build_quantized(ins, ctx)?),
             UnitSpec::EmbossFilter {
                 size,
                 texel,
@@ -510,6 +549,142 @@ impl UnitSpec {
     }
 }
 
+impl UnitSpec {
+    /// Bake, quantize, build the colour table and the unit (Tarini et al. §3–5).
+    fn build_quantized(
+        &self,
+        ins: &BTreeMap<String, PortSpec>,
+        ctx: &BuildCtx,
+    ) -> Result<QuantizedFetch, String> {
+        let UnitSpec::QuantizedNormals {
+            size,
+            s_n,
+            quantizer,
+            dither,
+            index_bits,
+            function,
+            entry,
+            entries_per_clock,
+            load_width,
+        } = self
+        else {
+            return Err("not a quantized normals unit".into());
+        };
+        check_size(*size)?;
+        if !(8..=14).contains(index_bits) {
+            return Err(format!("index_bits {index_bits}: expected 8 to 14"));
+        }
+        if *s_n < 1 || *s_n > 1 << index_bits {
+            return Err(format!(
+                "s_n {s_n}: expected 1 to 2^index_bits = {}",
+                1u32 << index_bits
+            ));
+        }
+        let uv = input(ins, "uv")?.enc;
+        let scene = ctx.scene;
+        let b = crate::scene::bake::bake(
+            &scene.mesh,
+            &scene.bump,
+            *size,
+            crate::scene::bake::BakeSpace::Object,
+            crate::reference::Perturbation::ScaleInvariant,
+        );
+        let normals = &b.map.texels;
+        let mut pal = crate::quantize::quantize(normals, *s_n as usize, *quantizer)
+            .map_err(|e| e.to_string())?;
+        if *dither {
+            pal.indices = crate::quantize::dither(
+                normals,
+                *size as usize,
+                *size as usize,
+                &pal.entries,
+                crate::quantize::Scan::Serpentine,
+            );
+        }
+        // Tarini §5: light and view directions into object space with the inverse model
+        // matrix (a parallel light and viewer taken at the object's origin)
+        let to_object = glam::DMat3::from_mat4(scene.model).inverse();
+        let origin = scene.model.transform_point3(glam::DVec3::ZERO);
+        let view = (to_object * scene.camera.view_dir(origin))
+            .normalize_or_zero()
+            .to_array();
+        let lights: Vec<([f64; 3], [f64; 3])> = ctx
+            .bump_lights()
+            .iter()
+            .map(|&i| {
+                let l = &scene.lights[i];
+                (
+                    (to_object * l.dir_from(origin))
+                        .normalize_or_zero()
+                        .to_array(),
+                    l.color,
+                )
+            })
+            .collect();
+        let m = &scene.material;
+        let needs_light = !matches!(function, QuantizedFn::Chrome { .. });
+        if needs_light && lights.is_empty() {
+            return Err("the scene has no light with bump: true: expected at least one".into());
+        }
+        let f = match function {
+            QuantizedFn::Lambert => LightingFn::Lambert {
+                ambient: m.ambient,
+                diffuse: m.diffuse,
+                lights,
+            },
+            QuantizedFn::Specular => LightingFn::Specular {
+                ambient: m.ambient,
+                diffuse: m.diffuse,
+                specular: m.specular,
+                shininess: m.shininess,
+                view,
+                lights,
+            },
+            QuantizedFn::Cartoon { bands } => LightingFn::Cartoon {
+                bands: *bands,
+                ambient: m.ambient,
+                diffuse: m.diffuse,
+                lights,
+            },
+            QuantizedFn::DoubledAnglePhong => LightingFn::DoubledAnglePhong {
+                ambient: m.ambient,
+                diffuse: m.diffuse,
+                specular: m.specular,
+                shininess: m.shininess,
+                view,
+                light: lights[0],
+            },
+            QuantizedFn::Chrome { sky, ground } => LightingFn::Chrome {
+                view,
+                sky: *sky,
+                ground: *ground,
+            },
+        };
+        let formats = BuilderFormats {
+            normal: fixed(true, 12, 10),
+            vector: fixed(true, 12, 10),
+            intensity: Encoding::texel(Codec::UnitUnsigned, false, 10),
+            power: SpecGen::Table {
+                index_bits: 10,
+                value_bits: 12,
+            },
+            entry: *entry,
+        };
+        let table = pal.entries.iter().map(|n| n.to_array()).collect();
+        let builder = PaletteBuilder::single(table, f, formats, *entries_per_clock)?;
+        QuantizedFetch::new(
+            uv,
+            *size,
+            *size,
+            &pal.indices,
+            *index_bits,
+            builder,
+            *load_width,
+            default_latency(),
+        )
+    }
+}
+
 /// Heights rescaled to [0, 1] over the map's range (a constant map becomes 0.5).
 fn normalise_heights(h: &[f64]) -> Vec<f64> {
     let (lo, hi) = height_range(h);
@@ -592,13 +767,8 @@ fn texels(source: &TextureSource, ctx: &BuildCtx) -> Result<Texels, String> {
     }
 }
 
-/// The encoding of an 8-bit frame-buffer channel.
-pub fn rgb8() -> Encoding {
-    Encoding::texel(Codec::UnitUnsigned, false, 8)
-}
-
-/// A plain signed fixed-point encoding (for tests and defaults).
-pub fn fixed(signed: bool, width: u8, frac: u8) -> Encoding {
+/// A plain fixed-point encoding.
+fn fixed(signed: bool, width: u8, frac: u8) -> Encoding {
     Encoding::fixed(Format {
         signed,
         width,

@@ -1,0 +1,277 @@
+//! Quantized normal maps fetch: the index texture, its nearest fetch and the paletted
+//! lookup of the per-frame colour table, as one unit.
+//!
+//! Tarini, Cignoni, Rocchini, Scopigno, "Real Time, Accurate, Multi-Featured Rendering of Bump
+//! Mapped Surfaces", §3–5: the normal map is stored as an index texture into a table `N` of
+//! `s_N` normals; per frame the builder ([`PaletteBuilder`]) shades `N` into the colour table
+//! `C` (§5.1) which is loaded into the paletted-texture lookup ([`PaletteLut`]); per fragment
+//! the index texel under the coordinate is read (nearest: indices cannot be filtered, §5.2) and
+//! translated into an RGBA colour.
+//!
+//! * Port `uv`: 2 lanes (the wired encoding). Outputs `c`: 4 lanes RGBA of the entry encoding,
+//!   and `color`: its first 3 lanes (RGB) for the frame buffer.
+//! * The index texture is a [`TexFetch`] of 1-lane texels holding the index value in an
+//!   unsigned integer `Fixed` word of `index_bits` bits, nearest filtering, 1 port.
+//! * Latency: the fetch's latency plus the LUT's 2; interval 1.
+//! * [`Unit::frame_cycles`] = builder [`PaletteBuilder::cycles_per_frame`] + LUT load
+//!   (`ceil(entries / load_width)`); neither depends on the texture size.
+//! * [`Unit::gates`] = builder + LUT + the index fetch's address logic and register.
+//! * [`Unit::texel_bits`] = `index_bits`.
+//! * Exact mode reads the builder's f64 table; bit-accurate mode the builder's words.
+
+use crate::format::{Encoding, Format};
+use crate::gates::{CostTable, GateBudget};
+use crate::unit::{Mode, PortSpec, Unit, Word};
+use crate::units::fetch::{Filter, TexFetch, Texels};
+use crate::units::palette_builder::PaletteBuilder;
+use crate::units::palette_lut::PaletteLut;
+
+pub struct QuantizedFetch {
+    inputs: Vec<PortSpec>,
+    outputs: Vec<PortSpec>,
+    fetch: TexFetch,
+    /// The LUT loaded with the exact table (exact mode) and with the words (bit-accurate).
+    lut_exact: PaletteLut,
+    lut_bits: PaletteLut,
+    builder: PaletteBuilder,
+    index_bits: u32,
+}
+
+impl QuantizedFetch {
+    /// `uv`: the coordinate encoding; `width` x `height` `indices` (row-major, row 0 at v in
+    /// [0, 1/height)) into the builder's table; `index_bits` 8 to 14 (the table must fit);
+    /// `load_width`: LUT entries written per clock; `mem_latency`: clocks of the index read.
+    /// Errors name the parameter and what was expected.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        uv: Encoding,
+        width: u32,
+        height: u32,
+        indices: &[u32],
+        index_bits: u32,
+        builder: PaletteBuilder,
+        load_width: u32,
+        mem_latency: u32,
+    ) -> Result<Self, String> {
+        if !(8..=14).contains(&index_bits) {
+            return Err(format!("index_bits {index_bits}: expected 8 to 14"));
+        }
+        let n = builder.entries();
+        if n > 1usize << index_bits {
+            return Err(format!(
+                "table of {n} entries: expected at most 2^{index_bits} = {} for index_bits {index_bits}",
+                1usize << index_bits
+            ));
+        }
+        if let Some(i) = indices.iter().find(|&&i| i as usize >= n) {
+            return Err(format!("index {i} out of range for a table of {n} entries"));
+        }
+        let idx = Encoding::fixed(Format::u(index_bits as u8, 0));
+        let tex = Texels {
+            width,
+            height,
+            lanes: 1,
+            values: indices.iter().map(|&i| [i as f64, 0.0, 0.0, 0.0]).collect(),
+        };
+        let fetch = TexFetch::new(uv, tex, idx, Filter::Nearest, 8, 1, mem_latency, idx)?;
+        let entry = builder.formats().entry;
+        let lut_exact = PaletteLut::new(idx, entry, builder.build_exact(), load_width)?;
+        let mut lut_bits = PaletteLut::new(idx, entry, vec![[0.0; 4]; n], load_width)?;
+        lut_bits.load(builder.build(Mode::BitAccurate))?;
+        Ok(QuantizedFetch {
+            inputs: vec![PortSpec::new("uv", 2, uv)],
+            outputs: vec![
+                PortSpec::new("c", 4, entry),
+                PortSpec::new("color", 3, entry),
+            ],
+            fetch,
+            lut_exact,
+            lut_bits,
+            builder,
+            index_bits,
+        })
+    }
+
+    pub fn builder(&self) -> &PaletteBuilder {
+        &self.builder
+    }
+    /// The LUT as loaded for `mode`.
+    pub fn lut(&self, mode: Mode) -> &PaletteLut {
+        match mode {
+            Mode::Exact => &self.lut_exact,
+            Mode::BitAccurate => &self.lut_bits,
+        }
+    }
+}
+
+impl Unit for QuantizedFetch {
+    fn kind(&self) -> &'static str {
+        "quantized_fetch"
+    }
+    fn inputs(&self) -> &[PortSpec] {
+        &self.inputs
+    }
+    fn outputs(&self) -> &[PortSpec] {
+        &self.outputs
+    }
+    fn latency(&self) -> u32 {
+        self.fetch.latency() + self.lut_bits.latency()
+    }
+    fn interval(&self) -> u32 {
+        1
+    }
+    fn texel_bits(&self) -> Option<u32> {
+        Some(self.index_bits)
+    }
+    fn frame_cycles(&self) -> u64 {
+        self.builder.cycles_per_frame() + self.lut_bits.frame_cycles()
+    }
+    fn gates(&self, t: &CostTable) -> GateBudget {
+        let mut g = GateBudget::new();
+        for (who, part) in [
+            ("builder", self.builder.gates(t)),
+            ("lut", self.lut_bits.gates(t)),
+            ("index fetch", self.fetch.gates(t)),
+        ] {
+            for it in part.items {
+                g.add(format!("{who}: {}", it.what), 1, it.ge);
+            }
+        }
+        g
+    }
+    fn eval(&mut self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
+        let mut i = [Word::default()];
+        self.fetch.eval(mode, ins, &mut i);
+        let mut c = [Word::default()];
+        match mode {
+            Mode::Exact => self.lut_exact.eval(mode, &i, &mut c),
+            Mode::BitAccurate => self.lut_bits.eval(mode, &i, &mut c),
+        }
+        let mut rgb = c[0];
+        rgb.lanes[3] = Default::default();
+        outs[0] = c[0];
+        outs[1] = rgb;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::format::Codec;
+    use crate::units::palette_builder::{BuilderFormats, LightingFn};
+    use crate::units::specgen::SpecGen;
+
+    fn formats() -> BuilderFormats {
+        BuilderFormats {
+            normal: Encoding::fixed(Format::s(12, 10)),
+            vector: Encoding::fixed(Format::s(12, 10)),
+            intensity: Encoding::texel(Codec::UnitUnsigned, false, 10),
+            power: SpecGen::Table {
+                index_bits: 10,
+                value_bits: 12,
+            },
+            entry: Encoding::texel(Codec::UnitUnsigned, false, 8),
+        }
+    }
+    fn normals(n: usize) -> Vec<[f64; 3]> {
+        (0..n)
+            .map(|k| {
+                let a = k as f64 * 2.399963;
+                let z = 1.0 - (k as f64 + 0.5) / n as f64;
+                let r = (1.0 - z * z).sqrt();
+                [r * a.cos(), r * a.sin(), z]
+            })
+            .collect()
+    }
+    fn specular() -> LightingFn {
+        LightingFn::Specular {
+            ambient: [0.1; 3],
+            diffuse: [0.6, 0.5, 0.4],
+            specular: [0.3; 3],
+            shininess: 16.0,
+            view: [0.0, 0.2, 1.0],
+            lights: vec![([0.4, 0.5, 1.0], [1.0; 3])],
+        }
+    }
+    fn unit(n: usize, size: u32, bits: u32, load: u32) -> QuantizedFetch {
+        let b = PaletteBuilder::single(normals(n), specular(), formats(), 1).unwrap();
+        let idx: Vec<u32> = (0..size * size).map(|k| k * 7 % n as u32).collect();
+        let uv = Encoding::fixed(Format::u(16, 12));
+        QuantizedFetch::new(uv, size, size, &idx, bits, b, load, 3).unwrap()
+    }
+
+    #[test]
+    #[allow(clippy::needless_range_loop)]
+    fn quantized_fetch_exact_and_bit_accurate_agree_within_the_entry_bound() {
+        let mut u = unit(256, 16, 8, 1);
+        let uv = Encoding::fixed(Format::u(16, 12));
+        let exact = u.builder().build_exact();
+        let words = u.builder().build(Mode::BitAccurate);
+        // the builder's derived bound for Blinn-Phong with one light (as in the
+        // palette_builder tests); the fetch and the LUT add nothing
+        let f = formats();
+        let (en, ev) = (f.normal.max_error(), f.vector.max_error());
+        let edot = 3f64.sqrt() * (en + ev) + 3.0 * en * ev;
+        let ei = f.intensity.max_error() + (-2.0 * f.intensity.width() as f64).exp2();
+        let ecoef = f.entry.max_error() + (-2.0 * f.entry.width() as f64).exp2();
+        let term = |dx: f64| ecoef + dx + ecoef * dx;
+        let gen = crate::units::SpecularGenerator::new(f.power, 16.0, f.intensity).unwrap();
+        let epow = gen.error_bound() + 16.0 * (edot + f.intensity.max_error());
+        let bound = ecoef + term(term(edot + ei)) + term(term(epow)) + f.entry.max_error();
+        let mut worst: f64 = 0.0;
+        for k in 0..1000u32 {
+            let (s, t) = (
+                (k * 37 % 1000) as f64 / 1000.0,
+                (k * 91 % 1000) as f64 / 1000.0,
+            );
+            let w = Word::quantize(&uv, &[s, t]);
+            let (mut e, mut b) = ([Word::default(); 2], [Word::default(); 2]);
+            u.eval(Mode::Exact, &[w], &mut e);
+            u.eval(Mode::BitAccurate, &[w], &mut b);
+            let (i, j) = ((w.lanes[0].x * 16.0) as u32, (w.lanes[1].x * 16.0) as u32);
+            let index = ((j * 16 + i) * 7 % 256) as usize;
+            for l in 0..4 {
+                assert_eq!(e[0].lanes[l].x, exact[index][l]);
+                assert_eq!(b[0].lanes[l].raw, words.codes[index][l]);
+                let d = (e[0].lanes[l].x - b[0].lanes[l].x).abs();
+                worst = worst.max(d);
+                assert!(d <= bound, "{k} {l}: {d} > {bound}");
+            }
+            for l in 0..3 {
+                assert_eq!(b[1].lanes[l], b[0].lanes[l]);
+                assert_eq!(e[1].lanes[l], e[0].lanes[l]);
+            }
+            assert_eq!(b[0].lanes[3].raw, 255);
+        }
+        println!("worst {worst:.5} bound {bound:.5}");
+    }
+
+    #[test]
+    fn quantized_fetch_frame_cycles_are_builder_plus_load_and_ignore_texture_size() {
+        for (n, bits, load) in [(256usize, 8u32, 1u32), (2048, 11, 4), (16, 8, 2)] {
+            let u = unit(n, 32, bits, load);
+            let b = PaletteBuilder::single(normals(n), specular(), formats(), 1).unwrap();
+            // specular, one light: 2 cycles per entry
+            assert_eq!(b.cycles_per_frame(), 2 * n as u64);
+            assert_eq!(
+                u.frame_cycles(),
+                b.cycles_per_frame() + (n as u64).div_ceil(load as u64)
+            );
+            assert_eq!(u.frame_cycles(), unit(n, 128, bits, load).frame_cycles());
+            assert_eq!(u.texel_bits(), Some(bits));
+            let t = CostTable::default();
+            let want = b.gates(&t).total() + u.lut(Mode::BitAccurate).gates(&t).total();
+            assert!(u.gates(&t).total() > want);
+        }
+    }
+
+    #[test]
+    fn quantized_fetch_rejects_bad_parameters() {
+        let uv = Encoding::fixed(Format::u(16, 12));
+        let b = || PaletteBuilder::single(normals(300), specular(), formats(), 1).unwrap();
+        assert!(QuantizedFetch::new(uv, 4, 4, &[0; 16], 8, b(), 1, 1).is_err());
+        assert!(QuantizedFetch::new(uv, 4, 4, &[0; 16], 15, b(), 1, 1).is_err());
+        assert!(QuantizedFetch::new(uv, 4, 4, &[300; 16], 9, b(), 1, 1).is_err());
+        assert!(QuantizedFetch::new(uv, 4, 4, &[299; 16], 9, b(), 1, 1).is_ok());
+    }
+}
