@@ -115,3 +115,38 @@ fn two_light_trace_snapshot() {
         insta::assert_snapshot!("trace-gouraud-tiny-2-lights", text);
     });
 }
+
+/// Bad Gouraud configs are rejected with exit code 2 and a message naming what was expected.
+#[test]
+fn bad_gouraud_configs_are_rejected() {
+    let cases: [(&str, &[&str]); 5] = [
+        ("scene.lights=[]", &["light", "expected"]),
+        (
+            "engine.units.specular.unit.spec=Table(index_bits: 17, value_bits: 8)",
+            &["index_bits", "17"],
+        ),
+        ("scene.material.shininess=0", &["shininess", "above 0"]),
+        ("scene.material.shininess=-4", &["shininess", "above 0"]),
+        (
+            "scene.lights=[(kind: Directional(dir: (1, 1, 1)), color: (1.5, 1, 1))]",
+            &["color", "[0, 1]"],
+        ),
+    ];
+    for (set, needles) in cases {
+        let args = [
+            "check".to_string(),
+            tiny().display().to_string(),
+            "--set".into(),
+            set.to_string(),
+        ];
+        let o = bumpsim(&args);
+        o.expect_code(2, set);
+        for n in needles {
+            assert!(
+                o.stderr.contains(n),
+                "{set}: the message lacks {n:?}: {}",
+                o.stderr
+            );
+        }
+    }
+}
