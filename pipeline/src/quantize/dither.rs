@@ -93,6 +93,7 @@ pub(crate) fn dither_in(
 
 #[cfg(test)]
 mod tests {
+    use super::super::tests::block_means;
     use super::super::{angular_error_deg, decode, quantize, Quantizer};
     use super::*;
 
@@ -114,23 +115,6 @@ mod tests {
         v.iter().fold(DVec3::ZERO, |s, n| s + *n) / v.len() as f64
     }
 
-    /// Mean over `b x b` blocks: what a minified or viewed-from-afar map shows.
-    fn block_means(v: &[DVec3], w: usize, h: usize, b: usize) -> Vec<DVec3> {
-        let mut out = Vec::new();
-        for by in 0..h / b {
-            for bx in 0..w / b {
-                let mut s = DVec3::ZERO;
-                for y in 0..b {
-                    for x in 0..b {
-                        s += v[(by * b + y) * w + bx * b + x];
-                    }
-                }
-                out.push(s.normalize());
-            }
-        }
-        out
-    }
-
     #[test]
     fn dithering_keeps_the_mean_normal_of_a_smooth_gradient() {
         let (w, h) = (64, 64);
@@ -144,10 +128,8 @@ mod tests {
             let e_plain = (mean(&plain) - m).length();
             let e_dith = (mean(&dith) - m).length();
             let e_ras = (mean(&ras) - m).length();
-            let (bp, _) =
-                angular_error_deg(&block_means(&plain, w, h, 8), &block_means(&n, w, h, 8));
-            let (bd, _) =
-                angular_error_deg(&block_means(&dith, w, h, 8), &block_means(&n, w, h, 8));
+            let (bp, _) = angular_error_deg(&block_means(&plain, w, 8), &block_means(&n, w, 8));
+            let (bd, _) = angular_error_deg(&block_means(&dith, w, 8), &block_means(&n, w, 8));
             eprintln!(
                 "gradient s_n={s_n}: |mean - mean0| plain {e_plain:.6}, serpentine {e_dith:.6}, \
                  raster {e_ras:.6}; 8x8 block error plain {bp:.4} deg, serpentine {bd:.4} deg"

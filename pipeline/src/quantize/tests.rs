@@ -172,7 +172,7 @@ fn angular_error_in_degrees() {
 }
 
 /// Mean over `b x b` blocks, renormalised (the map seen minified).
-fn block_means(v: &[DVec3], w: usize, b: usize) -> Vec<DVec3> {
+pub(crate) fn block_means(v: &[DVec3], w: usize, b: usize) -> Vec<DVec3> {
     let h = v.len() / w;
     let mut out = Vec::new();
     for by in 0..h / b {
