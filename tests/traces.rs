@@ -5,7 +5,7 @@ mod common;
 use common::*;
 use std::collections::BTreeMap;
 use std::path::Path;
-use vcd::{Command, IdCode, ScopeItem};
+use vcd::{IdCode, ScopeItem};
 
 const UNITS: [&str; 4] = ["fetch", "dot", "spec", "shade"];
 const WINDOW: (u64, u64) = (300, 340);
@@ -157,34 +157,8 @@ fn unknown_unit_name_is_an_input_error() {
 }
 
 /// Value changes of a VCD: `(time, id, bits)` with `None` for x/z.
-fn changes(bytes: &[u8]) -> (vcd::Header, Vec<(u64, IdCode, Option<u64>)>) {
-    let mut p = vcd::Parser::new(bytes);
-    let header = p.parse_header().expect("the VCD header parses");
-    let bit = |v: vcd::Value| match v {
-        vcd::Value::V0 => Some(0u64),
-        vcd::Value::V1 => Some(1),
-        _ => None,
-    };
-    let mut t = 0;
-    let mut ch = Vec::new();
-    for cmd in p {
-        match cmd.expect("a VCD command parses") {
-            Command::Timestamp(ts) => t = ts,
-            Command::ChangeScalar(id, v) => ch.push((t, id, bit(v))),
-            Command::ChangeVector(id, v) => {
-                let mut acc = Some(0u64);
-                for b in v.iter() {
-                    acc = match (acc, bit(b)) {
-                        (Some(a), Some(b)) => Some(a << 1 | b),
-                        _ => None,
-                    };
-                }
-                ch.push((t, id, acc));
-            }
-            _ => {}
-        }
-    }
-    (header, ch)
+fn changes(bytes: &[u8]) -> (vcd::Header, Vec<bumpsim_pipeline::trace::vcd::VcdChange>) {
+    bumpsim_pipeline::trace::vcd::read_vcd(bytes).expect("the VCD reads back")
 }
 
 fn scopes(h: &vcd::Header) -> Vec<String> {

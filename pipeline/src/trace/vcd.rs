@@ -276,47 +276,48 @@ impl Trace {
     }
 }
 
+/// One value change read back from a VCD file: time, variable id, and the bits (`None` for x or z).
+pub type VcdChange = (u64, ::vcd::IdCode, Option<u64>);
+
+/// Read a VCD file back: its header and every value change in file order. Used to check traces
+/// (a waveform viewer must be able to open them) and to compare two traces value by value.
+pub fn read_vcd(bytes: &[u8]) -> Result<(::vcd::Header, Vec<VcdChange>), String> {
+    let bit = |v: ::vcd::Value| match v {
+        ::vcd::Value::V0 => Some(0u64),
+        ::vcd::Value::V1 => Some(1),
+        _ => None,
+    };
+    let mut p = ::vcd::Parser::new(bytes);
+    let header = p.parse_header().map_err(|e| format!("VCD header: {e}"))?;
+    let mut t = 0;
+    let mut changes = Vec::new();
+    for cmd in p {
+        match cmd.map_err(|e| format!("VCD command: {e}"))? {
+            ::vcd::Command::Timestamp(ts) => t = ts,
+            ::vcd::Command::ChangeScalar(id, v) => changes.push((t, id, bit(v))),
+            ::vcd::Command::ChangeVector(id, v) => {
+                let mut acc = Some(0u64);
+                for b in v.iter() {
+                    acc = match (acc, bit(b)) {
+                        (Some(a), Some(b)) => Some(a << 1 | b),
+                        _ => None,
+                    };
+                }
+                changes.push((t, id, acc));
+            }
+            ::vcd::Command::Begin(_) | ::vcd::Command::End(_) => {}
+            other => return Err(format!("unexpected VCD command {other:?}")),
+        }
+    }
+    Ok((header, changes))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::trace::tests::sample_trace;
-    use ::vcd::{Command, Header, Parser, ScopeItem};
+    use ::vcd::{Header, ScopeItem};
     use std::collections::HashMap;
-
-    /// All value changes of a VCD file: `(time, id, bits or None for x)`, in file order.
-    fn replay(bytes: &[u8]) -> (Header, Vec<(u64, IdCode, Option<u64>)>) {
-        let mut p = Parser::new(bytes);
-        let header = p.parse_header().expect("header parses");
-        let mut t = 0;
-        let mut changes = Vec::new();
-        for cmd in p {
-            match cmd.expect("command parses") {
-                Command::Timestamp(ts) => t = ts,
-                Command::ChangeScalar(id, v) => changes.push((t, id, bit(v))),
-                Command::ChangeVector(id, v) => {
-                    let mut acc = Some(0u64);
-                    for b in v.iter() {
-                        acc = match (acc, bit(b)) {
-                            (Some(a), Some(b)) => Some(a << 1 | b),
-                            _ => None,
-                        };
-                    }
-                    changes.push((t, id, acc));
-                }
-                Command::Begin(_) | Command::End(_) => {}
-                other => panic!("unexpected command {other:?}"),
-            }
-        }
-        (header, changes)
-    }
-
-    fn bit(v: Value) -> Option<u64> {
-        match v {
-            Value::V0 => Some(0),
-            Value::V1 => Some(1),
-            _ => None,
-        }
-    }
 
     /// Value of `id` at time `t`: the last change at or before `t` (`None` = x or never).
     fn at(changes: &[(u64, IdCode, Option<u64>)], id: IdCode, t: u64) -> Option<u64> {
@@ -345,7 +346,7 @@ mod tests {
 
     #[test]
     fn vcd_header_has_the_scopes_wires_and_widths() {
-        let (h, _) = replay(&vcd_bytes());
+        let (h, _) = read_vcd(&vcd_bytes()).unwrap();
         assert_eq!(h.timescale, Some((1, TimescaleUnit::NS)));
         let top = vars_of(&h, &["bumpsim"]);
         assert_eq!(top, vec![("clk".to_string(), 1), ("cycle".to_string(), 32)]);
@@ -378,7 +379,7 @@ mod tests {
 
     #[test]
     fn vcd_values_replay_to_the_probed_raw_bits() {
-        let (h, ch) = replay(&vcd_bytes());
+        let (h, ch) = read_vcd(&vcd_bytes()).unwrap();
         let id = |path: &[&str]| h.find_var(path).unwrap_or_else(|| panic!("{path:?}")).code;
         let clk = id(&["bumpsim", "clk"]);
         let cyc = id(&["bumpsim", "cycle"]);
@@ -450,7 +451,7 @@ mod tests {
         let t = Trace::new(vec![u.clone(), u]);
         let mut buf = Vec::new();
         t.write_vcd(&mut buf).unwrap();
-        let (h, ch) = replay(&buf);
+        let (h, ch) = read_vcd(&buf).unwrap();
         assert!(ch.is_empty());
         let v: Vec<String> = vars_of(&h, &["bumpsim", "a_b_2"])
             .into_iter()
