@@ -25,3 +25,5 @@ pub mod palette_builder;
 pub use palette_builder::{BuilderFormats, Light, LightingFn, PaletteBuilder};
 pub mod quantized_fetch;
 pub use quantized_fetch::QuantizedFetch;
+pub mod fb_blend;
+pub use fb_blend::{BlendEquation, FbBlend};

@@ -38,7 +38,8 @@
 //! | Specular, `L` lights | `max(1, 2L)`: `N.L` and `N.H` per light |
 //! | Cartoon, `L` lights | `L + 1`: the dot products, then the band select |
 //! | DoubledAnglePhong | 3: `N.L`, `N.V`, then `2 (R.V)^2 - 1` and the power |
-//! | Chrome | 2: `N.V`, then `R_z` and the lerp |
+//! | SpecularSplit, `L` lights | `max(1, 2L)`: as Specular |
+//! | Chrome | 2: `N.V`, `N.up`, then `R.up` and the lerp overlapped |
 //! | EnvMap | 4: `N.V`, `R`, the sphere-map address, the texel read |
 //!
 //! # The functions (exact mode; `sat` clamps each channel to [0, 1], alpha is always 1)
@@ -115,14 +116,29 @@ pub enum LightingFn {
     },
     Chrome {
         view: [f64; 3],
+        /// The landscape's up direction (object space).
+        up: [f64; 3],
         sky: [f64; 3],
         ground: [f64; 3],
     },
     EnvMap {
         view: [f64; 3],
+        /// The viewer's up direction (object space): with `view` it fixes the sphere map's
+        /// eye frame.
+        up: [f64; 3],
         image: Vec<[f64; 3]>,
         width: u32,
         height: u32,
+    },
+    /// Tarini §7.1: the Lambert intensity in alpha and the specular colour in RGB, for a
+    /// blend with a base colour ([`crate::units::FbBlend`]).
+    SpecularSplit {
+        ambient: f64,
+        diffuse: f64,
+        specular: [f64; 3],
+        shininess: f64,
+        view: [f64; 3],
+        lights: Vec<Light>,
     },
 }
 
@@ -131,7 +147,9 @@ impl LightingFn {
     pub fn cycles_per_entry(&self) -> u64 {
         match self {
             LightingFn::Lambert { lights, .. } => (lights.len() as u64).max(1),
-            LightingFn::Specular { lights, .. } => (2 * lights.len() as u64).max(1),
+            LightingFn::Specular { lights, .. } | LightingFn::SpecularSplit { lights, .. } => {
+                (2 * lights.len() as u64).max(1)
+            }
             LightingFn::Cartoon { lights, .. } => lights.len() as u64 + 1,
             LightingFn::DoubledAnglePhong { .. } => 3,
             LightingFn::Chrome { .. } => 2,
@@ -141,6 +159,7 @@ impl LightingFn {
     fn shininess(&self) -> Option<f64> {
         match self {
             LightingFn::Specular { shininess, .. }
+            | LightingFn::SpecularSplit { shininess, .. }
             | LightingFn::DoubledAnglePhong { shininess, .. } => Some(*shininess),
             _ => None,
         }
@@ -223,18 +242,47 @@ impl LightingFn {
                 dir(view, "view")?;
                 lights_ok(std::slice::from_ref(light))
             }
-            LightingFn::Chrome { view, sky, ground } => {
+            LightingFn::Chrome {
+                view,
+                up,
+                sky,
+                ground,
+            } => {
                 dir(view, "view")?;
+                dir(up, "up")?;
                 fin(sky, "sky")?;
                 fin(ground, "ground")
             }
+            LightingFn::SpecularSplit {
+                ambient,
+                diffuse,
+                specular,
+                view,
+                lights,
+                ..
+            } => {
+                fin(&[*ambient, *diffuse, 0.0], "ambient and diffuse")?;
+                fin(specular, "specular")?;
+                dir(view, "view")?;
+                lights_ok(lights)?;
+                for (l, _) in lights {
+                    dir(
+                        &add(unit(*l), unit(*view)),
+                        "light + view (half-way vector)",
+                    )?;
+                }
+                Ok(())
+            }
             LightingFn::EnvMap {
                 view,
+                up,
                 image,
                 width,
                 height,
             } => {
                 dir(view, "view")?;
+                dir(up, "up")?;
+                dir(&cross(unit(*up), unit(*view)), "up x view (eye frame)")?;
                 if *width == 0 || *height == 0 || *width > 4096 || *height > 4096 {
                     return Err(format!(
                         "environment map {width}x{height}: expected 1 to 4096 texels a side"
@@ -287,6 +335,21 @@ fn norm(a: [f64; 3]) -> f64 {
 fn unit(a: [f64; 3]) -> [f64; 3] {
     let l = norm(a);
     a.map(|x| x / l)
+}
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+/// `r` in the eye frame of a viewer along `view` with `up`: `(r.x, r.y, r.z)` with `z = view`,
+/// `x = normalize(up x z)`, `y = z x x`.
+fn eye_frame(r: [f64; 3], view: [f64; 3], up: [f64; 3]) -> [f64; 3] {
+    let z = unit(view);
+    let x = unit(cross(up, z));
+    let y = cross(z, x);
+    [dot(r, x), dot(r, y), dot(r, z)]
 }
 fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     std::array::from_fn(|i| a[i] + b[i])
@@ -413,8 +476,7 @@ impl PaletteBuilder {
         let mut out = Vec::with_capacity(self.entries());
         for (r, f) in &self.materials {
             for n in &self.normals[r.clone()] {
-                let c = exact_entry(f, *n);
-                out.push([c[0], c[1], c[2], 1.0]);
+                out.push(exact_entry(f, *n));
             }
         }
         out
@@ -423,12 +485,10 @@ impl PaletteBuilder {
     /// Bit-accurate mode: the entry words for every entry.
     pub fn build_codes(&self) -> Vec<[i64; 4]> {
         let mut out = Vec::with_capacity(self.entries());
-        let one = self.f.entry.encode(1.0);
         for ((r, f), g) in self.materials.iter().zip(&self.gens) {
             let dp = Datapath::new(&self.f, g.as_ref());
             for n in &self.normals[r.clone()] {
-                let c = dp.entry(f, *n);
-                out.push([c[0], c[1], c[2], one]);
+                out.push(dp.entry(f, *n));
             }
         }
         out
@@ -471,7 +531,7 @@ impl PaletteBuilder {
                     vecs += lights.len() as u32;
                     cols += 2 + lights.len() as u32;
                 }
-                LightingFn::Specular { lights, .. } => {
+                LightingFn::Specular { lights, .. } | LightingFn::SpecularSplit { lights, .. } => {
                     vecs += 2 * lights.len() as u32;
                     cols += 3 + lights.len() as u32;
                     power = true;
@@ -488,13 +548,13 @@ impl PaletteBuilder {
                     refl = true;
                 }
                 LightingFn::Chrome { .. } => {
-                    vecs += 1;
+                    vecs += 2;
                     cols += 2;
                     refl = true;
                     lerp = true;
                 }
                 LightingFn::EnvMap { image, .. } => {
-                    vecs += 1;
+                    vecs += 2;
                     refl = true;
                     env_bits += image.len() as u64 * 3 * we as u64;
                 }
@@ -588,18 +648,61 @@ impl PaletteBuilder {
     }
 }
 
-fn exact_entry(f: &LightingFn, n: [f64; 3]) -> [f64; 3] {
-    let sat = |c: [f64; 3]| c.map(|x| x.clamp(0.0, 1.0));
-    let lambert = |lights: &[Light]| {
-        let mut s = [0.0; 3];
-        for (d, col) in lights {
-            let k = dot(n, unit(*d)).max(0.0);
-            for i in 0..3 {
-                s[i] += col[i] * k;
-            }
+/// `sum_l color_l max(0, N.L_l)` per channel.
+fn exact_lambert(n: [f64; 3], lights: &[Light]) -> [f64; 3] {
+    let mut s = [0.0; 3];
+    for (d, col) in lights {
+        let k = dot(n, unit(*d)).max(0.0);
+        for i in 0..3 {
+            s[i] += col[i] * k;
         }
-        s
+    }
+    s
+}
+
+/// `sum_l color_l max(0, N.H_l)^shininess` per channel, `H_l = normalize(L_l + V)`.
+fn exact_specular(n: [f64; 3], lights: &[Light], view: [f64; 3], shininess: f64) -> [f64; 3] {
+    let v = unit(view);
+    let mut sp = [0.0; 3];
+    for (d, col) in lights {
+        let h = unit(add(unit(*d), v));
+        let k = dot(n, h).clamp(0.0, 1.0).powf(shininess);
+        for i in 0..3 {
+            sp[i] += col[i] * k;
+        }
+    }
+    sp
+}
+
+/// The mean of a colour's channels: the scalar weight of a light in the split form.
+fn mean(c: [f64; 3]) -> f64 {
+    (c[0] + c[1] + c[2]) / 3.0
+}
+
+/// One entry of `C` in f64: RGBA, alpha 1 except for the split form (Lambert intensity).
+fn exact_entry(f: &LightingFn, n: [f64; 3]) -> [f64; 4] {
+    let c = exact_rgb(f, n);
+    let a = match f {
+        LightingFn::SpecularSplit {
+            ambient,
+            diffuse,
+            lights,
+            ..
+        } => {
+            let d: f64 = lights
+                .iter()
+                .map(|(l, col)| mean(*col) * dot(n, unit(*l)).max(0.0))
+                .sum();
+            (ambient + diffuse * d).clamp(0.0, 1.0)
+        }
+        _ => 1.0,
     };
+    [c[0], c[1], c[2], a]
+}
+
+fn exact_rgb(f: &LightingFn, n: [f64; 3]) -> [f64; 3] {
+    let sat = |c: [f64; 3]| c.map(|x| x.clamp(0.0, 1.0));
+    let lambert = |lights: &[Light]| exact_lambert(n, lights);
     match f {
         LightingFn::Lambert {
             ambient,
@@ -618,15 +721,7 @@ fn exact_entry(f: &LightingFn, n: [f64; 3]) -> [f64; 3] {
             lights,
         } => {
             let s = lambert(lights);
-            let v = unit(*view);
-            let mut sp = [0.0; 3];
-            for (d, col) in lights {
-                let h = unit(add(unit(*d), v));
-                let k = dot(n, h).clamp(0.0, 1.0).powf(*shininess);
-                for i in 0..3 {
-                    sp[i] += col[i] * k;
-                }
-            }
+            let sp = exact_specular(n, lights, *view, *shininess);
             sat(std::array::from_fn(|i| {
                 ambient[i] + diffuse[i] * s[i] + specular[i] * sp[i]
             }))
@@ -665,19 +760,38 @@ fn exact_entry(f: &LightingFn, n: [f64; 3]) -> [f64; 3] {
                 ambient[i] + diffuse[i] * col[i] * nl.max(0.0) + specular[i] * col[i] * s
             }))
         }
-        LightingFn::Chrome { view, sky, ground } => {
+        LightingFn::Chrome {
+            view,
+            up,
+            sky,
+            ground,
+        } => {
             let r = reflect(n, unit(*view));
-            let t = ((1.0 + r[2]) / 2.0).clamp(0.0, 1.0);
+            let t = ((1.0 + dot(r, unit(*up))) / 2.0).clamp(0.0, 1.0);
             sat(std::array::from_fn(|i| {
                 ground[i] + t * (sky[i] - ground[i])
             }))
         }
         LightingFn::EnvMap {
             view,
+            up,
             image,
             width,
             height,
-        } => sat(image[sphere_texel(reflect(n, unit(*view)), *width, *height)]),
+        } => {
+            let r = eye_frame(reflect(n, unit(*view)), *view, *up);
+            sat(image[sphere_texel(r, *width, *height)])
+        }
+        LightingFn::SpecularSplit {
+            specular,
+            shininess,
+            view,
+            lights,
+            ..
+        } => {
+            let sp = exact_specular(n, lights, *view, *shininess);
+            sat(std::array::from_fn(|i| specular[i] * sp[i]))
+        }
     }
 }
 
@@ -728,9 +842,54 @@ impl<'a> Datapath<'a> {
         s
     }
 
-    fn entry(&self, f: &LightingFn, n: [f64; 3]) -> [i64; 3] {
+    /// `sum_l color_l . P(N.H_l)` per channel, `P` the power generator.
+    fn specular(&self, nq: [Acc; 3], lights: &[Light], view: [f64; 3]) -> [Acc; 3] {
+        let v = unit(view);
+        let gen = self.gen.expect("a specular function has a generator");
+        let mut sp = [Acc::ZERO; 3];
+        for (l, col) in lights {
+            let h = self.vreg(add(unit(*l), v));
+            let (raw, _) = self.intensity(adot(nq, h));
+            let k = gen.bits(raw);
+            let c = self.creg(*col);
+            for i in 0..3 {
+                sp[i] = sp[i].add(c[i].mul(k));
+            }
+        }
+        sp
+    }
+
+    /// One entry word per lane (RGBA).
+    fn entry(&self, f: &LightingFn, n: [f64; 3]) -> [i64; 4] {
         let ne = &self.f.normal;
         let nq = n.map(|x| Acc::from_code(ne.encode(x), ne));
+        let e = &self.f.entry;
+        if let LightingFn::SpecularSplit {
+            ambient,
+            diffuse,
+            specular,
+            view,
+            lights,
+            ..
+        } = f
+        {
+            // alpha: a + d sum_l w_l I(N.L_l), the weights w_l = mean(colour_l) entry words
+            let word = |x: f64| Acc::from_code(e.encode(x), e);
+            let mut sum = Acc::ZERO;
+            for (l, col) in lights {
+                let (_, k) = self.intensity(adot(nq, self.vreg(*l)));
+                sum = sum.add(word(mean(*col)).mul(k));
+            }
+            let alpha = word(*ambient).add(word(*diffuse).mul(sum)).to_code(e);
+            let (sc, sp) = (self.creg(*specular), self.specular(nq, lights, *view));
+            let c = self.out(std::array::from_fn(|i| sc[i].mul(sp[i])));
+            return [c[0], c[1], c[2], alpha];
+        }
+        let c = self.rgb(f, nq);
+        [c[0], c[1], c[2], e.encode(1.0)]
+    }
+
+    fn rgb(&self, f: &LightingFn, nq: [Acc; 3]) -> [i64; 3] {
         match f {
             LightingFn::Lambert {
                 ambient,
@@ -755,18 +914,7 @@ impl<'a> Datapath<'a> {
                     self.creg(*specular),
                 );
                 let s = self.lambert(nq, lights);
-                let v = unit(*view);
-                let gen = self.gen.expect("specular has a generator");
-                let mut sp = [Acc::ZERO; 3];
-                for (l, col) in lights {
-                    let h = self.vreg(add(unit(*l), v));
-                    let (raw, _) = self.intensity(adot(nq, h));
-                    let k = gen.bits(raw);
-                    let c = self.creg(*col);
-                    for i in 0..3 {
-                        sp[i] = sp[i].add(c[i].mul(k));
-                    }
-                }
+                let sp = self.specular(nq, lights, *view);
                 self.out(std::array::from_fn(|i| {
                     a[i].add(d[i].mul(s[i])).add(sc[i].mul(sp[i]))
                 }))
@@ -819,16 +967,22 @@ impl<'a> Datapath<'a> {
                     a[i].add(d[i].mul(c[i]).mul(kd)).add(sc[i].mul(c[i]).mul(s))
                 }))
             }
-            LightingFn::Chrome { view, sky, ground } => {
-                let vq = self.vreg(*view);
-                let nv = adot(nq, vq);
-                let rz = nv.scale(2).mul(nq[2]).sub(vq[2]);
-                let (_, t) = self.intensity(Acc::new(1, 0).add(rz).shr(1));
+            LightingFn::Chrome {
+                view,
+                up,
+                sky,
+                ground,
+            } => {
+                let (vq, uq) = (self.vreg(*view), self.vreg(*up));
+                // R.up = 2 (N.V)(N.up) - V.up
+                let ru = adot(nq, vq).scale(2).mul(adot(nq, uq)).sub(adot(vq, uq));
+                let (_, t) = self.intensity(Acc::new(1, 0).add(ru).shr(1));
                 let (s, g) = (self.creg(*sky), self.creg(*ground));
                 self.out(std::array::from_fn(|i| g[i].add(s[i].sub(g[i]).mul(t))))
             }
             LightingFn::EnvMap {
                 view,
+                up,
                 image,
                 width,
                 height,
@@ -837,9 +991,10 @@ impl<'a> Datapath<'a> {
                 let nv = adot(nq, vq);
                 let r: [f64; 3] =
                     std::array::from_fn(|i| nv.scale(2).mul(nq[i]).sub(vq[i]).to_f64());
-                let texel = image[sphere_texel(r, *width, *height)];
+                let texel = image[sphere_texel(eye_frame(r, *view, *up), *width, *height)];
                 texel.map(|x| self.f.entry.encode(x))
             }
+            LightingFn::SpecularSplit { .. } => [0; 3], // entry() handles the split form
         }
     }
 }
@@ -1050,6 +1205,7 @@ mod tests {
         let (sky, ground) = ([0.2, 0.4, 1.0], [0.5, 0.3, 0.1]);
         let func = LightingFn::Chrome {
             view: [1.0, 0.0, 0.0],
+            up: [0.0, 0.0, 1.0],
             sky,
             ground,
         };
@@ -1072,6 +1228,7 @@ mod tests {
         let image = vec![[0.0; 3], [0.25; 3], [0.5; 3], [1.0, 0.0, 0.0]];
         let func = LightingFn::EnvMap {
             view: [0.0, 0.0, 1.0],
+            up: [0.0, 1.0, 0.0],
             image,
             width: 2,
             height: 2,
@@ -1082,9 +1239,74 @@ mod tests {
     }
 
     #[test]
+    fn palette_builder_env_map_follows_the_eye_frame() {
+        // 4x4 map, one bright texel per quadrant row; a viewer on +x with up +z sees the
+        // same texel for n = +x (R = V, the map's centre) as a viewer on +z with up +y for
+        // n = +z, and a normal tilted towards `up` reads a texel above the centre.
+        let image: Vec<[f64; 3]> = (0..16).map(|i| [i as f64 / 15.0; 3]).collect();
+        let env = |view, up| LightingFn::EnvMap {
+            view,
+            up,
+            image: image.clone(),
+            width: 4,
+            height: 4,
+        };
+        let s = std::f64::consts::FRAC_1_SQRT_2;
+        let at = |f: LightingFn, n: [f64; 3]| {
+            PaletteBuilder::single(vec![n], f, formats(), 1)
+                .unwrap()
+                .build_exact()[0][0]
+        };
+        let centre = at(env([0.0, 0.0, 1.0], [0.0, 1.0, 0.0]), [0.0, 0.0, 1.0]);
+        assert_eq!(centre, 10.0 / 15.0); // s = t = 1/2 -> texel (2, 2)
+        assert_eq!(
+            at(env([1.0, 0.0, 0.0], [0.0, 0.0, 1.0]), [1.0, 0.0, 0.0]),
+            centre
+        );
+        // n halfway between V = +x and up = +z: R = +z, straight up: t = 1 -> last row
+        let up = at(env([1.0, 0.0, 0.0], [0.0, 0.0, 1.0]), [s, 0.0, s]);
+        assert_eq!(up, 14.0 / 15.0); // (s, t) = (1/2, 1) -> texel (2, 3)
+    }
+
+    #[test]
+    fn palette_builder_split_form_holds_lambert_in_alpha_and_specular_in_rgb() {
+        let f = LightingFn::SpecularSplit {
+            ambient: 0.1,
+            diffuse: 0.8,
+            specular: [1.0, 0.5, 0.25],
+            shininess: 16.0,
+            view: [0.0, 0.0, 1.0],
+            lights: vec![([0.0, 0.0, 1.0], [1.0, 1.0, 1.0])],
+        };
+        let normals = random_normals(256, 5);
+        let b = PaletteBuilder::single(normals.clone(), f, formats(), 1).unwrap();
+        let (e, w) = (b.build_exact(), b.build(Mode::BitAccurate).values);
+        for (i, n) in normals.iter().enumerate() {
+            let nz = n[2].max(0.0);
+            let want = [nz.powf(16.0), 0.5 * nz.powf(16.0), 0.25 * nz.powf(16.0)];
+            for l in 0..3 {
+                assert!((e[i][l] - want[l]).abs() < 1e-12, "{i} {l}");
+            }
+            assert!((e[i][3] - (0.1 + 0.8 * nz).min(1.0)).abs() < 1e-12, "{i}");
+            // a dot product of 10-bit words is off by at most d = 4/1023; x^16 has slope
+            // <= 16, so the specular lanes are within 16 d + 1 LSB, alpha within d + 1 LSB
+            let d = 4.0 / 1023.0;
+            for l in 0..3 {
+                assert!(
+                    (w[i][l] - e[i][l]).abs() <= 16.0 * d + 1.0 / 255.0,
+                    "{i} {l}"
+                );
+            }
+            assert!((w[i][3] - e[i][3]).abs() <= d + 1.0 / 255.0, "{i} alpha");
+        }
+        assert_eq!(b.cycles_per_frame(), 2 * 256);
+    }
+
+    #[test]
     fn palette_builder_cycles_grow_linearly_and_ignore_texture_size() {
         let env = |w: u32| LightingFn::EnvMap {
             view: [0.0, 0.0, 1.0],
+            up: [0.0, 1.0, 0.0],
             image: vec![[0.5; 3]; (w * w) as usize],
             width: w,
             height: w,
@@ -1116,6 +1338,7 @@ mod tests {
         let normals = random_normals(64, 9);
         let chrome = LightingFn::Chrome {
             view: [0.0, 0.2, 1.0],
+            up: [0.0, 0.0, 1.0],
             sky: [0.2, 0.4, 1.0],
             ground: [0.5, 0.3, 0.1],
         };
