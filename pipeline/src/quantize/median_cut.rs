@@ -50,7 +50,7 @@ impl Ord for Cut {
 }
 
 /// The histogram of `normals`: distinct vectors (bitwise) with counts, sorted.
-fn histogram(normals: &[DVec3]) -> Vec<(DVec3, usize)> {
+pub(crate) fn histogram(normals: &[DVec3]) -> Vec<(DVec3, usize)> {
     let mut keys: Vec<[u64; 3]> = normals
         .iter()
         .map(|n| [n.x.to_bits(), n.y.to_bits(), n.z.to_bits()])

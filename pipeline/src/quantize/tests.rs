@@ -52,6 +52,9 @@ fn every_texel_maps_to_its_nearest_entry() {
         (2, Quantizer::NeuQuant { sample_factor: 10 }),
         (16, Quantizer::NeuQuant { sample_factor: 10 }),
         (256, Quantizer::NeuQuant { sample_factor: 1 }),
+        (1, KM),
+        (16, KM),
+        (333, KM),
     ] {
         let p = quantize(&map, s_n, q).unwrap();
         assert!(
@@ -63,6 +66,72 @@ fn every_texel_maps_to_its_nearest_entry() {
         }
         assert_nearest(&map, &p);
     }
+}
+
+/// The k-means quantizer as the tests use it.
+const KM: Quantizer = Quantizer::KMeans {
+    start: KMeansStart::Random { seed: 1 },
+    max_iterations: 20,
+};
+/// k-means refining median cut.
+const KMC: Quantizer = Quantizer::KMeans {
+    start: KMeansStart::MedianCut,
+    max_iterations: 3,
+};
+
+#[test]
+fn kmeans_maps_every_texel_to_its_nearest_entry_at_any_size() {
+    let map = mexican_hat(128);
+    let mut last = f64::INFINITY;
+    for s_n in [16, 256, 2048, 16384] {
+        let p = quantize(&map, s_n, KM).unwrap();
+        let c = quantize(&map, s_n, KMC).unwrap();
+        assert!(c.entries.len() <= s_n);
+        assert_nearest(&map, &c);
+        assert!(
+            !p.entries.is_empty() && p.entries.len() <= s_n,
+            "{s_n}: {}",
+            p.entries.len()
+        );
+        for e in &p.entries {
+            assert!((e.length() - 1.0).abs() < 1e-12);
+        }
+        assert_nearest(&map, &p);
+        // more entries, smaller (or, once the table holds every distinct normal, equal) error
+        let mean = angular_error_deg(&p.decode(), &map).0;
+        assert!(mean <= last, "s_n {s_n}: mean {mean} > {last}");
+        if s_n <= 256 {
+            assert!(mean < last, "s_n {s_n}: mean {mean} not below {last}");
+        }
+        last = mean;
+    }
+}
+
+#[test]
+fn kmeans_is_deterministic_and_seeded() {
+    let map = mexican_hat_cells(64, 3);
+    for s_n in [16, 300] {
+        let a = quantize(&map, s_n, KM).unwrap();
+        let b = quantize(&map, s_n, KM).unwrap();
+        assert_eq!(a, b, "s_n {s_n}");
+        let other = Quantizer::KMeans {
+            start: KMeansStart::Random { seed: 2 },
+            max_iterations: 20,
+        };
+        assert_ne!(quantize(&map, s_n, other).unwrap().entries, a.entries);
+    }
+}
+
+#[test]
+fn kmeans_handles_tiny_inputs() {
+    // fewer distinct normals than entries: one entry per distinct normal at most
+    let one = quantize(&[DVec3::Z], 16384, KM).unwrap();
+    assert_eq!(one.entries, vec![DVec3::Z]);
+    let d = [DVec3::X, DVec3::Y, DVec3::Z];
+    let n: Vec<DVec3> = (0..30).map(|i| d[i % 3]).collect();
+    let p = quantize(&n, 16, KM).unwrap();
+    assert!(p.entries.len() <= 3, "{:?}", p.entries);
+    assert_nearest(&n, &p);
 }
 
 #[test]
@@ -126,6 +195,20 @@ fn quantize_errors_are_clear() {
         quantize(&n, 16, Quantizer::NeuQuant { sample_factor: 0 }),
         Err(QuantizeError::SampleFactor(0))
     );
+    for bad in [0, MAX_KMEANS_ITERATIONS + 1] {
+        let q = Quantizer::KMeans {
+            start: KMeansStart::MedianCut,
+            max_iterations: bad,
+        };
+        let e = quantize(&n, 16, q).unwrap_err();
+        assert_eq!(e, QuantizeError::KMeansIterations(bad));
+        assert!(e.to_string().contains("1..=300"), "{e}");
+    }
+    // KMeans takes the whole range of table sizes; only s_n itself is checked
+    assert_eq!(
+        quantize(&n, 16385, KM),
+        Err(QuantizeError::PaletteSize(16385))
+    );
     assert_eq!(
         quantize(&[], 16, Quantizer::MedianCut),
         Err(QuantizeError::Empty)
@@ -146,6 +229,11 @@ fn quantizer_round_trips_through_ron() {
     for q in [
         Quantizer::MedianCut,
         Quantizer::NeuQuant { sample_factor: 7 },
+        Quantizer::KMeans {
+            start: KMeansStart::Random { seed: u64::MAX },
+            max_iterations: 300,
+        },
+        KMC,
     ] {
         let s = ron::to_string(&q).unwrap();
         assert_eq!(ron::from_str::<Quantizer>(&s).unwrap(), q);
@@ -155,6 +243,15 @@ fn quantizer_round_trips_through_ron() {
         Quantizer::NeuQuant { sample_factor: 3 }
     );
     assert!(ron::from_str::<Quantizer>("NeuQuant(sample_factor: 3, x: 1)").is_err());
+    assert_eq!(
+        ron::from_str::<Quantizer>("KMeans(start: Random(seed: 1), max_iterations: 20)").unwrap(),
+        KM
+    );
+    assert_eq!(
+        ron::from_str::<Quantizer>("KMeans(start: MedianCut, max_iterations: 3)").unwrap(),
+        KMC
+    );
+    assert!(ron::from_str::<Quantizer>("KMeans(start: MedianCut)").is_err());
 }
 
 #[test]
@@ -205,6 +302,8 @@ fn mexican_hat_128_errors() {
         for (name, q) in [
             ("MedianCut", Quantizer::MedianCut),
             ("NeuQuant(1)", Quantizer::NeuQuant { sample_factor: 1 }),
+            ("KMeans(1,20)", KM),
+            ("KMeans(MC,3)", KMC),
         ] {
             for s_n in [16, 256, 2048] {
                 let p = match quantize(&map, s_n, q) {
@@ -234,6 +333,13 @@ fn mexican_hat_128_errors() {
         let mc: Vec<_> = rows.iter().filter(|r| r.0 == "MedianCut").collect();
         // more entries, smaller error
         assert!(mc[0].2 .0 > mc[1].2 .0 && mc[1].2 .0 > mc[2].2 .0);
+        let km: Vec<_> = rows.iter().filter(|r| r.0 == "KMeans(1,20)").collect();
+        assert!(km[0].2 .0 > km[1].2 .0 && km[1].2 .0 > km[2].2 .0, "{km:?}");
+        // refining median cut never does worse than median cut on the mean
+        let kmc: Vec<_> = rows.iter().filter(|r| r.0 == "KMeans(MC,3)").collect();
+        for (a, b) in kmc.iter().zip(&mc) {
+            assert!(a.2 .0 <= b.2 .0 + 1e-9, "{a:?} vs {b:?}");
+        }
         // median cut, 256 entries: under a degree on average
         assert!(mc[1].2 .0 < 1.0, "{:?}", mc[1]);
         for r in &rows {
@@ -244,6 +350,28 @@ fn mexican_hat_128_errors() {
             if r.1 >= 256 && r.4 > 0.0 {
                 assert!(r.5 < r.4, "{r:?}");
             }
+        }
+    }
+}
+
+/// 256x256 normals (3 cells: no repeated normals within a cell) to 16384 entries by k-means:
+/// the timing quoted in the module docs. Slow in debug builds; run with
+/// `cargo test --release -p bumpsim-pipeline --lib kmeans_256_to_16k -- --ignored --nocapture`.
+#[test]
+#[ignore = "timing, run in release"]
+fn kmeans_256_to_16k_timing() {
+    for cells in [4, 3] {
+        let map = mexican_hat_cells(256, cells);
+        for (name, q) in [("KMeans(1,20)", KM), ("KMeans(MC,3)", KMC)] {
+            let t = std::time::Instant::now();
+            let p = quantize(&map, MAX_PALETTE, q).unwrap();
+            let dt = t.elapsed();
+            let (mean, max) = angular_error_deg(&p.decode(), &map);
+            eprintln!(
+                "{name} 256x256 {cells} cells -> {} entries in {dt:?}: mean {mean:.4} max {max:.3} deg",
+                p.entries.len()
+            );
+            assert!(p.entries.len() <= MAX_PALETTE);
         }
     }
 }
