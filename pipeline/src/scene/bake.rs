@@ -24,7 +24,16 @@
 //!    `Pv`; [`crate::reference::perturbed_normal`] applies the bump at the texel centre in
 //!    `[0, 1)` (bump maps have period 1): Blinn or Lingard's scale-invariant perturbation of
 //!    the analytic gradient for height fields, the `(T, B, N)` frame for normal maps.
-//! 3. **Dilation**. Texels no triangle covers take the normal of the nearest covered texel
+//! 3. **Gutter**. A texel no triangle covers whose centre lies within [`GUTTER_RADIUS`]
+//!    (1.5) texels of a triangle's uv region (Euclidean, in the triangle's unwrapped frame)
+//!    belongs to the nearest such triangle (ties: the first in triangle order) and is
+//!    evaluated like a covered texel, at the closest point of the triangle (the bump is still
+//!    sampled at the texel centre). So nearest sampling anywhere in a triangle (the texel
+//!    containing the sample has its centre within √2/2 texel of it) and bilinear sampling
+//!    reach only texels of that triangle, provided uv charts are at least 2 · 1.5 texels
+//!    apart (see `atlas.rs`) — plain dilation can hand such a texel to a neighbouring
+//!    chart near a sharp corner.
+//! 4. **Dilation**. The remaining texels take the normal of the nearest covered texel
 //!    (Euclidean distance in texels, wrapping at the borders; ties go to one of them
 //!    deterministically), computed by an exact two-pass distance transform. With no covered
 //!    texel at all the map is `(0, 0, 1)`.
@@ -59,7 +68,8 @@ pub enum BakeSpace {
 pub struct BakeOutput {
     /// `size x size` unit normals in the chosen space (row-major, row 0 is `v` in
     /// `[0, 1/size)`). Object space: texels not covered by any triangle hold the nearest
-    /// covered texel's normal (dilation), or `(0, 0, 1)` if no texel is covered. Tangent
+    /// triangle's normal within [`GUTTER_RADIUS`] texels (gutter), else the nearest covered
+    /// texel's normal (dilation), or `(0, 0, 1)` if no texel is covered. Tangent
     /// space: [`BumpMap::bake_normals`] with the analytic method at every texel.
     pub map: NormalMap,
     /// Whether a triangle covers the texel centre, row-major like `map`.
@@ -79,6 +89,9 @@ const HALF: i64 = ONE / 2;
 /// Largest accepted |u · size| (in texels): keeps the bounding-box arithmetic and the edge
 /// functions' i128 products far from overflow.
 const MAX_TEXELS: f64 = (1u64 << 34) as f64;
+/// Uncovered texels whose centre is within this many texels of a triangle take that
+/// triangle's normal (step 3 of the module docs).
+pub const GUTTER_RADIUS: f64 = 1.5;
 
 /// Bake the mesh's perturbed normals into a `size x size` texture (see the module docs for
 /// the rasterisation, evaluation and dilation rules). `size == 0` gives an empty map.
@@ -91,7 +104,11 @@ pub fn bake(
 ) -> BakeOutput {
     let n = size as usize * size as usize;
     let claims = claim(mesh, size);
-    let covered: Vec<bool> = claims.winner.iter().map(Option::is_some).collect();
+    let covered: Vec<bool> = claims
+        .winner
+        .iter()
+        .map(|c| c.is_some_and(|c| !c.gutter))
+        .collect();
     let texels = match space {
         BakeSpace::Tangent => bump.bake_normals(size, size, NormalMethod::Analytic).texels,
         BakeSpace::Object => {
@@ -136,6 +153,8 @@ struct Claim {
     /// triangle's own uv frame.
     iu: i64,
     ju: i64,
+    /// A gutter texel: not covered, evaluated at the triangle's point nearest the centre.
+    gutter: bool,
 }
 
 struct Claims {
@@ -181,6 +200,7 @@ fn claim(mesh: &Mesh, size: u32) -> Claims {
         return out;
     }
     let sz = f64::from(size);
+    let mut rasterised = Vec::new();
     for (t, tri) in mesh.triangles.iter().enumerate() {
         let verts = tri.map(|k| mesh.vertices.get(k as usize));
         let snapped = match verts {
@@ -221,13 +241,85 @@ fn claim(mesh: &Mesh, size: u32) -> Claims {
                             tri: t as u32,
                             iu,
                             ju,
+                            gutter: false,
                         });
                     }
                 }
             }
         }
+        rasterised.push(t);
     }
+    gutter(mesh, size, &rasterised, &mut out.winner);
     out
+}
+
+/// Step 3: give every uncovered texel whose centre is within [`GUTTER_RADIUS`] texels of a
+/// rasterised triangle (in its unwrapped frame) to the nearest one, first in triangle order
+/// on ties.
+fn gutter(mesh: &Mesh, size: u32, rasterised: &[usize], winner: &mut [Option<Claim>]) {
+    let s = size as usize;
+    let sz = f64::from(size);
+    let mut best = vec![f64::INFINITY; s * s];
+    let r2 = GUTTER_RADIUS * GUTTER_RADIUS;
+    for &t in rasterised {
+        let [a, b, c] = mesh.triangles[t].map(|k| mesh.vertices[k as usize].uv * sz);
+        let lo = a.min(b).min(c) - DVec2::splat(GUTTER_RADIUS + 0.5);
+        let hi = a.max(b).max(c) + DVec2::splat(GUTTER_RADIUS - 0.5);
+        for ju in lo.y.ceil() as i64..=hi.y.floor() as i64 {
+            let j = ju.rem_euclid(i64::from(size)) as usize;
+            for iu in lo.x.ceil() as i64..=hi.x.floor() as i64 {
+                let k = j * s + iu.rem_euclid(i64::from(size)) as usize;
+                if winner[k].is_some_and(|w| !w.gutter) {
+                    continue;
+                }
+                let p = DVec2::new(iu as f64 + 0.5, ju as f64 + 0.5);
+                let d2 = (closest_on_triangle(p, a, b, c) - p).length_squared();
+                if d2 <= r2 && d2 < best[k] {
+                    best[k] = d2;
+                    winner[k] = Some(Claim {
+                        tri: t as u32,
+                        iu,
+                        ju,
+                        gutter: true,
+                    });
+                }
+            }
+        }
+    }
+}
+
+/// The point of triangle `abc` (either orientation) nearest to `p` (Ericson, *Real-Time
+/// Collision Detection*, §5.1.5).
+fn closest_on_triangle(p: DVec2, a: DVec2, b: DVec2, c: DVec2) -> DVec2 {
+    let (ab, ac, ap) = (b - a, c - a, p - a);
+    let (d1, d2) = (ab.dot(ap), ac.dot(ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return a;
+    }
+    let bp = p - b;
+    let (d3, d4) = (ab.dot(bp), ac.dot(bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return b;
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return a + ab * (d1 / (d1 - d3));
+    }
+    let cp = p - c;
+    let (d5, d6) = (ab.dot(cp), ac.dot(cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return c;
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return a + ac * (d2 / (d2 - d6));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 {
+        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    }
+    let denom = 1.0 / (va + vb + vc);
+    a + ab * (vb * denom) + ac * (vc * denom)
 }
 
 /// Step 2: the object-space perturbed normal of texel `(i, j)` claimed by `c`.
@@ -241,9 +333,17 @@ fn object_normal(
 ) -> DVec3 {
     let sz = f64::from(size);
     let v = mesh.triangles[c.tri as usize].map(|k| mesh.vertices[k as usize]);
-    // Barycentrics of the unwrapped centre, in texel units, from the unsnapped uv.
-    let p = DVec2::new(c.iu as f64 + 0.5, c.ju as f64 + 0.5);
+    // Barycentrics of the unwrapped centre, in texel units, from the unsnapped uv; for a
+    // gutter texel, of the triangle's point nearest the centre.
     let [a, b, cc] = v.map(|x| x.uv * sz);
+    let centre = DVec2::new(c.iu as f64 + 0.5, c.ju as f64 + 0.5);
+    let p = if c.gutter {
+        Some(closest_on_triangle(centre, a, b, cc))
+            .filter(|q| q.is_finite())
+            .unwrap_or(centre)
+    } else {
+        centre
+    };
     let e = |from: DVec2, to: DVec2| (to - from).perp_dot(p - from);
     let w = DVec3::new(e(b, cc), e(cc, a), e(a, b));
     let sum = w.x + w.y + w.z;
@@ -272,7 +372,7 @@ fn object_normal(
         .unwrap_or(DVec3::Z)
 }
 
-/// Step 3: for every texel of a `size x size` wrapping grid, the index of a nearest covered
+/// Step 4: for every texel of a `size x size` wrapping grid, the index of a nearest covered
 /// texel (squared Euclidean distance in texels, the shorter way round at the borders), or
 /// None if nothing is covered. Exact: a circular 1-D pass along the rows, then the lower
 /// envelope of parabolas (Felzenszwalb & Huttenlocher) down the columns, each column laid
@@ -677,6 +777,53 @@ mod tests {
         let out = bake(&empty, &hat(), 8, BakeSpace::Object, Perturbation::Blinn);
         assert!(out.covered.iter().all(|&c| !c));
         assert!(out.map.texels.iter().all(|&t| t == DVec3::Z));
+    }
+
+    #[test]
+    fn gutter_texels_take_the_nearest_triangle() {
+        let size = 16u32;
+        let m = two_islands();
+        let c = claim(&m, size);
+        let sz = f64::from(size);
+        for (k, w) in c.winner.iter().enumerate() {
+            let p = DVec2::new((k % 16) as f64 + 0.5, (k / 16) as f64 + 0.5);
+            let dist = |t: usize| {
+                let [a, b, cc] = m.triangles[t].map(|i| m.vertices[i as usize].uv * sz);
+                (closest_on_triangle(p, a, b, cc) - p).length()
+            };
+            let (d0, d1) = (dist(0), dist(1));
+            match w {
+                Some(w) if w.gutter => {
+                    let d = dist(w.tri as usize);
+                    assert!(d > 0.0 && d <= GUTTER_RADIUS && d <= d0.min(d1), "{k}");
+                }
+                Some(w) => assert!(dist(w.tri as usize) < 1e-12, "{k}"),
+                None => assert!(d0.min(d1) > GUTTER_RADIUS, "{k}"),
+            }
+        }
+        // Brute-force check of the closest point on a triangle of either orientation.
+        let tri = [
+            DVec2::new(0.0, 0.0),
+            DVec2::new(3.0, 0.5),
+            DVec2::new(1.0, 2.0),
+        ];
+        for j in -10..=30 {
+            for i in -10..=40 {
+                let p = DVec2::new(f64::from(i), f64::from(j)) * 0.125;
+                let mut best = f64::INFINITY;
+                for a in 0..=200 {
+                    for b in 0..=200 - a {
+                        let (wa, wb) = (f64::from(a) / 200.0, f64::from(b) / 200.0);
+                        let q = tri[0] * (1.0 - wa - wb) + tri[1] * wa + tri[2] * wb;
+                        best = best.min((q - p).length());
+                    }
+                }
+                for [a, b, c] in [tri, [tri[0], tri[2], tri[1]]] {
+                    let d = (closest_on_triangle(p, a, b, c) - p).length();
+                    assert!(d <= best + 1e-12 && d >= best - 0.02, "{p}: {d} vs {best}");
+                }
+            }
+        }
     }
 
     #[test]

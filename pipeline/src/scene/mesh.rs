@@ -221,6 +221,24 @@ pub enum MeshSpec {
         /// File path, relative to the scene's directory.
         path: String,
         uv_repeat: [f64; 2],
+        /// Ignore the file's texture coordinates (they may be absent) and generate a grid
+        /// atlas: two triangles per square cell with gutters, smooth normals
+        /// (`super::atlas`). Default false.
+        #[serde(default)]
+        atlas: bool,
+    },
+    /// A surface of revolution about the y axis (no caps): the smooth monotone cubic `r(y)`
+    /// through `profile`, `u` around the axis, `v` along the profile's arc length
+    /// (`super::lathe`).
+    Lathe {
+        /// Control points `(radius, y)`: at least 2, y strictly increasing, radius finite and
+        /// > 0 (0 allowed at the first and last point: a pole).
+        profile: Vec<[f64; 2]>,
+        /// Segments around the y axis (`u`), 3..=2048.
+        slices: u32,
+        /// Rings along the profile (`v`), 1..=2048 (2..=2048 with both ends on the axis).
+        stacks: u32,
+        uv_repeat: [f64; 2],
     },
 }
 
@@ -310,13 +328,27 @@ impl MeshSpec {
                 let rep = check_repeat("Teapot", uv_repeat)?;
                 (teapot(subdivisions, rep), "Teapot")
             }
+            MeshSpec::Lathe {
+                ref profile,
+                slices,
+                stacks,
+                uv_repeat,
+            } => {
+                let rep = check_repeat("Lathe", uv_repeat)?;
+                (super::lathe::lathe(profile, slices, stacks, rep)?, "Lathe")
+            }
             MeshSpec::Obj {
                 ref path,
                 uv_repeat,
+                atlas,
             } => {
                 let rep = check_repeat("Obj", uv_repeat)?;
                 let full = base_dir.join(path);
-                let mesh = load_obj(&full, rep)?;
+                let mesh = if atlas {
+                    super::atlas::load_obj(&full, rep)?
+                } else {
+                    load_obj(&full, rep)?
+                };
                 mesh.validate("mesh.Obj").map_err(|e| match e {
                     SceneError::Invalid { message, .. } => {
                         SceneError::file(full.display(), message)
@@ -1643,6 +1675,7 @@ mod tests {
         let m = MeshSpec::Obj {
             path: "square.obj".into(),
             uv_repeat: [3.0, 1.0],
+            atlas: false,
         }
         .build(&dir)
         .unwrap();
@@ -1667,6 +1700,7 @@ mod tests {
         let m = MeshSpec::Obj {
             path: "quad.obj".into(),
             uv_repeat: [1.0, 1.0],
+            atlas: false,
         }
         .build(&dir)
         .unwrap();
@@ -1682,6 +1716,7 @@ mod tests {
         let m = MeshSpec::Obj {
             path: "bent.obj".into(),
             uv_repeat: [1.0, 1.0],
+            atlas: false,
         }
         .build(&dir)
         .unwrap();
@@ -1699,6 +1734,7 @@ mod tests {
         let spec = |p: &str| MeshSpec::Obj {
             path: p.into(),
             uv_repeat: [1.0, 1.0],
+            atlas: false,
         };
         match spec("nope.obj").build(&dir) {
             Err(SceneError::File { path, .. }) => assert_eq!(path, missing.display().to_string()),
