@@ -4,6 +4,7 @@ pub mod config;
 pub mod engine;
 pub mod metrics;
 pub mod output;
+pub mod passes;
 pub mod quantize;
 pub mod raster;
 pub mod reference;

@@ -20,6 +20,8 @@ pub struct Report {
     pub cycles: CycleReport,
     pub gates: Gates,
     pub bandwidth: Bandwidth,
+    /// Rendering passes: cycles, geometry and framebuffer traffic of each.
+    pub passes: crate::passes::Passes,
     pub error: Errors,
 }
 
@@ -161,6 +163,22 @@ impl Report {
             b.bump_extra_percent,
             b.bits_per_texel
         );
+        let p = &self.passes;
+        let _ = writeln!(
+            s,
+            "\npasses {} ({} cycles in all, framebuffer {} bits, geometry {} bits)",
+            p.passes.len(),
+            p.total_cycles,
+            p.fb_bits,
+            p.geometry_bits
+        );
+        for q in &p.passes {
+            let _ = writeln!(
+                s,
+                "  {:<42} {:>10} cycles {:>12} fb read {:>12} fb write",
+                q.name, q.cycles, q.fb_read_bits, q.fb_write_bits
+            );
+        }
         let _ = writeln!(
             s,
             "\nerror          {:>9} {:>9} {:>9} {:>9}",

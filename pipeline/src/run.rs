@@ -51,17 +51,43 @@ pub fn build_scene(l: &Loaded) -> Result<Scene, InputError> {
             }
         })?),
     };
+    let looks = build_looks(l)?;
     Ok(Scene {
         mesh,
         model: c.model.matrix(),
         camera: c.camera,
         lights: c.lights.clone(),
-        material: c.material,
+        material: c.material.clone(),
+        looks,
         bump,
         color_texture,
         width: c.width.0,
         height: c.height.0,
     })
+}
+
+/// The scene's extra materials and the environment maps of all materials (paths relative to
+/// the config file). A missing or unreadable map names the file and the field.
+fn build_looks(l: &Loaded) -> Result<crate::scene::Looks, InputError> {
+    let c = &l.config.scene;
+    let regions = c.regions.clone();
+    let mut all = vec![("scene.material".to_string(), &c.material)];
+    if let Some(r) = &c.regions {
+        for (i, m) in r.materials.iter().enumerate() {
+            all.push((format!("scene.regions.materials[{i}]"), m));
+        }
+    }
+    let mut env_maps = Vec::with_capacity(all.len());
+    for (field, m) in all {
+        env_maps.push(match &m.model {
+            crate::scene::Shading::EnvMap { image } => Some(
+                crate::scene::EnvImage::load(&l.base_dir.join(image))
+                    .map_err(|e| l.scene_error(&format!("{field}.model.image"), "image:", e))?,
+            ),
+            _ => None,
+        });
+    }
+    Ok(crate::scene::Looks { regions, env_maps })
 }
 
 /// Fragments grouped by triangle: ranges into the fragment list, one per submitted triangle.
@@ -282,6 +308,22 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
         .zip(&bit.gates)
         .map(|(s, (_, g))| (s.name.clone(), s.unit().kind().to_string(), g.clone()))
         .collect();
+    let blend = cfg.engine.units.iter().find_map(|u| match u.unit {
+        engine::units::UnitSpec::FbBlend { equation, .. } => Some(equation),
+        _ => None,
+    });
+    let passes = crate::passes::passes(
+        crate::passes::Frame {
+            frame_cycles: result.cycles.frame,
+            stream_cycles: result.cycles.total - result.cycles.frame,
+            triangles: result.cycles.triangles,
+            fragments: result.cycles.fragments,
+            bits_per_triangle: bits,
+            color_bits: 3 * u64::from(bit.output.spec.enc.width()),
+            depth_bits: u64::from(cfg.raster.depth_bits),
+        },
+        blend,
+    );
     let report = Report {
         version: VERSION.to_string(),
         name: cfg.name.clone(),
@@ -305,6 +347,7 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
             textures: bit.texels.iter().cloned().collect(),
             packet,
         },
+        passes,
         error: errors,
     };
     let trace = trace.map(|t| {

@@ -12,7 +12,7 @@ pub mod overrides;
 use crate::engine::units::UnitSpec;
 use crate::raster::RasterConfig;
 use crate::reference::Perturbation;
-use crate::scene::{BumpSpec, Camera, Light, Material, MeshSpec};
+use crate::scene::{BumpSpec, Camera, Light, Material, MeshSpec, Regions};
 use bumpsim_hw::{CostTable, Encoding};
 pub use error::{locate, InputError};
 use serde::{Deserialize, Serialize};
@@ -109,6 +109,9 @@ pub struct SceneConfig {
     pub lights: Vec<Light>,
     #[serde(default)]
     pub material: Material,
+    /// More materials and where they go (Tarini §6); none: `material` everywhere.
+    #[serde(default)]
+    pub regions: Option<Regions>,
     pub bump: BumpSpec,
     /// Optional colour texture.
     #[serde(default)]
@@ -451,26 +454,13 @@ fn validate(l: &Loaded) -> Result<(), InputError> {
             "expected finite translate and rotate_deg values",
         ));
     }
-    let m = &c.scene.material;
-    if !(m.shininess.is_finite() && m.shininess > 0.0) {
-        return Err(l.error(
-            "scene.material.shininess",
-            "shininess:",
-            format!("expected a number above 0, found {}", m.shininess),
-        ));
-    }
-    for (name, v) in [
-        ("ambient", m.ambient),
-        ("diffuse", m.diffuse),
-        ("specular", m.specular),
-    ] {
-        if v.iter().any(|x| !(0.0..=1.0).contains(x)) {
-            return Err(l.error(
-                &format!("scene.material.{name}"),
-                &format!("{name}:"),
-                format!("expected values in [0, 1], found {v:?}"),
-            ));
-        }
+    c.scene
+        .material
+        .validate("scene.material")
+        .map_err(|e| l.scene_error("scene.material", "material:", e))?;
+    if let Some(r) = &c.scene.regions {
+        r.validate("scene.regions")
+            .map_err(|e| l.scene_error("scene.regions", "regions:", e))?;
     }
     if !(1..=64).contains(&c.sim.fifo_depth) {
         return Err(l.error(

@@ -53,20 +53,31 @@ fn default_spec() -> SpecGen {
     }
 }
 
-/// The colour-table function of a quantized normal map unit (Tarini et al. §5.1), taken with
-/// the scene's bump lights, material and viewer (`hw/src/units/palette_builder.rs`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub enum QuantizedFn {
-    /// Ambient + diffuse over the bump lights.
-    Lambert,
-    /// Blinn-Phong: Lambert + specular with the material's shininess.
-    Specular,
-    /// Toon shading with `bands` levels.
-    Cartoon { bands: u32 },
-    /// Phong with the doubled angle (Fig. 6), the first bump light.
-    DoubledAnglePhong,
-    /// Reflection gradient from `ground` (below) to `sky` (above) (Fig. 7).
-    Chrome { sky: [f64; 3], ground: [f64; 3] },
+/// The palette builder's datapath words (`hw/src/units/palette_builder.rs`, "Bit-accurate
+/// mode"): the normal table's components, the light / half-way / view vector registers, the
+/// intensities after each dot product, and the power generator.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BuilderDatapath {
+    pub normal: Encoding,
+    pub vector: Encoding,
+    pub intensity: Encoding,
+    pub power: SpecGen,
+}
+
+impl Default for BuilderDatapath {
+    /// s1.10 normals and vectors in 12-bit words, 10-bit intensities, a 1024 x 12 power table.
+    fn default() -> Self {
+        BuilderDatapath {
+            normal: fixed(true, 12, 10),
+            vector: fixed(true, 12, 10),
+            intensity: Encoding::texel(Codec::UnitUnsigned, false, 10),
+            power: SpecGen::Table {
+                index_bits: 10,
+                value_bits: 12,
+            },
+        }
+    }
 }
 
 /// A hardware unit and its parameters, as written in a config.
@@ -158,11 +169,14 @@ pub enum UnitSpec {
     },
     /// Texture stage: `c * t` per channel (`hw/src/units/modulate.rs`, Ernst et al. §5.1).
     Modulate { out: Encoding },
-    /// Quantized normal maps (Tarini et al. §3–5, `hw/src/units/quantized_fetch.rs`): the
+    /// Quantized normal maps (Tarini et al. §3–6, `hw/src/units/quantized_fetch.rs`): the
     /// object-space normals baked at `size` x `size` are quantized to `s_n` entries (median
-    /// cut or NeuQuant, optionally Floyd–Steinberg dithered) stored as `index_bits`-bit
-    /// indices; per frame the table is shaded by `function` in object space and loaded into
-    /// the colour LUT; per fragment the index under `uv` (nearest) reads its colour.
+    /// cut or NeuQuant, optionally Floyd–Steinberg dithered; with several scene materials,
+    /// one interval of entries per material, §6) stored as `index_bits`-bit indices; per
+    /// frame the table is shaded by each material's lighting model in object space and
+    /// loaded into the colour LUT; per fragment the index under `uv` (nearest) reads its
+    /// colour. `split` (§7.1): alpha holds the Lambert intensity and RGB the specular colour,
+    /// for an `FbBlend` with a base colour (Phong and Lambert materials only).
     QuantizedNormals {
         size: u32,
         s_n: u32,
@@ -170,12 +184,22 @@ pub enum UnitSpec {
         #[serde(default)]
         dither: bool,
         index_bits: u32,
-        function: QuantizedFn,
+        #[serde(default)]
+        split: bool,
+        #[serde(default)]
+        datapath: BuilderDatapath,
         entry: Encoding,
         #[serde(default = "one")]
         entries_per_clock: u32,
         #[serde(default = "one")]
         load_width: u32,
+    },
+    /// Framebuffer blending of Tarini et al. §7 (`hw/src/units/fb_blend.rs`): the `base`
+    /// colour (a colour texture fetch) with a split palette `entry` by equation (1), three
+    /// passes, or (2), two passes, into framebuffer words of `fb`.
+    FbBlend {
+        equation: bumpsim_hw::units::BlendEquation,
+        fb: Encoding,
     },
     /// Schlag's 3x3 emboss masks over the bump heights (`hw/src/units/emboss.rs`).
     EmbossFilter {
@@ -252,6 +276,7 @@ impl UnitSpec {
                 .blend_params(ctx)
                 .map_or_else(|_| vec!["c".into(), "b".into()], |p| p.input_names()),
             UnitSpec::Modulate { .. } => vec!["c".into(), "t".into()],
+            UnitSpec::FbBlend { .. } => vec!["base".into(), "entry".into()],
             UnitSpec::Dot3 { count, .. } => std::iter::once("a".to_string())
                 .chain(seq("b", *count))
                 .collect(),
@@ -436,6 +461,12 @@ impl UnitSpec {
                 *out,
             )),
             UnitSpec::QuantizedNormals { .. } => Box::new(self.build_quantized(ins, ctx)?),
+            UnitSpec::FbBlend { equation, fb } => Box::new(bumpsim_hw::units::FbBlend::new(
+                *equation,
+                input(ins, "base")?.enc,
+                input(ins, "entry")?.enc,
+                *fb,
+            )?),
             UnitSpec::EmbossFilter {
                 size,
                 texel,
@@ -550,7 +581,7 @@ impl UnitSpec {
 }
 
 impl UnitSpec {
-    /// Bake, quantize, build the colour table and the unit (Tarini et al. §3–5).
+    /// Bake, quantize, build the colour table and the unit (Tarini et al. §3–6).
     fn build_quantized(
         &self,
         ins: &BTreeMap<String, PortSpec>,
@@ -562,7 +593,8 @@ impl UnitSpec {
             quantizer,
             dither,
             index_bits,
-            function,
+            split,
+            datapath,
             entry,
             entries_per_clock,
             load_width,
@@ -590,88 +622,60 @@ impl UnitSpec {
             crate::reference::Perturbation::ScaleInvariant,
         );
         let normals = &b.map.texels;
-        let mut pal = crate::quantize::quantize(normals, *s_n as usize, *quantizer)
-            .map_err(|e| e.to_string())?;
-        if *dither {
-            pal.indices = crate::quantize::dither(
-                normals,
-                *size as usize,
-                *size as usize,
-                &pal.entries,
-                crate::quantize::Scan::Serpentine,
-            );
-        }
-        // Tarini §5: light and view directions into object space with the inverse model
-        // matrix (a parallel light and viewer taken at the object's origin)
-        let to_object = glam::DMat3::from_mat4(scene.model).inverse();
-        let origin = scene.model.transform_point3(glam::DVec3::ZERO);
-        let view = (to_object * scene.camera.view_dir(origin))
-            .normalize_or_zero()
-            .to_array();
-        let lights: Vec<([f64; 3], [f64; 3])> = ctx
-            .bump_lights()
-            .iter()
-            .map(|&i| {
-                let l = &scene.lights[i];
-                (
-                    (to_object * l.dir_from(origin))
-                        .normalize_or_zero()
-                        .to_array(),
-                    l.color,
-                )
-            })
-            .collect();
-        let m = &scene.material;
-        let needs_light = !matches!(function, QuantizedFn::Chrome { .. });
-        if needs_light && lights.is_empty() {
-            return Err("the scene has no light with bump: true: expected at least one".into());
-        }
-        let f = match function {
-            QuantizedFn::Lambert => LightingFn::Lambert {
-                ambient: m.ambient,
-                diffuse: m.diffuse,
-                lights,
-            },
-            QuantizedFn::Specular => LightingFn::Specular {
-                ambient: m.ambient,
-                diffuse: m.diffuse,
-                specular: m.specular,
-                shininess: m.shininess,
-                view,
-                lights,
-            },
-            QuantizedFn::Cartoon { bands } => LightingFn::Cartoon {
-                bands: *bands,
-                ambient: m.ambient,
-                diffuse: m.diffuse,
-                lights,
-            },
-            QuantizedFn::DoubledAnglePhong => LightingFn::DoubledAnglePhong {
-                ambient: m.ambient,
-                diffuse: m.diffuse,
-                specular: m.specular,
-                shininess: m.shininess,
-                view,
-                light: lights[0],
-            },
-            QuantizedFn::Chrome { sky, ground } => LightingFn::Chrome {
-                view,
-                sky: *sky,
-                ground: *ground,
-            },
+        let (w, n) = (*size as usize, *s_n as usize);
+        let (pal, intervals) = match &scene.looks.regions {
+            None => {
+                let mut pal =
+                    crate::quantize::quantize(normals, n, *quantizer).map_err(|e| e.to_string())?;
+                if *dither {
+                    pal.indices = crate::quantize::dither(
+                        normals,
+                        w,
+                        w,
+                        &pal.entries,
+                        crate::quantize::Scan::Serpentine,
+                    );
+                }
+                let len = pal.entries.len();
+                (pal, vec![0..len])
+            }
+            Some(r) => {
+                // Tarini §6: the material is a fourth, discrete component of each texel
+                let ids: Vec<u8> = normals
+                    .iter()
+                    .enumerate()
+                    .map(|(k, nrm)| {
+                        let uv = glam::DVec2::new(
+                            ((k % w) as f64 + 0.5) / w as f64,
+                            ((k / w) as f64 + 0.5) / w as f64,
+                        );
+                        r.material_at(uv, *nrm)
+                    })
+                    .collect();
+                let mut mp = crate::quantize::quantize_with_materials(normals, &ids, n, *quantizer)
+                    .map_err(|e| e.to_string())?;
+                if *dither {
+                    mp.palette.indices =
+                        mp.dither(normals, &ids, w, w, crate::quantize::Scan::Serpentine);
+                }
+                (mp.palette, mp.intervals)
+            }
         };
+        let materials = intervals
+            .into_iter()
+            .enumerate()
+            .filter(|(_, r)| !r.is_empty())
+            .map(|(id, r)| Ok((r, lighting_fn(ctx, id as u8, *split)?)))
+            .collect::<Result<Vec<_>, String>>()?;
         let formats = BuilderFormats {
-            normal: fixed(true, 12, 10),
-            vector: fixed(true, 12, 10),
-            intensity: Encoding::texel(Codec::UnitUnsigned, false, 10),
-            power: SpecGen::Table {
-                index_bits: 10,
-                value_bits: 12,
-            },
+            normal: datapath.normal,
+            vector: datapath.vector,
+            intensity: datapath.intensity,
+            power: datapath.power,
             entry: *entry,
         };
         let table = pal.entries.iter().map(|n| n.to_array()).collect();
-        let builder = PaletteBuilder::single(table, f, formats, *entries_per_clock)?;
+        let builder = PaletteBuilder::new(table, materials, formats, *entries_per_clock)?;
         QuantizedFetch::new(
             uv,
             *size,
@@ -683,6 +687,100 @@ impl UnitSpec {
             default_latency(),
         )
     }
+}
+
+/// Material `id`'s lighting model as a palette-builder function, every vector taken into
+/// object space with the inverse model matrix (Tarini §5: a parallel light and viewer taken
+/// at the object's origin). `split`: the §7.1 form for blending with a base colour.
+fn lighting_fn(ctx: &BuildCtx, id: u8, split: bool) -> Result<LightingFn, String> {
+    use crate::scene::Shading;
+    let scene = ctx.scene;
+    let m = scene.material(id);
+    let to_object = glam::DMat3::from_mat4(scene.model).inverse();
+    let origin = scene.model.transform_point3(glam::DVec3::ZERO);
+    let obj = |v: glam::DVec3| (to_object * v).normalize_or_zero().to_array();
+    let view = obj(scene.camera.view_dir(origin));
+    let lights: Vec<([f64; 3], [f64; 3])> = ctx
+        .bump_lights()
+        .iter()
+        .map(|&i| (obj(scene.lights[i].dir_from(origin)), scene.lights[i].color))
+        .collect();
+    let lit = !matches!(m.model, Shading::Chrome { .. } | Shading::EnvMap { .. });
+    if lit && lights.is_empty() {
+        return Err("the scene has no light with bump: true: expected at least one".into());
+    }
+    let mean = |c: [f64; 3]| (c[0] + c[1] + c[2]) / 3.0;
+    if split {
+        let specular = match m.model {
+            Shading::Phong => m.specular,
+            Shading::Lambert => [0.0; 3],
+            _ => {
+                return Err(format!(
+                    "split: material {id} uses the {} model: expected Phong or Lambert (Tarini \
+                     §7 blends the specular and diffuse terms)",
+                    m.model.name()
+                ))
+            }
+        };
+        return Ok(LightingFn::SpecularSplit {
+            ambient: mean(m.ambient),
+            diffuse: mean(m.diffuse),
+            specular,
+            shininess: m.shininess,
+            view,
+            lights,
+        });
+    }
+    Ok(match &m.model {
+        Shading::Phong => LightingFn::Specular {
+            ambient: m.ambient,
+            diffuse: m.diffuse,
+            specular: m.specular,
+            shininess: m.shininess,
+            view,
+            lights,
+        },
+        Shading::Lambert => LightingFn::Lambert {
+            ambient: m.ambient,
+            diffuse: m.diffuse,
+            lights,
+        },
+        Shading::Cartoon { bands } => LightingFn::Cartoon {
+            bands: *bands,
+            ambient: m.ambient,
+            diffuse: m.diffuse,
+            lights,
+        },
+        Shading::DoubledAnglePhong => LightingFn::DoubledAnglePhong {
+            ambient: m.ambient,
+            diffuse: m.diffuse,
+            specular: m.specular,
+            shininess: m.shininess,
+            view,
+            light: lights[0],
+        },
+        Shading::Chrome { sky, ground } => LightingFn::Chrome {
+            view,
+            up: obj(glam::DVec3::Y),
+            sky: *sky,
+            ground: *ground,
+        },
+        Shading::EnvMap { .. } => {
+            let img = scene
+                .looks
+                .env_maps
+                .get(id as usize)
+                .and_then(Option::as_ref)
+                .ok_or_else(|| format!("material {id}: its environment map is not loaded"))?;
+            LightingFn::EnvMap {
+                view,
+                up: obj(glam::DVec3::from(scene.camera.up)),
+                image: img.rows_bottom_up(),
+                width: img.width,
+                height: img.height,
+            }
+        }
+    })
 }
 
 /// Heights rescaled to [0, 1] over the map's range (a constant map becomes 0.5).

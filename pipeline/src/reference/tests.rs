@@ -117,6 +117,7 @@ fn matte() -> Material {
         diffuse: [0.6, 0.7, 0.5],
         specular: [0.0; 3],
         shininess: 8.0,
+        model: Default::default(),
     }
 }
 
@@ -128,6 +129,7 @@ fn scene(
     material: Material,
 ) -> Scene {
     Scene {
+        looks: Default::default(),
         mesh,
         model: DMat4::IDENTITY,
         camera,
@@ -197,7 +199,7 @@ fn flat_quad_plane_field_diffuse_closed_form() {
                 camera,
                 plane(a, b),
                 vec![directional(l.to_array(), col.to_array())],
-                m,
+                m.clone(),
             );
             let img = render_reference(&s, &RASTER, p);
             assert_eq!(uniform(&img, n, c, 1e-12), 64, "{p:?} {camera:?}");
@@ -232,12 +234,18 @@ fn stretched_u_blinn_versus_scale_invariant() {
         (Perturbation::ScaleInvariant, si),
     ] {
         let c = DVec3::from(m.ambient) + DVec3::from(m.diffuse) * n.dot(l).max(0.0);
-        let s = scene(stretched(), ortho(), plane(a, b), lights.clone(), m);
+        let s = scene(stretched(), ortho(), plane(a, b), lights.clone(), m.clone());
         let img = render_reference(&s, &RASTER, p);
         assert_eq!(uniform(&img, n, c, 1e-12), 128, "{p:?}");
         covers_exactly(&img, 0..16, 4..12);
         // The same stretch by the model transform: the unit quad scaled by (2, 1, 1).
-        let mut s2 = scene(unit_quad(0.5), ortho(), plane(a, b), lights.clone(), m);
+        let mut s2 = scene(
+            unit_quad(0.5),
+            ortho(),
+            plane(a, b),
+            lights.clone(),
+            m.clone(),
+        );
         s2.model = DMat4::from_scale(DVec3::new(2.0, 1.0, 1.0));
         let img2 = render_reference(&s2, &RASTER, p);
         assert_eq!(uniform(&img2, n, c, 1e-12), 128, "{p:?} model");
@@ -262,6 +270,7 @@ fn specular_closed_form_with_orthographic_viewer() {
         diffuse: [0.0; 3],
         specular: spec.to_array(),
         shininess: 20.0,
+        model: Default::default(),
     };
     let s = scene(unit_quad(0.5), ortho(), plane(a, b), lights.clone(), shiny);
     let img = render_reference(&s, &RASTER, Perturbation::Blinn);
@@ -270,10 +279,11 @@ fn specular_closed_form_with_orthographic_viewer() {
     let m = Material {
         specular: spec.to_array(),
         shininess: 20.0,
+        model: Default::default(),
         ..matte()
     };
     let c = DVec3::from(m.ambient) + col * (DVec3::from(m.diffuse) * n.dot(l) + spec * highlight);
-    let s = scene(unit_quad(0.5), ortho(), plane(a, b), lights, m);
+    let s = scene(unit_quad(0.5), ortho(), plane(a, b), lights, m.clone());
     let img = render_reference(&s, &RASTER, Perturbation::ScaleInvariant);
     assert_eq!(uniform(&img, n, c, 1e-12), 64);
 }
@@ -293,12 +303,18 @@ fn normal_map_gives_the_texel_normal() {
     let m = matte();
     let lights = vec![directional(l.to_array(), [1.0; 3])];
     let c = |n: DVec3| DVec3::from(m.ambient) + DVec3::from(m.diffuse) * n.dot(l).max(0.0);
-    let s = scene(unit_quad(0.5), ortho(), constant_map(t), lights.clone(), m);
+    let s = scene(
+        unit_quad(0.5),
+        ortho(),
+        constant_map(t),
+        lights.clone(),
+        m.clone(),
+    );
     let img = render_reference(&s, &RASTER, Perturbation::default());
     assert_eq!(uniform(&img, t, c(t), 1e-12), 64);
     // Rotated model: the frame (T, B, N) = R (x̂, ŷ, ẑ), so the normal is R t.
     let r = DMat4::from_rotation_y(0.5) * DMat4::from_rotation_x(0.3);
-    let mut s = scene(unit_quad(0.5), ortho(), constant_map(t), lights, m);
+    let mut s = scene(unit_quad(0.5), ortho(), constant_map(t), lights, m.clone());
     s.model = r;
     let img = render_reference(&s, &RASTER, Perturbation::default());
     let rt = r.transform_vector3(t);
@@ -321,7 +337,7 @@ fn mirrored_frames_agree_between_height_field_and_normal_map() {
             plane(a, b),
             constant_map(DVec3::new(-a, -b, 1.0).normalize()),
         ] {
-            let s = scene(flipped_v(), ortho(), bump, lights.clone(), m);
+            let s = scene(flipped_v(), ortho(), bump, lights.clone(), m.clone());
             let c = DVec3::from(m.ambient) + DVec3::from(m.diffuse) * want.dot(l);
             assert_eq!(
                 uniform(&render_reference(&s, &RASTER, p), want, c, 1e-12),
@@ -332,7 +348,7 @@ fn mirrored_frames_agree_between_height_field_and_normal_map() {
             plane(a, b),
             constant_map(DVec3::new(-a, -b, 1.0).normalize()),
         ] {
-            let mut s = scene(unit_quad(0.5), ortho(), bump, lights.clone(), m);
+            let mut s = scene(unit_quad(0.5), ortho(), bump, lights.clone(), m.clone());
             s.model = DMat4::from_scale(DVec3::new(-1.0, 1.0, 1.0));
             let c = DVec3::from(m.ambient) + DVec3::from(m.diffuse) * want_mirror.dot(l);
             let img = render_reference(&s, &RASTER, p);
@@ -596,6 +612,7 @@ fn shade_with_point_light_and_local_viewer() {
         diffuse: [0.5, 0.4, 0.3],
         specular: [0.2, 0.3, 0.4],
         shininess: 13.5,
+        model: Default::default(),
     };
     let pos = DVec3::new(1.0, 2.0, 3.0);
     let s = scene(
@@ -613,7 +630,7 @@ fn shade_with_point_light_and_local_viewer() {
             // Below the surface: N·L < 0, contributes neither diffuse nor specular.
             directional([0.0, 0.1, -1.0], [1.0; 3]),
         ],
-        m,
+        m.clone(),
     );
     let (n, p, eye) = (
         DVec3::new(0.1, 0.2, 1.0).normalize(),
@@ -645,7 +662,7 @@ fn shade_with_point_light_and_local_viewer() {
     // Clamped to [0, 1].
     let bright = Material {
         ambient: [2.0, 0.5, -1.0],
-        ..m
+        ..m.clone()
     };
     let s2 = Scene {
         material: bright,

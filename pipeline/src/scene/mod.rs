@@ -1,9 +1,12 @@
 //! Scenes: meshes with tangent frames, bump maps (height fields and normal maps), lights,
 //! camera and material. Knows nothing of hardware units.
 
+pub mod atlas;
 pub mod bake;
 pub mod bumpmap;
 pub mod camera;
+pub mod lathe;
+pub mod material;
 pub mod mesh;
 pub mod normals;
 
@@ -12,6 +15,7 @@ use serde::{Deserialize, Serialize};
 
 pub use bumpmap::{BumpMap, BumpSpec, HeightField};
 pub use camera::Camera;
+pub use material::{Coord, EnvImage, Looks, Material, RegionRule, Regions, Shading};
 pub use mesh::{Mesh, MeshSpec, Vertex};
 pub use normals::{NormalMap, NormalMethod};
 
@@ -182,27 +186,6 @@ fn check_pos(field: &str, pos: [f64; 3]) -> Result<(), SceneError> {
     }
 }
 
-/// Surface material (OpenGL-style coefficients, linear RGB in [0, 1]).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Material {
-    pub ambient: [f64; 3],
-    pub diffuse: [f64; 3],
-    pub specular: [f64; 3],
-    pub shininess: f64,
-}
-
-impl Default for Material {
-    fn default() -> Self {
-        Material {
-            ambient: [0.1; 3],
-            diffuse: [0.8; 3],
-            specular: [0.5; 3],
-            shininess: 32.0,
-        }
-    }
-}
-
 /// A built scene, ready for the rasterizer, the engines and the float reference.
 pub struct Scene {
     pub mesh: Mesh,
@@ -210,10 +193,39 @@ pub struct Scene {
     pub model: DMat4,
     pub camera: Camera,
     pub lights: Vec<Light>,
+    /// Material 0.
     pub material: Material,
+    /// Materials 1.. and their regions, and the environment maps of all materials.
+    pub looks: Looks,
     pub bump: BumpMap,
     /// Optional colour texture (linear RGB, rows top to bottom, u right, v down).
     pub color_texture: Option<image::RgbImage>,
     pub width: u32,
     pub height: u32,
+}
+
+impl Scene {
+    /// The material id at a surface point: texture coordinates `uv`, world-space perturbed
+    /// normal `n` (taken back to object space by the transpose of the model's 3x3 part).
+    pub fn material_id(&self, uv: glam::DVec2, n: DVec3) -> u8 {
+        match &self.looks.regions {
+            None => 0,
+            Some(r) => {
+                let n_obj =
+                    (glam::DMat3::from_mat4(self.model).transpose() * n).normalize_or_zero();
+                r.material_at(uv, n_obj)
+            }
+        }
+    }
+    /// Material `id` (0 is `material`; ids past the regions' list give material 0).
+    pub fn material(&self, id: u8) -> &Material {
+        match (&self.looks.regions, id) {
+            (Some(r), 1..) => r.materials.get(id as usize - 1).unwrap_or(&self.material),
+            _ => &self.material,
+        }
+    }
+    /// Number of materials (1 without regions).
+    pub fn material_count(&self) -> usize {
+        1 + self.looks.regions.as_ref().map_or(0, |r| r.materials.len())
+    }
 }
