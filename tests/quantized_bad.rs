@@ -57,3 +57,76 @@ fn bad_quantized_configs_are_rejected() {
         }
     }
 }
+
+/// Run `check` on a bundled config with one override; expect exit 2 and every needle.
+fn rejected(stem: &str, set: &str, needles: &[&str]) {
+    let args = [
+        "check".to_string(),
+        config(stem).display().to_string(),
+        "--set".into(),
+        set.to_string(),
+    ];
+    let o = bumpsim(&args);
+    o.expect_code(2, set);
+    for n in needles {
+        assert!(
+            o.stderr.contains(n),
+            "{stem} --set {set}: the message lacks {n:?}: {}",
+            o.stderr
+        );
+    }
+}
+
+#[test]
+fn bad_materials_are_rejected() {
+    let m = "(ambient: (0.1, 0.1, 0.1), diffuse: (0.5, 0.5, 0.5), specular: (0.5, 0.5, 0.5), shininess: 8.0)";
+    let eight = vec![m; 8].join(", ");
+    // nine materials: more than the 3-bit material field holds (Tarini §6)
+    rejected(
+        "quantized-bunny-materials",
+        &format!("scene.regions=Some((materials: [{eight}], rule: Split(of: NormalY, at: 0.0)))"),
+        &["scene.regions.materials", "9 in all", "expected 1 to 7"],
+    );
+    rejected(
+        "quantized-vase-colors",
+        "scene.regions.rule=Bands(of: V, width: 0.1, count: 3)",
+        &["scene.regions.rule.count", "expected 2 to 2"],
+    );
+    rejected(
+        "quantized-bunny-materials",
+        "scene.regions.materials[0].model=Cartoon(bands: 1)",
+        &["scene.regions.materials[0].model.bands", "expected 2 to 256"],
+    );
+    // two materials cannot share a one-entry table
+    rejected(
+        "quantized-bunny-materials",
+        "engine.units.qnm.unit.s_n=1",
+        &["engine.units[0].unit", "s_n = 1", "number of materials present (2)"],
+    );
+    // the split form of §7 needs Phong or Lambert materials
+    rejected(
+        "quantized-bunny-wood-eq2",
+        "scene.material.model=Chrome(sky: (0.5, 0.6, 0.9), ground: (0.3, 0.2, 0.1))",
+        &["split", "Chrome", "expected Phong or Lambert"],
+    );
+}
+
+#[test]
+fn missing_or_bad_environment_maps_are_rejected() {
+    rejected(
+        "quantized-vase-envmap",
+        "scene.material.model=EnvMap(image: \"assets/no-such-map.png\")",
+        &["no-such-map.png", "scene.material.model.image", "expected an RGB PNG"],
+    );
+    // a file that exists but is not an image: a config
+    rejected(
+        "quantized-vase-envmap",
+        "scene.material.model=EnvMap(image: \"quantized-sphere.ron\")",
+        &["quantized-sphere.ron", "scene.material.model.image", "expected an RGB PNG"],
+    );
+    rejected(
+        "quantized-vase-envmap",
+        "scene.material.model=EnvMap(image: \"\")",
+        &["scene.material.model.image", "empty"],
+    );
+}
