@@ -97,3 +97,24 @@ fn trace_snapshots() {
         }
     }
 }
+
+/// Tarini §5.1 per-frame work on a 16-entry table (`quantized-sn16`: Lambert, one light, one
+/// entry per clock): 16 builder clocks, then the LUT load writes entry k at clock 16 + k.
+#[test]
+fn palette_build_trace_snapshot() {
+    let scratch = Scratch::new("palette-build");
+    let cfg = config("quantized-sn16");
+    let report = json(&report_text(&cfg));
+    assert_eq!(uint(&report, "cycles.frame"), 32);
+    let text = trace_text(&cfg, 0, 34, &scratch);
+    let lines: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
+    assert_eq!(lines.len(), 34, "{text}");
+    for (c, l) in lines.iter().enumerate().take(32) {
+        assert!(l.contains("busy"), "cycle {c}: {l}");
+        let write = format!("out#{} ", c.wrapping_sub(16));
+        assert_eq!(c >= 16 && l.contains(&write), c >= 16, "cycle {c}: {l}");
+    }
+    in_traces_dir! {
+        insta::assert_snapshot!("trace-palette-build-sn16", text);
+    }
+}

@@ -136,6 +136,12 @@ pub trait Unit: Send {
     fn frame_cycles(&self) -> u64 {
         0
     }
+    /// The table writes of the frame work, for traces: `(clock within the unit's
+    /// [`Unit::frame_cycles`], entry index, the entry as output words)`, in clock order.
+    /// Default none.
+    fn frame_writes(&self) -> Vec<(u64, u64, Vec<Word>)> {
+        Vec::new()
+    }
     /// Stored bits per texel of the texture the unit reads, if it reads one.
     fn texel_bits(&self) -> Option<u32> {
         None

@@ -13,7 +13,7 @@
 //! Stages are ticked from the last to the first within a clock (see `bumpsim_hw::stage`).
 //! The simulation is single-threaded and deterministic.
 
-use bumpsim_hw::{Counters, Fifo, Probe, Stage, Token, Word};
+use bumpsim_hw::{Counters, CycleState, Fifo, Probe, Stage, Token, Word};
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -56,6 +56,46 @@ pub struct SimResult {
     pub probes: Vec<(usize, Probe)>,
 }
 
+/// Probes of the frame work inside the `trace` window: the stages' per-frame work runs one
+/// after another on one load path from cycle 0; each of a stage's clocks is busy and a clock
+/// that writes a table entry shows it as the emitted token (id = entry index; the first
+/// entry when several are written in one clock).
+fn frame_probes(stages: &[Stage], trace: Option<(u64, u64)>) -> Vec<(usize, Probe)> {
+    let Some((a, b)) = trace else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    let mut start = 0u64;
+    for (i, s) in stages.iter().enumerate() {
+        let n = s.unit().frame_cycles();
+        let (lo, hi) = (a.max(start), b.min(start + n));
+        if lo < hi {
+            let writes = s.unit().frame_writes();
+            let mut w = writes.iter().peekable();
+            for cycle in lo..hi {
+                while w.peek().is_some_and(|x| start + x.0 < cycle) {
+                    w.next();
+                }
+                let emitted = w
+                    .peek()
+                    .filter(|x| start + x.0 == cycle)
+                    .map(|x| (x.1, x.2.clone()));
+                out.push((
+                    i,
+                    Probe {
+                        cycle,
+                        state: CycleState::Busy,
+                        accepted: None,
+                        emitted,
+                    },
+                ));
+            }
+        }
+        start += n;
+    }
+    out
+}
+
 /// Run one frame with timing. `trace` is a half-open cycle window to probe.
 pub fn run(
     stages: &mut [Stage],
@@ -68,7 +108,7 @@ pub fn run(
     let mut fifos: Vec<Fifo> = (0..=nstage).map(|_| Fifo::new(w.fifo_depth)).collect();
     let frame: u64 = stages.iter().map(|s| s.unit().frame_cycles()).sum();
     let mut outputs = vec![Word::default(); nfrag];
-    let mut probes = Vec::new();
+    let mut probes = frame_probes(stages, trace);
     let (mut setup_c, mut scan_c) = (Counters::default(), Counters::default());
     let mut next_tri = 0usize;
     let mut setting_up: Option<(usize, u64)> = None; // (triangle, cycle its setup completes)

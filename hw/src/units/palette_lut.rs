@@ -142,6 +142,10 @@ impl PaletteLut {
     pub fn entry(&self) -> Encoding {
         self.outputs[0].enc
     }
+    /// Entries written per clock when the table is loaded.
+    pub fn load_width(&self) -> u32 {
+        self.load_width
+    }
     pub fn entries(&self) -> usize {
         self.table.len()
     }

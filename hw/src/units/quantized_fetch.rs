@@ -126,6 +126,24 @@ impl Unit for QuantizedFetch {
     fn frame_cycles(&self) -> u64 {
         self.builder.cycles_per_frame() + self.lut_bits.frame_cycles()
     }
+    /// The builder's clocks first (no writes), then the LUT load: entry `k` written at
+    /// clock `builder + k / load_width`, as the `c` (RGBA) and `color` (RGB) words.
+    fn frame_writes(&self) -> Vec<(u64, u64, Vec<Word>)> {
+        let start = self.builder.cycles_per_frame();
+        let per_clock = self.lut_bits.load_width() as u64;
+        let enc = self.builder.formats().entry;
+        self.lut_bits
+            .table()
+            .codes
+            .iter()
+            .enumerate()
+            .map(|(k, c)| {
+                let rgba = Word::from_raw(&enc, c);
+                let rgb = Word::from_raw(&enc, &c[..3]);
+                (start + k as u64 / per_clock, k as u64, vec![rgba, rgb])
+            })
+            .collect()
+    }
     fn gates(&self, t: &CostTable) -> GateBudget {
         let mut g = GateBudget::new();
         for (who, part) in [
