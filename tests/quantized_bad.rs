@@ -95,13 +95,20 @@ fn bad_materials_are_rejected() {
     rejected(
         "quantized-bunny-materials",
         "scene.regions.materials[0].model=Cartoon(bands: 1)",
-        &["scene.regions.materials[0].model.bands", "expected 2 to 256"],
+        &[
+            "scene.regions.materials[0].model.bands",
+            "expected 2 to 256",
+        ],
     );
     // two materials cannot share a one-entry table
     rejected(
         "quantized-bunny-materials",
         "engine.units.qnm.unit.s_n=1",
-        &["engine.units[0].unit", "s_n = 1", "number of materials present (2)"],
+        &[
+            "engine.units[0].unit",
+            "s_n = 1",
+            "number of materials present (2)",
+        ],
     );
     // the split form of §7 needs Phong or Lambert materials
     rejected(
@@ -116,13 +123,21 @@ fn missing_or_bad_environment_maps_are_rejected() {
     rejected(
         "quantized-vase-envmap",
         "scene.material.model=EnvMap(image: \"assets/no-such-map.png\")",
-        &["no-such-map.png", "scene.material.model.image", "expected an RGB PNG"],
+        &[
+            "no-such-map.png",
+            "scene.material.model.image",
+            "expected an RGB PNG",
+        ],
     );
     // a file that exists but is not an image: a config
     rejected(
         "quantized-vase-envmap",
         "scene.material.model=EnvMap(image: \"quantized-sphere.ron\")",
-        &["quantized-sphere.ron", "scene.material.model.image", "expected an RGB PNG"],
+        &[
+            "quantized-sphere.ron",
+            "scene.material.model.image",
+            "expected an RGB PNG",
+        ],
     );
     rejected(
         "quantized-vase-envmap",
