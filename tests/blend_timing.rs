@@ -133,20 +133,6 @@ fn bad_gouraud_configs_are_rejected() {
         ),
     ];
     for (set, needles) in cases {
-        let args = [
-            "check".to_string(),
-            tiny().display().to_string(),
-            "--set".into(),
-            set.to_string(),
-        ];
-        let o = bumpsim(&args);
-        o.expect_code(2, set);
-        for n in needles {
-            assert!(
-                o.stderr.contains(n),
-                "{set}: the message lacks {n:?}: {}",
-                o.stderr
-            );
-        }
+        expect_rejected(&tiny(), set, needles);
     }
 }

@@ -35,48 +35,18 @@ fn bad_quantized_configs_are_rejected() {
         ),
     ];
     for (set, needles) in cases {
-        let args = [
-            "check".to_string(),
-            cfg.display().to_string(),
-            "--set".into(),
-            set.to_string(),
-        ];
-        let o = bumpsim(&args);
-        o.expect_code(2, set);
+        let msg = expect_rejected(&cfg, set, needles);
         assert!(
-            o.stderr.contains("engine.units[0].unit"),
-            "{set}: no field in {}",
-            o.stderr
+            msg.contains("engine.units[0].unit"),
+            "{set}: no field in {msg}"
         );
-        for n in needles {
-            assert!(
-                o.stderr.contains(n),
-                "{set}: the message lacks {n:?}: {}",
-                o.stderr
-            );
-        }
     }
 }
 
-/// Run `check` on a bundled config with one override; expect exit 2 and every needle.
+/// `check` of a bundled config with one override: exit 2 and every needle.
 fn rejected(stem: &str, set: &str, needles: &[&str]) {
-    let args = [
-        "check".to_string(),
-        config(stem).display().to_string(),
-        "--set".into(),
-        set.to_string(),
-    ];
-    let o = bumpsim(&args);
-    o.expect_code(2, set);
-    for n in needles {
-        assert!(
-            o.stderr.contains(n),
-            "{stem} --set {set}: the message lacks {n:?}: {}",
-            o.stderr
-        );
-    }
+    expect_rejected(&config(stem), set, needles);
 }
-
 #[test]
 fn bad_materials_are_rejected() {
     let m = "(ambient: (0.1, 0.1, 0.1), diffuse: (0.5, 0.5, 0.5), specular: (0.5, 0.5, 0.5), shininess: 8.0)";

@@ -152,3 +152,25 @@ pub fn engine_units(config_text: &str) -> Vec<String> {
     assert!(!names.is_empty(), "no unit names found");
     names
 }
+
+/// `bumpsim check cfg --set set` must exit 2 with every needle in its message; returns the
+/// message.
+pub fn expect_rejected(cfg: &Path, set: &str, needles: &[&str]) -> String {
+    let args = [
+        "check".to_string(),
+        cfg.display().to_string(),
+        "--set".into(),
+        set.to_string(),
+    ];
+    let o = bumpsim(&args);
+    o.expect_code(2, set);
+    for n in needles {
+        assert!(
+            o.stderr.contains(n),
+            "{} --set {set}: the message lacks {n:?}: {}",
+            cfg.display(),
+            o.stderr
+        );
+    }
+    o.stderr.clone()
+}

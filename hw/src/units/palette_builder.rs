@@ -186,6 +186,18 @@ impl LightingFn {
                 fin(c, "light colour")
             })
         };
+        // the specular coefficients, the viewer and every light's half-way vector
+        let specular_ok = |specular: &[f64; 3], view: &[f64; 3], lights: &[Light]| {
+            fin(specular, "specular")?;
+            dir(view, "view")?;
+            lights_ok(lights)?;
+            lights.iter().try_for_each(|(l, _)| {
+                dir(
+                    &add(unit(*l), unit(*view)),
+                    "light + view (half-way vector)",
+                )
+            })
+        };
         match self {
             LightingFn::Lambert {
                 ambient,
@@ -206,14 +218,7 @@ impl LightingFn {
             } => {
                 fin(ambient, "ambient")?;
                 fin(diffuse, "diffuse")?;
-                fin(specular, "specular")?;
-                dir(view, "view")?;
-                lights_ok(lights)?;
-                for (l, _) in lights {
-                    let h = add(unit(*l), unit(*view));
-                    dir(&h, "light + view (half-way vector)")?;
-                }
-                Ok(())
+                specular_ok(specular, view, lights)
             }
             LightingFn::Cartoon {
                 bands,
@@ -262,16 +267,7 @@ impl LightingFn {
                 ..
             } => {
                 fin(&[*ambient, *diffuse, 0.0], "ambient and diffuse")?;
-                fin(specular, "specular")?;
-                dir(view, "view")?;
-                lights_ok(lights)?;
-                for (l, _) in lights {
-                    dir(
-                        &add(unit(*l), unit(*view)),
-                        "light + view (half-way vector)",
-                    )?;
-                }
-                Ok(())
+                specular_ok(specular, view, lights)
             }
             LightingFn::EnvMap {
                 view,

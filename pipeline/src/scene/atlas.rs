@@ -165,20 +165,7 @@ pub fn atlas_mesh(
 /// every face has them, and lay it out with [`atlas_mesh`]. Texture coordinates are ignored.
 pub fn load_obj(path: &Path, rep: DVec2) -> Result<Mesh, SceneError> {
     let fail = |message: String| SceneError::file(path.display(), message);
-    if !path.is_file() {
-        return Err(fail("could not read OBJ: no such file".into()));
-    }
-    // `..Default::default()` covers the options of tobj's optional features.
-    #[allow(clippy::needless_update)]
-    let options = tobj::LoadOptions {
-        triangulate: true,
-        single_index: false,
-        ignore_points: true,
-        ignore_lines: true,
-        ..Default::default()
-    };
-    let (models, _materials) =
-        tobj::load_obj(path, &options).map_err(|e| fail(format!("could not load OBJ: {e}")))?;
+    let models = super::mesh::read_obj(path)?;
     let mut positions: Vec<DVec3> = Vec::new();
     let mut triangles: Vec<[u32; 3]> = Vec::new();
     let mut normals: Vec<DVec3> = Vec::new();

@@ -623,10 +623,8 @@ fn teapot(n: u32, rep: DVec2) -> Mesh {
     mesh
 }
 
-/// Load an OBJ file: positions, texture coordinates (required) and normals (computed if
-/// absent), with `pu`, `pv` per triangle from positions and uvs, averaged per vertex weighted
-/// by triangle area.
-fn load_obj(path: &Path, rep: DVec2) -> Result<Mesh, SceneError> {
+/// The models of an OBJ file, triangulated (points and lines ignored); errors name the file.
+pub(crate) fn read_obj(path: &Path) -> Result<Vec<tobj::Model>, SceneError> {
     let fail = |message: String| SceneError::file(path.display(), message);
     if !path.is_file() {
         return Err(fail("could not read OBJ: no such file".into()));
@@ -642,6 +640,15 @@ fn load_obj(path: &Path, rep: DVec2) -> Result<Mesh, SceneError> {
     };
     let (models, _materials) =
         tobj::load_obj(path, &options).map_err(|e| fail(format!("could not load OBJ: {e}")))?;
+    Ok(models)
+}
+
+/// Load an OBJ file: positions, texture coordinates (required) and normals (computed if
+/// absent), with `pu`, `pv` per triangle from positions and uvs, averaged per vertex weighted
+/// by triangle area.
+fn load_obj(path: &Path, rep: DVec2) -> Result<Mesh, SceneError> {
+    let fail = |message: String| SceneError::file(path.display(), message);
+    let models = read_obj(path)?;
     let mut mesh = Mesh::default();
     for model in &models {
         let m = &model.mesh;
