@@ -33,7 +33,7 @@ fn environment(r: [f64; 3]) -> [f64; 3] {
     let [x, y, z] = r;
     let sun = {
         let s = [0.45, 0.55, -0.7];
-        let l = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]) as f64;
+        let l = s[0] * s[0] + s[1] * s[1] + s[2] * s[2];
         let c = (x * s[0] + y * s[1] + z * s[2]) / l.sqrt();
         c > 0.995
     };

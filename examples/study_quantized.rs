@@ -393,7 +393,11 @@ fn main() {
          only partly shown by the numbers (the mean error is {:.2} LSB). The max LSB columns do \
          not track s_N: bit-accurate vs exact mode differs by {:.0} to {:.0} LSB at some pixel \
          at every table size and quantizer, so the max is set by a few isolated pixels outside \
-         the table (not investigated here) and PSNR / mean LSB are the useful measures. \
+         the table: where the 16-bit (u4.12) texture coordinate rounds across a texel boundary \
+         the bit-accurate nearest fetch reads the neighbouring index, which after dithering can \
+         shade very differently (docs/units/quantized_fetch.md: a 20-bit fraction brings the \
+         Fig. 8 bunny's quantization max from 247 to 7 LSB). PSNR / mean LSB are the useful \
+         measures. \
          Dithering does not improve the per-pixel numbers: at 256 entries it gives {:.2} dB \
          against {:.2} dB without, and a larger mean angle ({:.3} vs {:.3} degrees); what it \
          does is replace the flat contour patches of the plain map with fine noise, visible in \
@@ -1017,7 +1021,8 @@ fn main() {
          {v2k:.2} dB at 2048.\n\
          * **Partly: \"for s_N = 16K the approximation is in practice invisible\".** Mean \
          error {:.2} LSB at 16K, but a max of {:.0} LSB at isolated pixels (max LSB does not \
-         fall with s_N; see section 1).\n\
+         fall with s_N: index flips where the rounded uv crosses a texel boundary; see \
+         section 1).\n\
          * **Agree visually, not by the numbers: dithering** (§4, Fig. 4). At 256 entries it \
          costs {:.2} dB ({:.2} vs {:.2}) and raises the mean angle ({:.3} vs {:.3} degrees), \
          while it breaks up the iso-valued patches.\n\

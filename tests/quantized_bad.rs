@@ -50,7 +50,7 @@ fn rejected(stem: &str, set: &str, needles: &[&str]) {
 #[test]
 fn bad_materials_are_rejected() {
     let m = "(ambient: (0.1, 0.1, 0.1), diffuse: (0.5, 0.5, 0.5), specular: (0.5, 0.5, 0.5), shininess: 8.0)";
-    let eight = vec![m; 8].join(", ");
+    let eight = [m; 8].join(", ");
     // nine materials: more than the 3-bit material field holds (Tarini §6)
     rejected(
         "quantized-bunny-materials",

@@ -637,7 +637,7 @@ impl UnitSpec {
                     );
                 }
                 let len = pal.entries.len();
-                (pal, vec![0..len])
+                (pal, std::iter::once(0..len).collect())
             }
             Some(r) => {
                 // Tarini §6: the material is a fourth, discrete component of each texel
