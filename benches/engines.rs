@@ -16,7 +16,7 @@ fn engines(c: &mut Criterion) {
     let loaded = config::load(&path, &sets).expect("the bundled config loads");
     let mut p = prepare(&loaded).expect("the bundled config prepares");
     let fragments = p.raster.fragments.len() as u64;
-    let perturbation = loaded.config.reference.perturbation;
+    let reference = loaded.config.reference;
     let mut g = c.benchmark_group("sgi-teapot-512");
     g.sample_size(10);
     g.throughput(Throughput::Elements(fragments));
@@ -27,7 +27,7 @@ fn engines(c: &mut Criterion) {
         b.iter(|| p.evaluate_exact().len())
     });
     g.bench_function("float reference", |b| {
-        b.iter(|| p.reference(perturbation).covered())
+        b.iter(|| p.reference(reference).covered())
     });
     g.finish();
 }

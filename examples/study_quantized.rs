@@ -906,6 +906,60 @@ fn main() {
         mip[0].1 .0, mip[0].1 .1, mip[0].0 .0
     );
 
+    // engine runs: the receding floor with index mipmaps, against a supersampled reference
+    md.push_str(
+        "### In the engine: a receding floor (`quantized-plane-mipmap`)\n\n\
+         160 x 160 perspective view of a 16 x 16-cell plane with a 512 x 512 map of 256 \
+         dithered normals, one LOD per triangle (`Lod` attribute), nearest level; the reference \
+         shades 1 or 4 x 4 samples per pixel (`reference.samples`).\n\n\
+         | index texture | PSNR dB, 1 sample | PSNR dB, 4 x 4 samples | mean LSB, 4 x 4 | index gates |\n|---|---|---|---|---|\n",
+    );
+    let unwired = [
+        "engine.units.qnm.unit.mipmap=None".to_string(),
+        "engine.units.qnm.inputs={\"uv\": \"uv\"}".to_string(),
+    ];
+    let variants: [(&str, &str, Vec<String>); 3] = [
+        ("no mipmaps", "quantized-plane-mipmap", unwired.to_vec()),
+        ("NearestToAverage", "quantized-plane-mipmap", vec![]),
+        ("NaiveIndexAverage", "quantized-plane-mipmap-naive", vec![]),
+    ];
+    let jobs: Vec<(&str, Vec<String>)> = variants
+        .iter()
+        .flat_map(|(_, cfg, sets)| {
+            [1u32, 4].map(|k| {
+                let mut v = sets.clone();
+                v.push(format!("reference.samples={k}"));
+                (*cfg, v)
+            })
+        })
+        .collect();
+    let plane = par_map(&jobs, |(cfg, sets)| go(cfg, sets));
+    let mut plane_psnr = Vec::new();
+    for (k, (label, _, _)) in variants.iter().enumerate() {
+        let (one, ss) = (&plane[2 * k].report, &plane[2 * k + 1].report);
+        let _ = writeln!(
+            md,
+            "| {label} | {:.2} | {:.2} | {:.2} | {:.0} |",
+            one.error.total.psnr_db,
+            ss.error.total.psnr_db,
+            ss.error.total.mean_abs_lsb,
+            ss.gates.total
+        );
+        plane_psnr.push((one.error.total.psnr_db, ss.error.total.psnr_db));
+    }
+    let _ = writeln!(
+        md,
+        "\nAgainst the point-sampled reference, which aliases as the unmipmapped engine does, \
+         mipmaps lose ({:.2} dB with against {:.2} without); against the 4 x 4-supersampled \
+         (band-limited) reference the gap closes ({:.2} against {:.2} dB), and the naive index \
+         average is far off either way ({:.2} dB). A mipmapped normal is the renormalised mean \
+         of four normals, so distant bumps shade flatter than the mean of their shading: index \
+         mipmaps (like any normal-map mipmap) remove aliasing but do not reproduce the \
+         darkening of minified bumps. The paper only states the averaging rule (agrees: the \
+         rule is needed), not its image quality.\n",
+        plane_psnr[1].0, plane_psnr[0].0, plane_psnr[1].1, plane_psnr[0].1, plane_psnr[2].1
+    );
+
     // ---------------------------------------------------------------- 6: figures
     let vase_sn = [16usize, 32, 64, 128, 256, 512, 1024, 2048];
     let figs = [

@@ -115,3 +115,30 @@ fn missing_or_bad_environment_maps_are_rejected() {
         &["scene.material.model.image", "empty"],
     );
 }
+
+#[test]
+fn bad_index_mipmaps_are_rejected() {
+    rejected(
+        "quantized-plane-mipmap",
+        "engine.attributes[1].source=Lod(size: 100)",
+        &[
+            "engine.attributes[1].source.size",
+            "expected a power of two",
+        ],
+    );
+    rejected(
+        "quantized-plane-mipmap",
+        "engine.units.qnm.inputs={\"uv\": \"uv\"}",
+        &["input port \"lod\"", "not wired"],
+    );
+    rejected(
+        "quantized-plane-mipmap",
+        "scene.mesh.subdivisions=0",
+        &["mesh.Quad.subdivisions", "1..=2048"],
+    );
+    rejected(
+        "quantized-plane-mipmap",
+        "reference.samples=0",
+        &["reference.samples", "expected 1 to 16"],
+    );
+}

@@ -148,11 +148,23 @@ pub fn pixel_barycentrics(
     width: u32,
     height: u32,
 ) -> Option<DVec3> {
+    sample_barycentrics(clip, f64::from(x) + 0.5, f64::from(y) + 0.5, width, height)
+}
+
+/// [`pixel_barycentrics`] at any point `(sx, sy)` of the image, in pixels from its top left
+/// corner (the centre of pixel `(x, y)` is `(x + 1/2, y + 1/2)`).
+pub fn sample_barycentrics(
+    clip: [DVec4; 3],
+    sx: f64,
+    sy: f64,
+    width: u32,
+    height: u32,
+) -> Option<DVec3> {
     if width == 0 || height == 0 {
         return None;
     }
-    let wx = f64::from(x) + 0.5;
-    let wy = f64::from(height) - (f64::from(y) + 0.5);
+    let wx = sx;
+    let wy = f64::from(height) - sy;
     let px = 2.0 * wx / f64::from(width) - 1.0;
     let py = 2.0 * wy / f64::from(height) - 1.0;
     let rx = DVec3::new(
@@ -211,15 +223,36 @@ fn pixel(
     (x, y): (u32, u32),
     (tri, frag_bary): (u32, [f64; 3]),
     perturbation: Perturbation,
+    samples: u32,
 ) -> (DVec3, DVec3) {
     let t = scene.mesh.triangles[tri as usize];
     let cl = t.map(|i| clip[i as usize]);
-    let b =
-        pixel_barycentrics(cl, x, y, scene.width, scene.height).unwrap_or(DVec3::from(frag_bary));
-    let sp = interpolate(&scene.mesh, xf, t, b);
-    let n = perturbed_normal(&scene.bump, &sp, perturbation);
-    let v = view_vector(&scene.camera, sp.p);
-    (shade_with_view(n, sp.p, v, sp.uv, scene), n)
+    let shade_at = |b: DVec3| {
+        let sp = interpolate(&scene.mesh, xf, t, b);
+        let n = perturbed_normal(&scene.bump, &sp, perturbation);
+        let v = view_vector(&scene.camera, sp.p);
+        (shade_with_view(n, sp.p, v, sp.uv, scene), n)
+    };
+    let (w, h) = (scene.width, scene.height);
+    let centre = shade_at(pixel_barycentrics(cl, x, y, w, h).unwrap_or(DVec3::from(frag_bary)));
+    if samples <= 1 {
+        return centre;
+    }
+    // a box filter: s x s samples on a regular grid, all on the pixel's winning triangle
+    // (its parameterisation extended past its edges by at most BARY_SLACK)
+    let k = f64::from(samples);
+    let mut sum = DVec3::ZERO;
+    for j in 0..samples {
+        for i in 0..samples {
+            let sx = f64::from(x) + (f64::from(i) + 0.5) / k;
+            let sy = f64::from(y) + (f64::from(j) + 0.5) / k;
+            sum += match sample_barycentrics(cl, sx, sy, w, h) {
+                Some(b) => shade_at(b).0,
+                None => centre.0,
+            };
+        }
+    }
+    (sum / (k * k), centre.1)
 }
 
 /// Blinn bump mapping per pixel in f64, independent of any engine code (steps 1–5 of the
@@ -229,6 +262,19 @@ pub fn render_reference(
     scene: &Scene,
     raster: &RasterConfig,
     perturbation: Perturbation,
+) -> ReferenceImage {
+    render_reference_sampled(scene, raster, perturbation, 1)
+}
+
+/// [`render_reference`] with `samples x samples` shading samples per pixel, box filtered:
+/// the band-limited image a minified bump map should approach (what mipmaps aim at). Each
+/// sample is taken on the triangle that wins the pixel centre; the normals reported are
+/// the centre's.
+pub fn render_reference_sampled(
+    scene: &Scene,
+    raster: &RasterConfig,
+    perturbation: Perturbation,
+    samples: u32,
 ) -> ReferenceImage {
     let (w, h) = (scene.width, scene.height);
     let n_px = w as usize * h as usize;
@@ -249,7 +295,7 @@ pub fn render_reference(
             (0..w)
                 .map(|x| {
                     winner[y as usize * w as usize + x as usize]
-                        .map(|hit| pixel(scene, &xf, &clip, (x, y), hit, perturbation))
+                        .map(|hit| pixel(scene, &xf, &clip, (x, y), hit, perturbation, samples))
                 })
                 .collect()
         })

@@ -240,8 +240,13 @@ impl Prepared {
     }
 
     /// The float reference of the same scene.
-    pub fn reference(&self, perturbation: reference::Perturbation) -> reference::ReferenceImage {
-        reference::render_reference(&self.scene, &self.raster_config, perturbation)
+    pub fn reference(&self, r: crate::config::ReferenceConfig) -> reference::ReferenceImage {
+        reference::render_reference_sampled(
+            &self.scene,
+            &self.raster_config,
+            r.perturbation,
+            r.samples,
+        )
     }
 }
 
@@ -270,7 +275,7 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
     let bit = &p.bit;
     let (img_bit, mask) = paint(w, h, frags, &result.outputs);
     let (img_exact, _) = paint(w, h, frags, &exact_out);
-    let refimg = p.reference(cfg.reference.perturbation);
+    let refimg = p.reference(cfg.reference);
     let rimg = Rgb64 {
         width: w,
         height: h,

@@ -35,6 +35,9 @@ pub struct QuantizedFetch {
     lut_bits: PaletteLut,
     builder: PaletteBuilder,
     index_bits: u32,
+    /// Coarser index levels 1.. (Tarini §5.2), selected by the `lod` input; empty: no
+    /// mipmaps.
+    mips: Vec<TexFetch>,
 }
 
 impl QuantizedFetch {
@@ -89,7 +92,55 @@ impl QuantizedFetch {
             lut_bits,
             builder,
             index_bits,
+            mips: Vec::new(),
         })
+    }
+
+    /// Add index mipmap levels 1.. (`(width, height, indices)` each, coarsest last, built by
+    /// the host: Tarini §5.2) and a 1-lane `lod` input of encoding `lod`. Per fragment the
+    /// level `clamp(floor(lod + 1/2), 0, levels)` is fetched nearest (GL's
+    /// `NEAREST_MIPMAP_NEAREST`); level 0 is the texture given to [`QuantizedFetch::new`].
+    pub fn with_mipmaps(
+        mut self,
+        lod: Encoding,
+        levels: Vec<(u32, u32, Vec<u32>)>,
+    ) -> Result<Self, String> {
+        lod.validate()?;
+        let n = self.builder.entries();
+        let idx = Encoding::fixed(Format::u(self.index_bits as u8, 0));
+        let uv = self.inputs[0].enc;
+        for (k, (w, h, indices)) in levels.into_iter().enumerate() {
+            if let Some(i) = indices.iter().find(|&&i| i as usize >= n) {
+                return Err(format!(
+                    "mip level {}: index {i} out of range for a table of {n} entries",
+                    k + 1
+                ));
+            }
+            let tex = Texels {
+                width: w,
+                height: h,
+                lanes: 1,
+                values: indices.iter().map(|&i| [i as f64, 0.0, 0.0, 0.0]).collect(),
+            };
+            let latency = self.fetch.latency();
+            self.mips.push(TexFetch::new(
+                uv,
+                tex,
+                idx,
+                Filter::Nearest,
+                8,
+                1,
+                latency.max(1),
+                idx,
+            )?);
+        }
+        self.inputs.push(PortSpec::new("lod", 1, lod));
+        Ok(self)
+    }
+
+    /// Mip levels including level 0.
+    pub fn levels(&self) -> usize {
+        1 + self.mips.len()
     }
 
     pub fn builder(&self) -> &PaletteBuilder {
@@ -155,11 +206,41 @@ impl Unit for QuantizedFetch {
                 g.add(format!("{who}: {}", it.what), 1, it.ge);
             }
         }
+        if let Some(lod) = self.inputs.get(1) {
+            // round and clamp the LOD to a level, then the level's base address plus the
+            // texel offset shifted right by the level
+            let wl = lod.enc.width();
+            let addr = 2 * 14 + 2;
+            g.add(
+                format!("mip level round and clamp {wl}"),
+                1,
+                t.adder(wl) + t.clamp(wl),
+            );
+            g.add(format!("mip base adder {addr}"), 1, t.adder(addr));
+            g.add(
+                format!("mip offset shifter {addr}"),
+                1,
+                t.mux(addr, self.levels() as u32),
+            );
+        }
         g
     }
     fn eval(&mut self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
         let mut i = [Word::default()];
-        self.fetch.eval(mode, ins, &mut i);
+        let level = match ins.get(1) {
+            Some(lod) if !self.mips.is_empty() => {
+                let x = match mode {
+                    Mode::Exact => lod.lanes[0].x,
+                    Mode::BitAccurate => self.inputs[1].enc.decode(lod.lanes[0].raw),
+                };
+                ((x + 0.5).floor().max(0.0) as usize).min(self.mips.len())
+            }
+            _ => 0,
+        };
+        match level {
+            0 => self.fetch.eval(mode, &ins[..1], &mut i),
+            k => self.mips[k - 1].eval(mode, &ins[..1], &mut i),
+        }
         let mut c = [Word::default()];
         match mode {
             Mode::Exact => self.lut_exact.eval(mode, &i, &mut c),
@@ -216,6 +297,63 @@ mod tests {
         let idx: Vec<u32> = (0..size * size).map(|k| k * 7 % n as u32).collect();
         let uv = Encoding::fixed(Format::u(16, 12));
         QuantizedFetch::new(uv, size, size, &idx, bits, b, load, 3).unwrap()
+    }
+
+    #[test]
+    fn quantized_fetch_mipmaps_pick_the_rounded_level() {
+        // 4x4 level 0 of index 0, 2x2 level 1 of index 1, 1x1 level 2 of index 2
+        let b = PaletteBuilder::single(normals(8), specular(), formats(), 1).unwrap();
+        let uv = Encoding::fixed(Format::u(16, 12));
+        let lod = Encoding::fixed(Format::u(8, 4));
+        let mut u = QuantizedFetch::new(uv, 4, 4, &[0; 16], 8, b, 1, 3)
+            .unwrap()
+            .with_mipmaps(lod, vec![(2, 2, vec![1; 4]), (1, 1, vec![2])])
+            .unwrap();
+        assert_eq!((u.levels(), u.inputs().len()), (3, 2));
+        let codes = u.builder().build(Mode::BitAccurate).codes;
+        let at = |u: &mut QuantizedFetch, mode: Mode, l: f64| {
+            let ins = [
+                Word::quantize(&uv, &[0.3, 0.6]),
+                Word::for_mode(mode, &lod, &[l]),
+            ];
+            let mut o = [Word::default(); 2];
+            u.eval(mode, &ins, &mut o);
+            let c = o[0].raws::<4>();
+            codes.iter().position(|e| *e == c).unwrap()
+        };
+        for (l, want) in [
+            (0.0, 0),
+            (0.4375, 0),
+            (0.5, 1),
+            (1.4375, 1),
+            (1.5, 2),
+            (9.0, 2),
+        ] {
+            assert_eq!(at(&mut u, Mode::BitAccurate, l), want, "lod {l}");
+        }
+        // exact mode rounds the exact LOD: 0.49 stays on level 0
+        let exact = u.lut(Mode::Exact).table().values.clone();
+        let ins = [
+            Word::quantize(&uv, &[0.3, 0.6]),
+            Word::for_mode(Mode::Exact, &lod, &[0.49]),
+        ];
+        let mut o = [Word::default(); 2];
+        u.eval(Mode::Exact, &ins, &mut o);
+        assert_eq!(o[0].xs::<4>(), exact[0]);
+        // an index outside the table is refused
+        let b = PaletteBuilder::single(normals(8), specular(), formats(), 1).unwrap();
+        let err = QuantizedFetch::new(uv, 4, 4, &[0; 16], 8, b, 1, 3)
+            .unwrap()
+            .with_mipmaps(lod, vec![(2, 2, vec![8; 4])])
+            .err()
+            .unwrap();
+        assert!(
+            err.contains("mip level 1") && err.contains("index 8"),
+            "{err}"
+        );
+        // the level select costs gates
+        let plain = unit(8, 4, 8, 1).gates(&CostTable::default()).total();
+        assert!(u.gates(&CostTable::default()).total() > plain);
     }
 
     #[test]

@@ -171,10 +171,23 @@ impl TextureSpec {
     }
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct ReferenceConfig {
     pub perturbation: Perturbation,
+    /// Shading samples per pixel side, 1 to 16 (`samples^2` per pixel, box filtered). 1, the
+    /// default, shades the pixel centre; more approximate the band-limited image that a
+    /// minified bump map (and an index mipmap, Tarini §5.2) should approach.
+    pub samples: u32,
+}
+
+impl Default for ReferenceConfig {
+    fn default() -> Self {
+        ReferenceConfig {
+            perturbation: Perturbation::default(),
+            samples: 1,
+        }
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -240,13 +253,20 @@ pub enum AttrSource {
     /// where it reads 0, so bumps do not light up beyond the shadow terminator. Which colour
     /// information drives the switch is bumpsim's choice; the paper does not say.
     BlendEnable { light: usize },
+    /// Texture level of detail for a `size` x `size` texture, one lane, once per triangle:
+    /// `lambda = 1/2 log2(texel area / pixel area)` of the triangle (its uv area times
+    /// `size^2` over its screen area in pixels), clamped to `[0, log2 size]`; 0 for a
+    /// triangle that crosses the eye plane or has no screen area. Per-triangle LOD is the
+    /// cheapest scheme of the period (one value from the geometry engine, no per-pixel
+    /// derivatives); it selects index mipmap levels (Tarini §5.2).
+    Lod { size: u32 },
 }
 
 impl AttrSource {
     pub fn lanes(&self) -> u8 {
         match self {
             AttrSource::Uv => 2,
-            AttrSource::BlendEnable { .. } => 1,
+            AttrSource::BlendEnable { .. } | AttrSource::Lod { .. } => 1,
             _ => 3,
         }
     }
@@ -260,7 +280,7 @@ impl AttrSource {
             } | AttrSource::HalfVec {
                 per_triangle: true,
                 ..
-            }
+            } | AttrSource::Lod { .. }
         )
     }
     /// The light the attribute is about, if any.
@@ -462,6 +482,13 @@ fn validate(l: &Loaded) -> Result<(), InputError> {
         r.validate("scene.regions")
             .map_err(|e| l.scene_error("scene.regions", "regions:", e))?;
     }
+    if !(1..=16).contains(&c.reference.samples) {
+        return Err(l.error(
+            "reference.samples",
+            "samples:",
+            format!("expected 1 to 16, found {}", c.reference.samples),
+        ));
+    }
     if !(1..=64).contains(&c.sim.fifo_depth) {
         return Err(l.error(
             "sim.fifo_depth",
@@ -485,6 +512,15 @@ fn validate(l: &Loaded) -> Result<(), InputError> {
                     a.name
                 ),
             ));
+        }
+        if let AttrSource::Lod { size } = a.source {
+            if !size.is_power_of_two() || size > 1 << 14 {
+                return Err(l.error(
+                    &format!("{field}.source.size"),
+                    &format!("\"{}\"", a.name),
+                    format!("Lod size {size}: expected a power of two from 1 to 16384"),
+                ));
+            }
         }
         if let Some(k) = a.source.light() {
             if k >= n {

@@ -11,7 +11,7 @@
 use crate::config::{AttrSource, AttributeConfig, VecFrame};
 use crate::scene::{Light, Scene};
 use bumpsim_hw::{Codec, Encoding, Mode, Word};
-use glam::{DMat3, DVec3, DVec4};
+use glam::{DMat3, DVec2, DVec3, DVec4};
 
 /// A vertex's tangent frame in world space: T along Pu, B completing a frame that follows the
 /// parameterisation's handedness, N the shading normal.
@@ -60,7 +60,7 @@ pub fn compute(scene: &Scene, attrs: &[AttributeConfig]) -> VertexData {
     let aspect = scene.width as f64 / scene.height as f64;
     let vp = scene.camera.proj(aspect) * scene.camera.view();
     let verts = &scene.mesh.vertices;
-    let clip = verts.iter().map(|v| vp * m * v.pos.extend(1.0)).collect();
+    let clip: Vec<DVec4> = verts.iter().map(|v| vp * m * v.pos.extend(1.0)).collect();
     // world position and tangent frame of every vertex
     let world: Vec<(DVec3, DVec3, DVec3, DVec3)> = verts
         .iter()
@@ -100,6 +100,8 @@ pub fn compute(scene: &Scene, attrs: &[AttributeConfig]) -> VertexData {
                     let faces = frame.n.dot(scene.lights[light].dir_from(p)) > 0.0;
                     [f64::from(u8::from(faces)), 0.0, 0.0, 0.0]
                 }
+                // per triangle: see `lod`
+                AttrSource::Lod { .. } => [0.0; 4],
                 AttrSource::Gouraud {
                     ambient,
                     all_lights,
@@ -117,7 +119,26 @@ pub fn compute(scene: &Scene, attrs: &[AttributeConfig]) -> VertexData {
     let values = attrs
         .iter()
         .map(|a| {
-            if a.source.per_triangle() {
+            if let AttrSource::Lod { size } = a.source {
+                let px = DVec2::new(f64::from(scene.width), f64::from(scene.height));
+                scene
+                    .mesh
+                    .triangles
+                    .iter()
+                    .map(|t| {
+                        [
+                            lod(
+                                t.map(|i| (&clip[i as usize], verts[i as usize].uv)),
+                                px,
+                                size,
+                            ),
+                            0.0,
+                            0.0,
+                            0.0,
+                        ]
+                    })
+                    .collect()
+            } else if a.source.per_triangle() {
                 scene
                     .mesh
                     .triangles
@@ -144,6 +165,28 @@ pub fn compute(scene: &Scene, attrs: &[AttributeConfig]) -> VertexData {
         .collect();
     let flat = attrs.iter().map(|a| a.source.per_triangle()).collect();
     VertexData { clip, values, flat }
+}
+
+/// Per-triangle level of detail of a `size` x `size` texture ([`AttrSource::Lod`]): `1/2
+/// log2(uv area size^2 / screen area)` clamped to `[0, log2 size]`; `tri` holds each vertex's
+/// clip position and uv, `px` the image size in pixels. 0 if a vertex is at or behind the eye
+/// (`w <= 0`) or the triangle has no area on screen or in uv.
+pub fn lod(tri: [(&DVec4, DVec2); 3], px: DVec2, size: u32) -> f64 {
+    if tri.iter().any(|(c, _)| !(c.w > 0.0)) {
+        return 0.0;
+    }
+    let s: Vec<DVec2> = tri
+        .iter()
+        .map(|(c, _)| (DVec2::new(c.x, c.y) / c.w + 1.0) * 0.5 * px)
+        .collect();
+    let area = |a: DVec2, b: DVec2, c: DVec2| ((b - a).perp_dot(c - a) / 2.0).abs();
+    let screen = area(s[0], s[1], s[2]);
+    let texels = area(tri[0].1, tri[1].1, tri[2].1) * f64::from(size) * f64::from(size);
+    if !(screen > 0.0 && texels > 0.0) {
+        return 0.0;
+    }
+    let max = f64::from(size.max(1)).log2();
+    (0.5 * (texels / screen).log2()).clamp(0.0, max)
 }
 
 /// The Gouraud colour at a vertex: the lights that do not take part in bump mapping (or all
@@ -223,6 +266,36 @@ pub fn interpolate(
 mod tests {
     use super::*;
     use bumpsim_hw::{Format, Overflow, Quant};
+
+    #[test]
+    fn lod_is_half_the_log2_of_texel_over_pixel_area() {
+        // clip = NDC (w = 1) on a 100 x 100 image: the triangle (0,0) (0.5,0) (0,0.5) in NDC
+        // covers 25 x 25 / 2 pixels; uv (0,0) (0.5,0) (0,0.5) on a 200-texel map covers
+        // 100 x 100 / 2 texels: 16x the area, LOD 2
+        let c = [
+            DVec4::new(0.0, 0.0, 0.5, 1.0),
+            DVec4::new(0.5, 0.0, 0.5, 1.0),
+            DVec4::new(0.0, 0.5, 0.5, 1.0),
+        ];
+        let px = DVec2::splat(100.0);
+        fn tri(c: &[DVec4; 3]) -> [(&DVec4, DVec2); 3] {
+            let uv = [DVec2::ZERO, DVec2::new(0.5, 0.0), DVec2::new(0.0, 0.5)];
+            [(&c[0], uv[0]), (&c[1], uv[1]), (&c[2], uv[2])]
+        }
+        assert!((lod(tri(&c), px, 200) - 2.0).abs() < 1e-12);
+        // magnified: clamped to 0; at most log2(size)
+        assert_eq!(lod(tri(&c), px, 10), 0.0);
+        assert!((lod(tri(&c), DVec2::splat(1.0), 256) - 8.0).abs() < 1e-12);
+        // the same triangle twice as far (w = 2) covers a quarter of the pixels: LOD 3
+        let far = c.map(|v| DVec4::new(v.x, v.y, v.z, 2.0));
+        assert!((lod(tri(&far), px, 200) - 3.0).abs() < 1e-12);
+        // a vertex behind the eye, or no area: 0
+        let mut behind = c;
+        behind[1].w = -1.0;
+        assert_eq!(lod(tri(&behind), px, 200), 0.0);
+        let flat = [c[0], c[0], c[2]];
+        assert_eq!(lod(tri(&flat), px, 200), 0.0);
+    }
 
     #[test]
     fn frames_are_orthonormal_and_follow_handedness() {

@@ -176,7 +176,9 @@ pub enum UnitSpec {
     /// frame the table is shaded by each material's lighting model in object space and
     /// loaded into the colour LUT; per fragment the index under `uv` (nearest) reads its
     /// colour. `split` (§7.1): alpha holds the Lambert intensity and RGB the specular colour,
-    /// for an `FbBlend` with a base colour (Phong and Lambert materials only).
+    /// for an `FbBlend` with a base colour (Phong and Lambert materials only). `mipmap`
+    /// (§5.2): index mipmap levels built by `NearestToAverage` (or the wrong
+    /// `NaiveIndexAverage`), chosen per fragment by a `lod` input (an `Lod` attribute).
     QuantizedNormals {
         size: u32,
         s_n: u32,
@@ -186,6 +188,8 @@ pub enum UnitSpec {
         index_bits: u32,
         #[serde(default)]
         split: bool,
+        #[serde(default)]
+        mipmap: Option<crate::quantize::MipMode>,
         #[serde(default)]
         datapath: BuilderDatapath,
         entry: Encoding,
@@ -269,6 +273,9 @@ impl UnitSpec {
     /// Names of the input ports this unit will have, for wiring before it is built.
     pub fn input_names(&self, ctx: &BuildCtx) -> Vec<String> {
         match self {
+            UnitSpec::QuantizedNormals {
+                mipmap: Some(_), ..
+            } => vec!["uv".into(), "lod".into()],
             UnitSpec::TexFetch { .. }
             | UnitSpec::EmbossFilter { .. }
             | UnitSpec::QuantizedNormals { .. } => vec!["uv".into()],
@@ -594,6 +601,7 @@ impl UnitSpec {
             dither,
             index_bits,
             split,
+            mipmap,
             datapath,
             entry,
             entries_per_clock,
@@ -676,7 +684,7 @@ impl UnitSpec {
         };
         let table = pal.entries.iter().map(|n| n.to_array()).collect();
         let builder = PaletteBuilder::new(table, materials, formats, *entries_per_clock)?;
-        QuantizedFetch::new(
+        let unit = QuantizedFetch::new(
             uv,
             *size,
             *size,
@@ -685,7 +693,20 @@ impl UnitSpec {
             builder,
             *load_width,
             default_latency(),
-        )
+        )?;
+        let Some(mode) = mipmap else {
+            return Ok(unit);
+        };
+        // Tarini §5.2: every coarser level from the one below, down to 1 x 1
+        let mut levels = Vec::new();
+        let (mut idx, mut w) = (pal.indices, *size as usize);
+        while w > 1 {
+            let (next, w2, _) = crate::quantize::mip_indices(&idx, w, w, &pal.entries, *mode)
+                .map_err(|e| e.to_string())?;
+            levels.push((w2 as u32, w2 as u32, next.clone()));
+            (idx, w) = (next, w2);
+        }
+        unit.with_mipmaps(input(ins, "lod")?.enc, levels)
     }
 }
 

@@ -792,3 +792,63 @@ fn perturbation_formulas() {
     close(t, DVec3::X, 1e-15, "T");
     close(b, DVec3::Y, 1e-15, "B");
 }
+
+#[test]
+fn supersampled_reference_is_the_mean_of_its_samples() {
+    let l = DVec3::new(0.2, 0.4, 1.0).normalize();
+    let lights = vec![directional(l.to_array(), [1.0; 3])];
+    // a plane field shades uniformly: any sample count gives the same pixels
+    let s = scene(
+        unit_quad(0.5),
+        ortho(),
+        plane(0.3, -0.2),
+        lights.clone(),
+        matte(),
+    );
+    let n = DVec3::new(-0.3, 0.2, 1.0).normalize();
+    let m = matte();
+    let c = DVec3::from(m.ambient) + DVec3::from(m.diffuse) * n.dot(l);
+    let img = render_reference_sampled(&s, &RASTER, Perturbation::Blinn, 3);
+    assert_eq!(uniform(&img, n, c, 1e-12), 64);
+    // bumps: a pixel is the mean of its 3 x 3 sample shades, and differs from the centre
+    let bump = crate::scene::BumpSpec::MexicanHat {
+        cells: 2,
+        sigma: 0.2,
+        depth: 0.05,
+    }
+    .build(std::path::Path::new("."))
+    .unwrap();
+    let s = scene(unit_quad(0.5), ortho(), bump, lights, matte());
+    let one = render_reference(&s, &RASTER, Perturbation::ScaleInvariant);
+    let nine = render_reference_sampled(&s, &RASTER, Perturbation::ScaleInvariant, 3);
+    let clip = clip_positions(&s);
+    let (x, y) = (6u32, 7u32);
+    let t = s.mesh.triangles.iter().position(|t| {
+        pixel_barycentrics(t.map(|i| clip[i as usize]), x, y, 16, 16)
+            .is_some_and(|b| b.min_element() >= 0.0)
+    });
+    let tri = t.unwrap() as u32;
+    let cl = s.mesh.triangles[tri as usize].map(|i| clip[i as usize]);
+    let mut sum = DVec3::ZERO;
+    for j in 0..3 {
+        for i in 0..3 {
+            let (sx, sy) = (
+                x as f64 + (i as f64 + 0.5) / 3.0,
+                y as f64 + (j as f64 + 0.5) / 3.0,
+            );
+            let b = sample_barycentrics(cl, sx, sy, 16, 16).unwrap();
+            let sp = surface_point(&s, tri, b);
+            let n = perturbed_normal(&s.bump, &sp, Perturbation::ScaleInvariant);
+            sum += shade_with_view(n, sp.p, view_vector(&s.camera, sp.p), sp.uv, &s);
+        }
+    }
+    let k = nine.index(x, y);
+    close(
+        DVec3::from(nine.px[k]),
+        sum / 9.0,
+        1e-12,
+        "mean of 9 samples",
+    );
+    assert!((DVec3::from(nine.px[k]) - DVec3::from(one.px[k])).length() > 1e-4);
+    assert_eq!(nine.normals, one.normals);
+}

@@ -494,6 +494,7 @@ mod tests {
         mesh(MeshSpec::Quad {
             size: 2.0,
             uv_repeat: [1.0, 1.0],
+            subdivisions: 1,
         })
     }
     fn cylinder(slices: u32, stacks: u32) -> Mesh {

@@ -170,6 +170,10 @@ pub enum MeshSpec {
         /// Edge length (> 0).
         size: f64,
         uv_repeat: [f64; 2],
+        /// Grid cells per side, 1..=2048 (default 1: two triangles). A finer grid gives
+        /// per-triangle quantities (e.g. the `Lod` attribute) somewhere to vary.
+        #[serde(default = "one_cell")]
+        subdivisions: u32,
     },
     /// A sphere about the y axis. The poles get one vertex per slice (at the slice's centre
     /// `u`) and one triangle per pole quad.
@@ -269,10 +273,15 @@ impl MeshSpec {
     /// the path (`base_dir` joined with `path`).
     pub fn build(&self, base_dir: &Path) -> Result<Mesh, SceneError> {
         let (mesh, variant) = match *self {
-            MeshSpec::Quad { size, uv_repeat } => {
+            MeshSpec::Quad {
+                size,
+                uv_repeat,
+                subdivisions,
+            } => {
                 check_positive("mesh.Quad.size".into(), size)?;
+                check_count("mesh.Quad.subdivisions".into(), subdivisions, 1, 2048)?;
                 let rep = check_repeat("Quad", uv_repeat)?;
-                (quad(size, rep), "Quad")
+                (quad(size, subdivisions, rep), "Quad")
             }
             MeshSpec::Sphere {
                 radius,
@@ -398,8 +407,12 @@ fn grid(
     mesh
 }
 
-fn quad(size: f64, rep: DVec2) -> Mesh {
-    grid(1, 1, rep, |s, t| {
+fn one_cell() -> u32 {
+    1
+}
+
+fn quad(size: f64, n: u32, rep: DVec2) -> Mesh {
+    grid(n, n, rep, |s, t| {
         (
             DVec3::new(size * (s - 0.5), size * (t - 0.5), 0.0),
             DVec3::Z,
@@ -1250,6 +1263,7 @@ mod tests {
         let m = build(&MeshSpec::Quad {
             size: 2.0,
             uv_repeat: [4.0, 2.0],
+            subdivisions: 1,
         });
         assert_eq!((m.vertices.len(), m.triangles.len()), (4, 2));
         check_frames(&m, 1e-12, "quad");
@@ -1264,6 +1278,21 @@ mod tests {
             assert_eq!(v.pv, DVec3::new(0.0, 1.0, 0.0));
             assert_eq!(v.normal, DVec3::Z);
             assert_eq!(v.uv, DVec2::new((v.pos.x + 1.0) * 2.0, v.pos.y + 1.0));
+        }
+    }
+
+    #[test]
+    fn subdivided_quad_is_the_same_plane() {
+        let m = build(&MeshSpec::Quad {
+            size: 2.0,
+            uv_repeat: [4.0, 2.0],
+            subdivisions: 8,
+        });
+        assert_eq!((m.vertices.len(), m.triangles.len()), (81, 128));
+        check_frames(&m, 1e-12, "quad 8");
+        for v in &m.vertices {
+            assert!(v.pos.x.abs() <= 1.0 && v.pos.y.abs() <= 1.0 && v.pos.z == 0.0);
+            assert!((v.uv - DVec2::new((v.pos.x + 1.0) * 2.0, v.pos.y + 1.0)).length() < 1e-12);
         }
     }
 
@@ -1554,13 +1583,23 @@ mod tests {
                 MeshSpec::Quad {
                     size: 0.0,
                     uv_repeat: [1.0, 1.0],
+                    subdivisions: 1,
                 },
                 "mesh.Quad.size",
             ),
             (
                 MeshSpec::Quad {
                     size: 1.0,
+                    uv_repeat: [1.0, 1.0],
+                    subdivisions: 0,
+                },
+                "mesh.Quad.subdivisions",
+            ),
+            (
+                MeshSpec::Quad {
+                    size: 1.0,
                     uv_repeat: [1.0, f64::NAN],
+                    subdivisions: 1,
                 },
                 "mesh.Quad.uv_repeat[1]",
             ),
