@@ -912,7 +912,7 @@ fn main() {
          160 x 160 perspective view of a 16 x 16-cell plane with a 512 x 512 map of 256 \
          dithered normals, one LOD per triangle (`Lod` attribute), nearest level; the reference \
          shades 1 or 4 x 4 samples per pixel (`reference.samples`).\n\n\
-         | index texture | PSNR dB, 1 sample | PSNR dB, 4 x 4 samples | mean LSB, 4 x 4 | index gates |\n|---|---|---|---|---|\n",
+         | index texture | PSNR dB, 1 sample | PSNR dB, 4 x 4 samples | mean LSB, 4 x 4 | engine gates (GE) |\n|---|---|---|---|---|\n",
     );
     let unwired = [
         "engine.units.qnm.unit.mipmap=None".to_string(),

@@ -172,7 +172,7 @@ pub fn compute(scene: &Scene, attrs: &[AttributeConfig]) -> VertexData {
 /// clip position and uv, `px` the image size in pixels. 0 if a vertex is at or behind the eye
 /// (`w <= 0`) or the triangle has no area on screen or in uv.
 pub fn lod(tri: [(&DVec4, DVec2); 3], px: DVec2, size: u32) -> f64 {
-    if tri.iter().any(|(c, _)| !(c.w > 0.0)) {
+    if tri.iter().any(|(c, _)| c.w.is_nan() || c.w <= 0.0) {
         return 0.0;
     }
     let s: Vec<DVec2> = tri
