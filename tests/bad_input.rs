@@ -186,6 +186,34 @@ config_errors! {
         &["engine.units[1].inputs", "no input port \"b4\"", "expected a, b0, b1, b2, b3"]);
 }
 
+// ---------------------------------------------------------------- wire expressions
+
+config_errors! {
+    wire_concatenation_of_a_missing_signal: ("cat-missing", "dependent-dot-lookup", &[("\"uv\": \"cat(dot.d0, dot.d1)\"", "\"uv\": \"cat(dot.d0, dot.d7)\"")], Some("name: \"light\""),
+        &["engine.units[2].inputs.uv", "no signal \"dot.d7\"", "expected one of", "dot.d0"]);
+    wire_concatenation_of_two_encodings: ("cat-encodings", "dependent-dot-lookup", &[("\"uv\": \"cat(dot.d0, dot.d1)\"", "\"uv\": \"cat(dot.d0, fetch.t.x)\"")], Some("name: \"light\""),
+        &["engine.units[2].inputs.uv", "dot.d0 carries", "fetch.t.x carries", "expected one encoding"]);
+    wire_concatenation_of_too_many_lanes: ("cat-lanes", "dependent-dot-lookup", &[("\"b1\": \"h0\"}", "\"b1\": \"cat(h0, l0)\"}")], Some("name: \"dot\""),
+        &["engine.units[1].inputs.b1", "6 lanes", "expected at most 4"]);
+    wire_concatenation_without_its_parenthesis: ("cat-paren", "dependent-dot-lookup", &[("\"uv\": \"cat(dot.d0, dot.d1)\"", "\"uv\": \"cat(dot.d0, dot.d1\"")], Some("name: \"light\""),
+        &["engine.units[2].inputs.uv", "closing parenthesis"]);
+    wire_swizzle_past_the_lanes: ("swizzle-lane", "cull-fragment", &[("\"v\": \"l0.z\"", "\"v\": \"uv.z\"")], Some("name: \"cull\""),
+        &["engine.units[0].inputs.v", "lane 2 of uv, which carries 2 lanes"]);
+    wire_swizzle_of_mixed_letter_sets: ("swizzle-set", "cull-fragment", &[("\"v\": \"l0.z\"", "\"v\": \"l0.xg\"")], Some("name: \"cull\""),
+        &["engine.units[0].inputs.v", "not a swizzle", "xyzw, rgba or stpq"]);
+    // the wired lanes must match the port: a 2-lane swizzle into a 1-test cull unit
+    wire_swizzle_of_the_wrong_lane_count: ("swizzle-count", "cull-fragment", &[("\"v\": \"l0.z\"", "\"v\": \"l0.zy\"")], Some("name: \"cull\""),
+        &["engine.units[0].inputs.v", "takes 1 lanes", "l0.zy carries 2"]);
+    cull_unit_without_tests: ("cull-empty", "cull-fragment", &[("tests: [Gequal]", "tests: []")], Some("name: \"cull\""),
+        &["engine.units[0].unit", "tests: 0 given", "expected 1 to 4"]);
+    cull_unit_with_an_unknown_test: ("cull-test", "cull-fragment", &[("tests: [Gequal]", "tests: [Greater]")], Some("Greater"),
+        &["engine.units[0].unit", "Greater", "Gequal", "Less"]);
+    texture_address_mode_unknown: ("address", "dependent-dot-lookup", &[("address: Clamp", "address: Border")], Some("Border"),
+        &["engine.units[2].unit", "Border", "Wrap", "Clamp", "Mirror"]);
+    lighting_table_of_a_missing_light: ("lighting-light", "dependent-dot-lookup", &[("LightingTable(size: 256, light: 0)", "LightingTable(size: 256, light: 3)")], Some("name: \"light\""),
+        &["engine.units[2].unit", "light 3", "the scene has 1 lights"]);
+}
+
 #[test]
 fn vector_inputs_of_different_formats() {
     // h0 (wired to dot.b1) gets a 12-bit format; dot.b0 (l0) stays 10 bits

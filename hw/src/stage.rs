@@ -19,7 +19,7 @@
 //! The simulator ticks stages from the last to the first so that a FIFO slot freed in a cycle
 //! can be refilled in the same cycle, and a token pushed in cycle c is seen downstream at c+1.
 
-use crate::unit::{Mode, Unit, Word};
+use crate::unit::{Mode, Unit, Word, MAX_LANES};
 use std::collections::VecDeque;
 
 /// The values one fragment carries through the pipeline.
@@ -30,8 +30,44 @@ pub struct Token {
     /// Pixel position, for the frame buffer and traces.
     pub x: u32,
     pub y: u32,
+    /// The fragment is still alive: a unit that kills fragments (CULL_FRAGMENT, a clip
+    /// plane) clears it. A dead token keeps its place in the pipe (its valid bit stays, as in
+    /// a fixed-function pipe that does not squash), so timing does not depend on data; the
+    /// ROP does not write it.
+    pub live: bool,
     /// One word per signal of the pipeline (see the pipeline's wiring).
     pub slots: Vec<Word>,
+}
+
+/// Where one input port of a stage reads its word in the token: a whole slot (a plain wire) or
+/// lanes gathered from several slots (a wire expression: swizzle, lane select, concatenation;
+/// in hardware, wires only: no logic, no delay).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Wire {
+    /// The whole word of a slot.
+    Slot(usize),
+    /// `lanes` lanes, lane `i` taken from lane `from[i].1` of slot `from[i].0`.
+    Gather {
+        lanes: u8,
+        from: [(u32, u8); MAX_LANES],
+    },
+}
+
+impl Wire {
+    /// The word this wire carries in `slots`.
+    #[inline]
+    pub fn read(&self, slots: &[Word]) -> Word {
+        match *self {
+            Wire::Slot(s) => slots[s],
+            Wire::Gather { lanes, from } => {
+                let mut w = Word::default();
+                for (l, &(s, k)) in w.lanes.iter_mut().zip(&from).take(lanes as usize) {
+                    *l = slots[s as usize].lanes[k as usize];
+                }
+                w
+            }
+        }
+    }
 }
 
 /// A bounded FIFO between stages.
@@ -108,12 +144,14 @@ pub struct Probe {
 pub struct Stage {
     pub name: String,
     unit: Box<dyn Unit>,
-    in_slots: Vec<usize>,
+    in_wires: Vec<Wire>,
     out_slots: Vec<usize>,
     mode: Mode,
     latency: u64,
     interval: u64,
     max_in_flight: usize,
+    /// The unit may kill fragments ([`Unit::can_kill`]).
+    kills: bool,
     in_flight: VecDeque<(u64, Token)>,
     next_accept: u64,
     pub counters: Counters,
@@ -122,29 +160,31 @@ pub struct Stage {
 }
 
 impl Stage {
-    /// Bind `unit` to the token slots feeding its inputs and receiving its outputs.
+    /// Bind `unit` to the wires feeding its inputs and the token slots receiving its outputs.
     pub fn new(
         name: impl Into<String>,
         unit: Box<dyn Unit>,
-        in_slots: Vec<usize>,
+        in_wires: Vec<Wire>,
         out_slots: Vec<usize>,
         mode: Mode,
     ) -> Self {
-        assert_eq!(in_slots.len(), unit.inputs().len());
+        assert_eq!(in_wires.len(), unit.inputs().len());
         assert_eq!(out_slots.len(), unit.outputs().len());
         let latency = unit.latency().max(1) as u64;
         let interval = unit.interval().max(1) as u64;
         let max_in_flight = latency.div_ceil(interval) as usize;
-        let (ni, no) = (in_slots.len(), out_slots.len());
+        let (ni, no) = (in_wires.len(), out_slots.len());
+        let kills = unit.can_kill();
         Stage {
             name: name.into(),
             unit,
-            in_slots,
+            in_wires,
             out_slots,
             mode,
             latency,
             interval,
             max_in_flight,
+            kills,
             in_flight: VecDeque::new(),
             next_accept: 0,
             counters: Counters::default(),
@@ -164,10 +204,13 @@ impl Stage {
 
     /// Evaluate the unit on a token outside of any timing (used for per-frame work and tests).
     pub fn eval_token(&mut self, token: &mut Token) {
-        for (w, &s) in self.ins.iter_mut().zip(&self.in_slots) {
-            *w = token.slots[s];
+        for (w, wire) in self.ins.iter_mut().zip(&self.in_wires) {
+            *w = wire.read(&token.slots);
         }
         self.unit.eval(self.mode, &self.ins, &mut self.outs);
+        if self.kills && !self.unit.live(self.mode, &self.ins, &self.outs) {
+            token.live = false;
+        }
         for (w, &s) in self.outs.iter().zip(&self.out_slots) {
             token.slots[s] = *w;
         }
@@ -204,7 +247,7 @@ impl Stage {
         if can_accept {
             if let Some(mut token) = input.pop() {
                 if probe {
-                    let words = self.in_slots.iter().map(|&s| token.slots[s]).collect();
+                    let words = self.in_wires.iter().map(|w| w.read(&token.slots)).collect();
                     accepted = Some((token.id, words));
                 }
                 self.eval_token(&mut token);
@@ -290,7 +333,13 @@ mod tests {
             .into_iter()
             .enumerate()
             .map(|(i, (l, ii))| {
-                Stage::new(format!("s{i}"), inc(l, ii), vec![0], vec![0], Mode::Exact)
+                Stage::new(
+                    format!("s{i}"),
+                    inc(l, ii),
+                    vec![Wire::Slot(0)],
+                    vec![0],
+                    Mode::Exact,
+                )
             })
             .collect();
         let mut fifos: Vec<Fifo> = (0..=stages.len()).map(|_| Fifo::new(fifo)).collect();
@@ -313,6 +362,7 @@ mod tests {
                     id: next,
                     x: 0,
                     y: 0,
+                    live: true,
                     slots,
                 });
                 next += 1;

@@ -146,6 +146,15 @@ pub trait Unit: Send {
     fn texel_bits(&self) -> Option<u32> {
         None
     }
+    /// Whether the unit may kill fragments (CULL_FRAGMENT, clip planes). Default no.
+    fn can_kill(&self) -> bool {
+        false
+    }
+    /// For a unit that [`Unit::can_kill`]: whether the fragment whose inputs and freshly
+    /// computed outputs are given survives. Called after [`Unit::eval`].
+    fn live(&self, _mode: Mode, _ins: &[Word], _outs: &[Word]) -> bool {
+        true
+    }
     /// Compute the outputs for one set of inputs. `ins` follow [`Unit::inputs`] and `outs`
     /// follow [`Unit::outputs`].
     fn eval(&mut self, mode: Mode, ins: &[Word], outs: &mut [Word]);

@@ -9,6 +9,7 @@ pub mod quantize;
 pub mod raster;
 pub mod reference;
 pub mod report;
+pub mod rop;
 pub mod run;
 pub mod scene;
 pub mod sim;

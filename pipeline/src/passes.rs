@@ -10,8 +10,9 @@
 //!   simulated fragment-stream cycles of the frame (`cycles.total - cycles.frame`: setup,
 //!   scan and one fragment per clock); per-frame work (palette builds) is charged once;
 //! * **geometry**: `triangles x bits_per_triangle` per pass;
-//! * **framebuffer**: the first pass writes colour and reads and writes depth for every
-//!   fragment (the depth test); a blend pass reads and writes colour and reads depth (the
+//! * **framebuffer**: the first pass reads depth for every live fragment (the depth test;
+//!   killed fragments are dropped before it) and writes colour and depth for every one that
+//!   passes (all of them when the rasterizer tested depth early); a blend pass reads and writes colour and reads depth (the
 //!   `GL_EQUAL` test of a re-drawn surface; no depth write).
 
 use serde::Serialize;
@@ -48,7 +49,10 @@ pub struct Frame {
     /// One traversal of every triangle and fragment, cycles.
     pub stream_cycles: u64,
     pub triangles: u64,
+    /// Live fragments at the depth test (killed ones are dropped before it).
     pub fragments: u64,
+    /// Fragments that passed the depth test (all of them with the rasterizer's early test).
+    pub written: u64,
     pub bits_per_triangle: u64,
     /// Bits of the colour written per pixel.
     pub color_bits: u64,
@@ -61,11 +65,23 @@ pub fn passes(f: Frame, blend: Option<BlendEquation>) -> Passes {
         name: name.to_string(),
         cycles: f.stream_cycles,
         geometry_bits: f.triangles * f.bits_per_triangle,
-        fb_read_bits: f.fragments * read,
-        fb_write_bits: f.fragments * write,
+        fb_read_bits: read,
+        fb_write_bits: write,
     };
-    let first = |name: &str| pass(name, f.depth_bits, f.color_bits + f.depth_bits);
-    let blend_pass = |name: &str| pass(name, f.color_bits + f.depth_bits, f.color_bits);
+    let first = |name: &str| {
+        pass(
+            name,
+            f.fragments * f.depth_bits,
+            f.written * (f.color_bits + f.depth_bits),
+        )
+    };
+    let blend_pass = |name: &str| {
+        pass(
+            name,
+            f.fragments * (f.color_bits + f.depth_bits),
+            f.fragments * f.color_bits,
+        )
+    };
     let list = match blend {
         None => vec![first("shade")],
         Some(BlendEquation::Approx) => vec![
@@ -96,6 +112,7 @@ mod tests {
             stream_cycles: 10_000,
             triangles: 100,
             fragments: 9_000,
+            written: 9_000,
             bits_per_triangle: 480,
             color_bits: 24,
             depth_bits: 24,
@@ -118,5 +135,14 @@ mod tests {
         assert_eq!(three.passes.len(), 3);
         assert_eq!(three.total_cycles, 512 + 30_000);
         assert_eq!(three.fb_bits, 9_000 * (72 + 2 * 72));
+        // late depth test: 9,000 live fragments read depth, 6,000 pass and write
+        let late = passes(
+            Frame {
+                written: 6_000,
+                ..frame()
+            },
+            None,
+        );
+        assert_eq!(late.fb_bits, 9_000 * 24 + 6_000 * 48);
     }
 }

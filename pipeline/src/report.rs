@@ -132,8 +132,8 @@ impl Report {
         let c = &self.cycles;
         let _ = writeln!(
             s,
-            "\ncycles {} (frame work {}, {} triangles, {} fragments, {:.3} cycles/fragment)",
-            c.total, c.frame, c.triangles, c.fragments, c.per_fragment
+            "\ncycles {} (frame work {}, {} triangles, {} fragments, {} killed, {:.3} cycles/fragment)",
+            c.total, c.frame, c.triangles, c.fragments, c.killed, c.per_fragment
         );
         let _ = writeln!(
             s,

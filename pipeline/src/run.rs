@@ -146,17 +146,6 @@ impl Front<'_> {
     }
 }
 
-fn paint(w: u32, h: u32, frags: &[Fragment], outputs: &[Word]) -> (Rgb64, Vec<bool>) {
-    let mut img = Rgb64::new(w, h);
-    let mut mask = vec![false; (w * h) as usize];
-    for (f, o) in frags.iter().zip(outputs) {
-        let i = (f.y * w + f.x) as usize;
-        img.px[i] = [0, 1, 2].map(|c| o.lanes[c].x.clamp(0.0, 1.0));
-        mask[i] = true;
-    }
-    (img, mask)
-}
-
 /// A frame ready to simulate: the scene, the geometry engine's output, the rasterizer's
 /// fragments, and the engine built in both modes.
 pub struct Prepared {
@@ -174,15 +163,22 @@ pub fn prepare(l: &Loaded) -> Result<Prepared, InputError> {
     let scene = build_scene(l)?;
     let cfg = &l.config;
     let vertices = attributes::compute(&scene, &cfg.engine.attributes);
-    let raster = raster::rasterize(
+    let bit = engine::build(l, &scene, Mode::BitAccurate)?;
+    let exact = engine::build(l, &scene, Mode::Exact)?;
+    // an engine that may kill fragments needs the depth test after shading
+    let depth = if bit.kills() {
+        raster::DepthTest::Late
+    } else {
+        raster::DepthTest::Early
+    };
+    let raster = raster::rasterize_with(
         &vertices.clip,
         &scene.mesh.triangles,
         scene.width,
         scene.height,
         &cfg.raster,
+        depth,
     );
-    let bit = engine::build(l, &scene, Mode::BitAccurate)?;
-    let exact = engine::build(l, &scene, Mode::Exact)?;
     Ok(Prepared {
         scene,
         vertices,
@@ -222,7 +218,7 @@ impl Prepared {
     }
 
     /// The engine in exact mode over every fragment (untimed: its timing is the same).
-    pub fn evaluate_exact(&mut self) -> Vec<Word> {
+    pub fn evaluate_exact(&mut self) -> Vec<Option<Word>> {
         let front = Front {
             frags: &self.raster.fragments,
             tris: &self.scene.mesh.triangles,
@@ -273,8 +269,11 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
     let (w, h) = (p.scene.width, p.scene.height);
     let frags = &p.raster.fragments;
     let bit = &p.bit;
-    let (img_bit, mask) = paint(w, h, frags, &result.outputs);
-    let (img_exact, _) = paint(w, h, frags, &exact_out);
+    let depth_bits = cfg.raster.depth_bits;
+    let fb = crate::rop::write(w, h, depth_bits, frags, &result.outputs);
+    let fb_exact = crate::rop::write(w, h, depth_bits, frags, &exact_out);
+    let (img_bit, mask) = (&fb.image, &fb.mask);
+    let (img_exact, exact_mask) = (&fb_exact.image, &fb_exact.mask);
     let refimg = p.reference(cfg.reference);
     let rimg = Rgb64 {
         width: w,
@@ -283,9 +282,9 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
     };
     let rmask = &refimg.mask;
     let errors = Errors {
-        total: metrics::compare(&img_bit, &mask, &rimg, rmask),
-        algorithm: metrics::compare(&img_exact, &mask, &rimg, rmask),
-        quantization: metrics::compare(&img_bit, &mask, &img_exact, &mask),
+        total: metrics::compare(img_bit, mask, &rimg, rmask),
+        algorithm: metrics::compare(img_exact, exact_mask, &rimg, rmask),
+        quantization: metrics::compare(img_bit, mask, img_exact, exact_mask),
     };
     let covered = mask.iter().filter(|&&m| m).count() as u64;
     let mismatch = mask.iter().zip(rmask).filter(|(a, b)| a != b).count() as u64;
@@ -322,7 +321,8 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
             frame_cycles: result.cycles.frame,
             stream_cycles: result.cycles.total - result.cycles.frame,
             triangles: result.cycles.triangles,
-            fragments: result.cycles.fragments,
+            fragments: fb.tested,
+            written: fb.written,
             bits_per_triangle: bits,
             color_bits: 3 * u64::from(bit.output.spec.enc.width()),
             depth_bits: u64::from(cfg.raster.depth_bits),
@@ -369,7 +369,7 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
     Ok(RunResult {
         image: img_bit.to_rgb8(),
         reference: rimg.to_rgb8(),
-        error: metrics::heatmap(&img_bit, &mask, &rimg, rmask, 32.0),
+        error: metrics::heatmap(img_bit, mask, &rimg, rmask, 32.0),
         report,
         trace,
     })

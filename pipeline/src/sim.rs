@@ -25,6 +25,8 @@ pub struct CycleReport {
     /// Cycles of per-frame work before the first triangle.
     pub frame: u64,
     pub fragments: u64,
+    /// Fragments killed in the pipe (they flow to the ROP, which does not write them).
+    pub killed: u64,
     pub triangles: u64,
     /// `(total - frame) / fragments`.
     pub per_fragment: f64,
@@ -49,8 +51,8 @@ pub struct Workload<'a> {
 
 /// The result of a timed run.
 pub struct SimResult {
-    /// Output word of each fragment, by fragment index.
-    pub outputs: Vec<Word>,
+    /// Output word of each fragment, by fragment index; `None` for a killed fragment.
+    pub outputs: Vec<Option<Word>>,
     pub cycles: CycleReport,
     /// Probes of the stages, by stage index, for the traced cycles.
     pub probes: Vec<(usize, Probe)>,
@@ -107,7 +109,7 @@ pub fn run(
     let nstage = stages.len();
     let mut fifos: Vec<Fifo> = (0..=nstage).map(|_| Fifo::new(w.fifo_depth)).collect();
     let frame: u64 = stages.iter().map(|s| s.unit().frame_cycles()).sum();
-    let mut outputs = vec![Word::default(); nfrag];
+    let mut outputs = vec![None; nfrag];
     let mut probes = frame_probes(stages, trace);
     let (mut setup_c, mut scan_c) = (Counters::default(), Counters::default());
     let mut next_tri = 0usize;
@@ -115,6 +117,7 @@ pub fn run(
     let mut ready: Option<usize> = None;
     let mut scanning: Option<(usize, usize)> = None; // (triangle, next fragment)
     let mut written = 0usize;
+    let mut killed = 0u64;
     // tokens leaving the frame buffer are reused by the scan converter
     let mut pool: Vec<Token> = Vec::new();
     let mut cycle = frame;
@@ -131,7 +134,8 @@ pub fn run(
         let probe = trace.is_some_and(|(a, b)| cycle >= a && cycle < b);
         // frame buffer write
         if let Some(t) = fifos[nstage].pop() {
-            outputs[t.id as usize] = t.slots[output_slot];
+            outputs[t.id as usize] = t.live.then(|| t.slots[output_slot]);
+            killed += u64::from(!t.live);
             written += 1;
             pool.push(t);
         }
@@ -162,8 +166,10 @@ pub fn run(
                     id: 0,
                     x: 0,
                     y: 0,
+                    live: true,
                     slots: vec![Word::default(); w.slots],
                 });
+                token.live = true;
                 (w.fill_token)(f, &mut token);
                 fifos[0].push(token);
                 scanning = Some((t, k + 1));
@@ -216,6 +222,7 @@ pub fn run(
         total: cycle,
         frame,
         fragments: nfrag as u64,
+        killed,
         triangles: w.triangles.len() as u64,
         per_fragment: if nfrag > 0 {
             work as f64 / nfrag as f64
@@ -239,20 +246,22 @@ pub fn evaluate(
     nfrag: usize,
     slots: usize,
     fill_token: &mut dyn FnMut(usize, &mut Token),
-) -> Vec<Word> {
+) -> Vec<Option<Word>> {
     let mut t = Token {
         id: 0,
         x: 0,
         y: 0,
+        live: true,
         slots: vec![Word::default(); slots],
     };
     (0..nfrag)
         .map(|f| {
+            t.live = true;
             fill_token(f, &mut t);
             for s in stages.iter_mut() {
                 s.eval_token(&mut t);
             }
-            t.slots[output_slot]
+            t.live.then(|| t.slots[output_slot])
         })
         .collect()
 }

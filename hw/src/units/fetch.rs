@@ -1,6 +1,8 @@
 //! Texel fetch and filter unit: a 2D texture of 1 to 4 lane texels (a normal map, a height
 //! map, a colour texture) read at the fragment's texture coordinate with nearest or bilinear
-//! filtering and wrap addressing.
+//! filtering and wrap, clamp-to-edge or mirrored-repeat addressing ([`Address`]), at signed
+//! or unsigned coordinates (a dependent lookup reads coordinates that an earlier unit computed,
+//! such as two dot products in [-1, 1]).
 //!
 //! Models the normal-map lookup of the SGI engine (Gouraud bump paper §3.4: "a perturbed
 //! normal vector field is needed as a bump-normal map (three component texture map)") and the
@@ -26,6 +28,39 @@ pub enum Filter {
     Bilinear,
 }
 
+/// What happens to a texel address outside the texture, per axis (OpenGL's texture wrap
+/// modes: REPEAT, CLAMP_TO_EDGE, MIRRORED_REPEAT).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, Default)]
+pub enum Address {
+    /// The texture repeats: texel `i mod n`.
+    #[default]
+    Wrap,
+    /// The edge texel repeats: texel `clamp(i, 0, n - 1)`; a coordinate of exactly 1 reads
+    /// the last texel (as lookup tables indexed by a dot product need).
+    Clamp,
+    /// The texture repeats mirrored every other period.
+    Mirror,
+}
+
+impl Address {
+    /// Texel index along an axis of `n` texels.
+    #[inline]
+    pub fn apply(self, i: i64, n: i64) -> i64 {
+        match self {
+            Address::Wrap => i.rem_euclid(n),
+            Address::Clamp => i.clamp(0, n - 1),
+            Address::Mirror => {
+                let m = i.rem_euclid(2 * n);
+                if m >= n {
+                    2 * n - 1 - m
+                } else {
+                    m
+                }
+            }
+        }
+    }
+}
+
 /// Texture contents: `width * height` texels of `lanes` real values each, row-major, row 0
 /// at v in [0, 1/height).
 #[derive(Debug, Clone)]
@@ -49,9 +84,16 @@ pub struct TexFetch {
     log_w: u32,
     log_h: u32,
     palette: Option<u32>,
+    address: [Address; 2],
 }
 
 impl TexFetch {
+    /// Address modes along u and v (default wrap on both).
+    pub fn with_address(mut self, u: Address, v: Address) -> Self {
+        self.address = [u, v];
+        self
+    }
+
     /// Store the texture as indices into a palette of `entries` texels (Ernst et al. §6:
     /// "The memory requirements for the bump maps can be minimized by using palletized bumps.
     /// With eight bit addressing a table lookup (bump) texture, up to 256 surface orientations
@@ -127,6 +169,7 @@ impl TexFetch {
             log_w,
             log_h,
             palette: None,
+            address: [Address::Wrap; 2],
         })
     }
 
@@ -137,9 +180,10 @@ impl TexFetch {
         }
     }
 
-    fn wrap(&self, i: i64, j: i64) -> usize {
+    /// Index of texel (i, j) after addressing.
+    fn texel_index(&self, i: i64, j: i64) -> usize {
         let (w, h) = (self.tex.width as i64, self.tex.height as i64);
-        (j.rem_euclid(h) * w + i.rem_euclid(w)) as usize
+        (self.address[1].apply(j, h) * w + self.address[0].apply(i, w)) as usize
     }
 
     /// Texel position along one axis in fixed point: `s = c * size - 1/2` (bilinear) or
@@ -155,7 +199,7 @@ impl TexFetch {
 
     fn eval_exact(&self, u: f64, v: f64) -> [f64; MAX_LANES] {
         let (w, h) = (self.tex.width as f64, self.tex.height as f64);
-        let get = |i: i64, j: i64| self.tex.values[self.wrap(i, j)];
+        let get = |i: i64, j: i64| self.tex.values[self.texel_index(i, j)];
         match self.filter {
             Filter::Nearest => get((u * w).floor() as i64, (v * h).floor() as i64),
             Filter::Bilinear => {
@@ -268,7 +312,7 @@ impl Unit for TexFetch {
                 let (i, fu) = self.axis(uv.lanes[0].raw, frac, self.log_w);
                 let (j, fv) = self.axis(uv.lanes[1].raw, frac, self.log_h);
                 let code = |i: i64, j: i64, l: usize| {
-                    Acc::from_code(self.codes[self.wrap(i, j)][l], &self.texel)
+                    Acc::from_code(self.codes[self.texel_index(i, j)][l], &self.texel)
                 };
                 let mut res = [0i64; MAX_LANES];
                 match self.filter {
@@ -350,6 +394,74 @@ mod tests {
                 assert!(d <= bound + 1e-12, "k {k} lane {l}: {d} > {bound}");
             }
         }
+    }
+
+    #[test]
+    fn address_modes_fold_every_index_of_three_periods() {
+        for n in [1i64, 2, 4, 8] {
+            for i in -3 * n..3 * n {
+                let w = Address::Wrap.apply(i, n);
+                assert_eq!(w, ((i % n) + n) % n);
+                assert_eq!(Address::Clamp.apply(i, n), i.max(0).min(n - 1));
+                // mirrored repeat: 0 1 .. n-1 n-1 .. 1 0 0 1 ..
+                let period = i.div_euclid(n);
+                let m = Address::Mirror.apply(i, n);
+                assert_eq!(
+                    m,
+                    if period % 2 == 0 { w } else { n - 1 - w },
+                    "n {n} i {i}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn signed_coordinates_match_exact_in_every_address_mode() {
+        let uv = Encoding::fixed(Format::s(16, 12));
+        let texel = Encoding::texel(Codec::UnitSigned, true, 8);
+        let out = Encoding::fixed(Format::s(12, 10));
+        for a in [Address::Wrap, Address::Clamp, Address::Mirror] {
+            for filter in [Filter::Nearest, Filter::Bilinear] {
+                let mut f = TexFetch::new(uv, ramp(8, 4), texel, filter, 8, 4, 2, out)
+                    .unwrap()
+                    .with_address(a, a);
+                let (mut ob, mut oe) = ([Word::default()], [Word::default()]);
+                for k in 0..1500 {
+                    let (u, v) = (
+                        (k * 37 % 3000) as f64 / 1000.0 - 1.5,
+                        (k * 91 % 3000) as f64 / 1000.0 - 1.5,
+                    );
+                    // on the grid of the coordinate format, so both modes read one position
+                    let w = Word::quantize(&uv, &[u, v]);
+                    f.eval(Mode::BitAccurate, &[w], &mut ob);
+                    f.eval(Mode::Exact, &[w], &mut oe);
+                    for l in 0..3 {
+                        let step = if l == 2 || filter == Filter::Nearest {
+                            0.0
+                        } else {
+                            1.0
+                        };
+                        let bound = texel.max_error() + step * 2f64.powi(-8) + out.max_error();
+                        let d = (ob[0].lanes[l].x - oe[0].lanes[l].x).abs();
+                        assert!(d <= bound + 1e-12, "{a:?} {filter:?} k {k} lane {l}: {d}");
+                    }
+                }
+            }
+        }
+        // clamp: u = 1 reads the last column and u = -0.3 the first; wrap: u = 1 reads the first
+        let near = |a: Address, u: f64| {
+            let mut f = TexFetch::new(uv, ramp(8, 4), texel, Filter::Nearest, 8, 1, 1, out)
+                .unwrap()
+                .with_address(a, a);
+            let mut o = [Word::default()];
+            f.eval(Mode::BitAccurate, &[Word::quantize(&uv, &[u, 0.1])], &mut o);
+            o[0].lanes[0].x
+        };
+        assert!((near(Address::Clamp, 1.0) - 0.875).abs() < 0.01);
+        assert!(near(Address::Clamp, -0.3).abs() < 0.01);
+        assert!(near(Address::Wrap, 1.0).abs() < 0.01);
+        assert!((near(Address::Mirror, -0.01) - 0.0).abs() < 0.01);
+        assert!((near(Address::Mirror, 1.01) - 0.875).abs() < 0.01);
     }
 
     #[test]

@@ -9,7 +9,7 @@ pub mod shade;
 
 pub use dot3::{Clamp, Dot3};
 pub use emboss::EmbossFilter;
-pub use fetch::{Filter, TexFetch, Texels};
+pub use fetch::{Address, Filter, TexFetch, Texels};
 pub use normalize::Normalize;
 pub use power::PowerTable;
 pub use shade::{Shade, ShadeInputs, ShadeParams};
@@ -25,5 +25,7 @@ pub mod palette_builder;
 pub use palette_builder::{BuilderFormats, Light, LightingFn, PaletteBuilder};
 pub mod quantized_fetch;
 pub use quantized_fetch::QuantizedFetch;
+pub mod cull;
+pub use cull::{CullFragment, CullTest};
 pub mod fb_blend;
 pub use fb_blend::{BlendEquation, FbBlend};

@@ -25,7 +25,12 @@ pub fn apply(config: &Config, sets: &[String]) -> Result<Config, InputError> {
             return Err(err(path, "empty path: expected path.to.field=value".into()));
         }
         let node = walk(&mut tree, &segments).map_err(|m| err(path, m))?;
-        *node = value;
+        // `None` over an enum variant (a string in the tree, e.g. `raster.cull`) is the
+        // variant named None, not an absent option
+        *node = match (&*node, value) {
+            (Value::String(_), Value::Null) => Value::String("None".into()),
+            (_, v) => v,
+        };
     }
     let result: Result<Config, _> = serde_path_to_error::deserialize(tree);
     result.map_err(|e| InputError::new("--set", e.path().to_string(), e.into_inner().to_string()))
@@ -267,6 +272,18 @@ fn step<'a>(node: &'a mut Value, seg: &str) -> Option<&'a mut Value> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn none_over_an_enum_variant_is_the_variant_named_none() {
+        let text = std::fs::read_to_string(
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../configs/cull-fragment.ron"),
+        )
+        .unwrap();
+        let c = super::super::parse(&text, "cull-fragment.ron").unwrap();
+        assert_eq!(c.raster.cull, crate::raster::Cull::Back);
+        let set = apply(&c, &["raster.cull=None".to_string()]).unwrap();
+        assert_eq!(set.raster.cull, crate::raster::Cull::None);
+    }
 
     #[test]
     fn paths_split_on_dots_and_brackets() {

@@ -5,11 +5,13 @@
 //! independent units) as a chain of clocked stages. Every signal has a slot in the token a
 //! fragment carries down the chain, so a unit may read any earlier unit's output (a dependent
 //! lookup, a texture shader stage reading an earlier stage): this is how fixed-function pipes
-//! carry values in their pipeline registers. See docs/ARCHITECTURE.md.
+//! carry values in their pipeline registers. An input may also read a wire expression over
+//! earlier signals (swizzles, lane selects, concatenation: [`wire`]). See docs/ARCHITECTURE.md.
 
 pub mod attributes;
 pub mod palette;
 pub mod units;
+pub mod wire;
 
 use crate::config::{AttributeConfig, InputError, Loaded};
 use crate::raster::packet::{Field, PacketLayout};
@@ -41,6 +43,11 @@ pub struct Engine {
 impl Engine {
     pub fn slots(&self) -> usize {
         self.signals.len()
+    }
+
+    /// Whether a unit may kill fragments (then the depth test must follow shading).
+    pub fn kills(&self) -> bool {
+        self.stages.iter().any(|s| s.unit().can_kill())
     }
 
     /// Triangle packet from geometry to rasterizer: per vertex x, y, z and 1/w as 32-bit words
@@ -142,6 +149,7 @@ pub fn build(l: &Loaded, scene: &Scene, mode: Mode) -> Result<Engine, InputError
             }
         }
         let mut ins = BTreeMap::new();
+        let mut wires = BTreeMap::new();
         for port in &names {
             let src = u.inputs.get(port).ok_or_else(|| {
                 err(
@@ -152,44 +160,36 @@ pub fn build(l: &Loaded, scene: &Scene, mode: Mode) -> Result<Engine, InputError
                     ),
                 )
             })?;
-            let sig = signals.iter().find(|s| &s.name == src).ok_or_else(|| {
-                let known: Vec<&str> = signals.iter().map(|s| s.name.as_str()).collect();
-                err(
-                    &format!("inputs.{port}"),
-                    format!("no signal {src:?}: expected one of {}", known.join(", ")),
-                )
-            })?;
+            let r = wire::resolve(src, &signals).map_err(|m| err(&format!("inputs.{port}"), m))?;
             if let Some(&w) = u.expect.get(port) {
-                if w != sig.spec.enc.width() {
-                    return Err(err(&format!("expect.{port}"), format!("port width mismatch: {}.{port} expects {w} bits per lane, {src} carries {}", u.name, sig.spec.enc.width())));
+                if w != r.spec.enc.width() {
+                    return Err(err(&format!("expect.{port}"), format!("port width mismatch: {}.{port} expects {w} bits per lane, {src} carries {}", u.name, r.spec.enc.width())));
                 }
             }
-            ins.insert(port.clone(), sig.spec.clone());
+            ins.insert(port.clone(), r.spec.clone());
+            wires.insert(port.clone(), r);
         }
         let unit = u.unit.build(&ins, &ctx).map_err(|m| err("unit", m))?;
-        let mut in_slots = Vec::new();
+        let mut in_wires = Vec::new();
         for p in unit.inputs() {
             let src = &u.inputs[&p.name];
-            let sig = signals
-                .iter()
-                .find(|s| &s.name == src)
-                .expect("resolved above");
-            if sig.spec.lanes != p.lanes {
+            let r = &wires[&p.name];
+            if r.spec.lanes != p.lanes {
                 return Err(err(
                     &format!("inputs.{}", p.name),
                     format!(
                         "port {} takes {} lanes, {src} carries {}",
-                        p.name, p.lanes, sig.spec.lanes
+                        p.name, p.lanes, r.spec.lanes
                     ),
                 ));
             }
-            if sig.spec.enc != p.enc {
+            if r.spec.enc != p.enc {
                 return Err(err(
                     &format!("inputs.{}", p.name),
-                    format!("port width mismatch: {}.{} is {} ({} bits per lane) but {src} carries {} ({} bits); every vector input of one unit must share a format", u.name, p.name, p.enc, p.enc.width(), sig.spec.enc, sig.spec.enc.width()),
+                    format!("port width mismatch: {}.{} is {} ({} bits per lane) but {src} carries {} ({} bits); every vector input of one unit must share a format", u.name, p.name, p.enc, p.enc.width(), r.spec.enc, r.spec.enc.width()),
                 ));
             }
-            in_slots.push(sig.slot);
+            in_wires.push(r.wire);
         }
         let mut out_slots = Vec::new();
         for p in unit.outputs() {
@@ -205,7 +205,7 @@ pub fn build(l: &Loaded, scene: &Scene, mode: Mode) -> Result<Engine, InputError
             texels.push((u.name.clone(), bits));
         }
         gates.push((u.name.clone(), unit.gates(&l.config.cost)));
-        stages.push(Stage::new(u.name.clone(), unit, in_slots, out_slots, mode));
+        stages.push(Stage::new(u.name.clone(), unit, in_wires, out_slots, mode));
     }
     let output = signals
         .iter()
@@ -254,6 +254,7 @@ fn topo_order(l: &Loaded) -> Result<Vec<usize>, InputError> {
         .map(|u| {
             u.inputs
                 .values()
+                .flat_map(|e| wire::parts(e))
                 .filter_map(|s| {
                     s.split_once('.')
                         .and_then(|(unit, _)| index.get(unit).copied())

@@ -6,9 +6,9 @@
 
 use crate::scene::{NormalMethod, Scene};
 use bumpsim_hw::units::{
-    BlendKind, BumpBlend, BumpBlendParams, Clamp, Dot3, EmbossFilter, Filter, LightState, Modulate,
-    Normalize, PowerTable, Selective, Shade, ShadeInputs, ShadeParams, SpecGen, TexFetch, Texels,
-    VecSource,
+    Address, BlendKind, BumpBlend, BumpBlendParams, Clamp, CullFragment, CullTest, Dot3,
+    EmbossFilter, Filter, LightState, Modulate, Normalize, PowerTable, Selective, Shade,
+    ShadeInputs, ShadeParams, SpecGen, TexFetch, Texels, VecSource,
 };
 use bumpsim_hw::units::{BuilderFormats, LightingFn, PaletteBuilder, QuantizedFetch};
 use bumpsim_hw::{Codec, Encoding, Format, PortSpec, Unit};
@@ -29,8 +29,18 @@ pub enum TextureSource {
     /// (`scene/bake.rs`): a bump map "containing the computed surface normals ... plus the
     /// bump-structure" (Ernst et al. §5.4.2, Fig. 8).
     ObjectNormals { size: u32 },
+    /// A lighting table for a dependent lookup at (N·L, N·H) of light `light` (the
+    /// DOT_PRODUCT_TEXTURE_2D use of NV20 texture shaders): texel (i, j) holds the scene
+    /// material's Blinn-Phong colour at s = (i + 1/2) / size, t = (j + 1/2) / size,
+    /// `ambient + color (diffuse s + specular t^shininess)` (no specular where s is 0), each
+    /// channel clamped to [0, 1]. Read it with `address: Clamp` so that s = 1 reads the last
+    /// column.
+    LightingTable { size: u32, light: usize },
 }
 
+fn is_wrap(a: &Address) -> bool {
+    *a == Address::Wrap
+}
 fn default_ports() -> u32 {
     4
 }
@@ -100,8 +110,16 @@ pub enum UnitSpec {
         /// itself quantized to them; each texel takes the nearest entry.
         #[serde(default)]
         palette: Option<u32>,
+        /// Addressing outside [0, 1) on both axes (default wrap; left out of the canonical
+        /// config, and so of the config hash, when it is the default).
+        #[serde(default, skip_serializing_if = "is_wrap")]
+        address: Address,
         out: Encoding,
     },
+    /// Conditional fragment culling (NV_texture_shader CULL_FRAGMENT,
+    /// `hw/src/units/cull.rs`): one test per lane of `v` against zero; the fragment is killed
+    /// when any fails. An engine with this unit tests depth after shading.
+    CullFragment { tests: Vec<CullTest> },
     /// Dot products of `a` with `count` vectors `b0..` (`hw/src/units/dot3.rs`).
     Dot3 {
         count: u32,
@@ -288,7 +306,7 @@ impl UnitSpec {
                 .chain(seq("b", *count))
                 .collect(),
             UnitSpec::PowerTable { count, .. } => seq("x", *count),
-            UnitSpec::Normalize { .. } => vec!["v".into()],
+            UnitSpec::Normalize { .. } | UnitSpec::CullFragment { .. } => vec!["v".into()],
             UnitSpec::Shade {
                 specular,
                 base,
@@ -326,6 +344,7 @@ impl UnitSpec {
                 ports,
                 mem_latency,
                 palette,
+                address,
                 out,
             } => {
                 let uv = input(ins, "uv")?.enc;
@@ -349,11 +368,15 @@ impl UnitSpec {
                     *ports,
                     *mem_latency,
                     *out,
-                )?;
+                )?
+                .with_address(*address, *address);
                 Box::new(match palette {
                     Some(n) => unit.with_palette(*n),
                     None => unit,
                 })
+            }
+            UnitSpec::CullFragment { tests } => {
+                Box::new(CullFragment::new(input(ins, "v")?.enc, tests)?)
             }
             UnitSpec::Dot3 {
                 count,
@@ -853,6 +876,39 @@ fn texels(source: &TextureSource, ctx: &BuildCtx) -> Result<Texels, String> {
                 crate::reference::Perturbation::ScaleInvariant,
             );
             let values = b.map.texels.iter().map(|n| [n.x, n.y, n.z, 0.0]).collect();
+            Ok(Texels {
+                width: size,
+                height: size,
+                lanes: 3,
+                values,
+            })
+        }
+        TextureSource::LightingTable { size, light } => {
+            check_size(size)?;
+            let scene = ctx.scene;
+            let l = scene.lights.get(light).ok_or_else(|| {
+                format!(
+                    "light {light}: the scene has {} lights: expected an index below that",
+                    scene.lights.len()
+                )
+            })?;
+            let m = &scene.material;
+            let color = l.color();
+            let n = f64::from(size);
+            let values = (0..size)
+                .flat_map(|j| (0..size).map(move |i| (i, j)))
+                .map(|(i, j)| {
+                    let (s, t) = ((f64::from(i) + 0.5) / n, (f64::from(j) + 0.5) / n);
+                    let spec = if s > 0.0 { t.powf(m.shininess) } else { 0.0 };
+                    let mut v = [0.0; 4];
+                    for c in 0..3 {
+                        v[c] = (m.ambient[c]
+                            + color[c] * (m.diffuse[c] * s + m.specular[c] * spec))
+                            .clamp(0.0, 1.0);
+                    }
+                    v
+                })
+                .collect();
             Ok(Texels {
                 width: size,
                 height: size,

@@ -173,6 +173,29 @@ pub fn rasterize(
     height: u32,
     cfg: &RasterConfig,
 ) -> RasterOutput {
+    rasterize_with(clip, tris, width, height, cfg, DepthTest::Early)
+}
+
+/// Where the depth test happens.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DepthTest {
+    /// In the rasterizer, before shading ([`rasterize`]): hidden samples are never shaded.
+    Early,
+    /// In the ROP, after shading: every covered sample is emitted (none is depth-rejected
+    /// here). Needed when the engine may kill fragments, since a killed fragment must not
+    /// have updated the depth buffer (hardware turns early Z off for such programs).
+    Late,
+}
+
+/// [`rasterize`] with the depth test `depth`.
+pub fn rasterize_with(
+    clip: &[DVec4],
+    tris: &[[u32; 3]],
+    width: u32,
+    height: u32,
+    cfg: &RasterConfig,
+    depth: DepthTest,
+) -> RasterOutput {
     let sub = cfg.subpixel_bits.min(8);
     let depth_bits = cfg.depth_bits.clamp(16, 32);
     let mut out = RasterOutput::default();
@@ -225,7 +248,11 @@ pub fn rasterize(
                 Setup::Culled => 2,
                 Setup::Ready(ts) => {
                     scan::scan(&ts, depth_bits, |s| {
-                        if zbuf.test_and_set(s.x, s.y, s.depth) {
+                        let pass = match depth {
+                            DepthTest::Early => zbuf.test_and_set(s.x, s.y, s.depth),
+                            DepthTest::Late => s.x < width && s.y < height,
+                        };
+                        if pass {
                             stats.fragments = stats.fragments.saturating_add(1);
                             out.fragments.push(Fragment {
                                 x: s.x,
