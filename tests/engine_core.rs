@@ -97,3 +97,13 @@ fn killed_fragments_are_not_written_and_reveal_what_is_behind() {
         back.report.image.covered_pixels
     );
 }
+
+#[test]
+fn a_prepared_frame_simulates_the_same_twice() {
+    // the stages' timing state is reset per frame (the benchmark simulates one frame often)
+    let l = load("gouraud-quad-bandwidth", &[]);
+    let mut p = run::prepare(&l).unwrap();
+    let (a, b) = (p.simulate(None), p.simulate(None));
+    assert_eq!(a.cycles, b.cycles);
+    assert_eq!(a.outputs, b.outputs);
+}

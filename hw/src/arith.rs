@@ -89,7 +89,11 @@ impl Acc {
 
     /// The real value (for tests and traces; rounding only beyond 53 bits).
     pub fn to_f64(self) -> f64 {
-        self.raw as f64 * (-(self.frac as f64)).exp2()
+        if self.frac <= 1022 {
+            self.raw as f64 * crate::format::pow2(-(self.frac as i32))
+        } else {
+            self.raw as f64 * (-(self.frac as f64)).exp2()
+        }
     }
 
     /// Round to an integer with mode `q`.

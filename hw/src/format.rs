@@ -160,8 +160,9 @@ impl Format {
         }
     }
     /// One least significant bit as a real number.
+    #[inline]
     pub fn lsb(&self) -> f64 {
-        (-(self.frac as f64)).exp2()
+        pow2(-(self.frac as i32))
     }
     /// Real value of a raw word in the plain fixed-point reading.
     pub fn to_f64(&self, raw: i64) -> f64 {
@@ -177,14 +178,23 @@ impl Format {
         // Beyond +-2^100 every mode overflows; clamp so the integer conversion is exact.
         let limit = 2f64.powi(100);
         let scaled = scaled.clamp(-limit, limit);
-        let fl = scaled.floor();
+        // floor through i64 where that is exact (the common case: `f64::floor` and
+        // f64 -> i128 are library calls on the baseline x86-64 target)
+        let (fl, base) = if scaled.abs() < 4.0e18 {
+            let t = scaled as i64; // toward zero
+            let t = if (t as f64) > scaled { t - 1 } else { t };
+            (t as f64, t as i128)
+        } else {
+            let fl = scaled.floor();
+            (fl, fl as i128)
+        };
         let rem = scaled - fl; // exact: both are dyadic with the same exponent range
-        let base = fl as i128;
         let rounded = round_with_remainder(base, rem_class(rem), q);
         self.overflow(rounded, o)
     }
+    #[inline]
     fn frac_scale(&self) -> f64 {
-        (self.frac as f64).exp2()
+        pow2(self.frac as i32)
     }
     /// Cast a raw value that has `from_frac` fraction bits into this format.
     pub fn cast(&self, raw: i128, from_frac: u32, q: Quant, o: Overflow) -> i64 {
@@ -301,6 +311,13 @@ fn round_with_remainder(floor: i128, rem: Rem, q: Quant) -> i128 {
             Rem::Zero => floor,
         },
     }
+}
+
+/// `2^k` for `k` in -1022..=1023, exactly (built from its bits: no libm call).
+#[inline]
+pub fn pow2(k: i32) -> f64 {
+    debug_assert!((-1022..=1023).contains(&k));
+    f64::from_bits(((1023 + k) as u64) << 52)
 }
 
 /// Shift `v` right by `by` bits, rounding the discarded bits by `q`.

@@ -10,5 +10,5 @@ pub mod units;
 
 pub use format::{Codec, Encoding, Format, Overflow, Quant};
 pub use gates::{CostTable, GateBudget};
-pub use stage::{Counters, CycleState, Fifo, Probe, Stage, Token, Wire};
+pub use stage::{Counters, CycleState, Fifo, Probe, Scratch, Stage, Token, Wire};
 pub use unit::{Mode, PortSpec, Sample, Unit, Word, MAX_LANES};

@@ -3,13 +3,14 @@
 //!
 //! A [`Stage`] binds a [`Unit`] to slots of a [`Token`] (the values a fragment carries down
 //! the pipeline: interpolated attributes and every unit's outputs, like the pipeline
-//! registers of a fixed-function pipe) and moves tokens from an input FIFO to an output
-//! FIFO, clock by clock:
+//! registers of a fixed-function pipe). Function and timing are apart, since timing does not
+//! depend on data: [`Stage::eval_token`] computes a token's outputs, and [`Stage::tick`]
+//! moves fragment ids from an input FIFO to an output FIFO, clock by clock:
 //!
 //! * **accept**: when the cycle is at least `next_accept`, fewer than
 //!   `ceil(latency / interval)` tokens are in flight, and the input FIFO is not empty, the
-//!   stage pops a token, evaluates the unit on it (function first, timing separately) and
-//!   schedules its result `latency` cycles later. The next accept is `interval` cycles later.
+//!   stage pops a fragment and schedules its result `latency` cycles later. The next accept
+//!   is `interval` cycles later.
 //! * **emit**: a result whose cycle has come moves to the output FIFO if it has room;
 //!   otherwise the stage stalls and, once its pipeline is full, stops accepting, so
 //!   back-pressure reaches the units before it.
@@ -70,10 +71,11 @@ impl Wire {
     }
 }
 
-/// A bounded FIFO between stages.
+/// A bounded FIFO between stages, holding the ids of the fragments in it (their values live
+/// in the function model: see [`Stage`]).
 #[derive(Debug, Clone)]
 pub struct Fifo {
-    items: VecDeque<Token>,
+    items: VecDeque<u64>,
     depth: usize,
 }
 
@@ -87,11 +89,11 @@ impl Fifo {
     pub fn has_room(&self) -> bool {
         self.items.len() < self.depth
     }
-    pub fn push(&mut self, t: Token) {
+    pub fn push(&mut self, id: u64) {
         debug_assert!(self.has_room());
-        self.items.push_back(t);
+        self.items.push_back(id);
     }
-    pub fn pop(&mut self) -> Option<Token> {
+    pub fn pop(&mut self) -> Option<u64> {
         self.items.pop_front()
     }
     pub fn is_empty(&self) -> bool {
@@ -130,6 +132,9 @@ impl Counters {
 }
 
 /// A probe of one stage in one cycle: its state and the port values that moved.
+///
+/// [`Stage::tick`] gives the fragment ids with empty word lists; the simulator fills them in
+/// from the function model ([`Stage::input_words`], [`Stage::output_words`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Probe {
     pub cycle: u64,
@@ -152,9 +157,15 @@ pub struct Stage {
     max_in_flight: usize,
     /// The unit may kill fragments ([`Unit::can_kill`]).
     kills: bool,
-    in_flight: VecDeque<(u64, Token)>,
+    /// (cycle the result is ready, fragment id).
+    in_flight: VecDeque<(u64, u64)>,
     next_accept: u64,
     pub counters: Counters,
+}
+
+/// Port buffers for [`Stage::eval_token`], one per thread that evaluates tokens.
+#[derive(Debug, Clone, Default)]
+pub struct Scratch {
     ins: Vec<Word>,
     outs: Vec<Word>,
 }
@@ -173,7 +184,6 @@ impl Stage {
         let latency = unit.latency().max(1) as u64;
         let interval = unit.interval().max(1) as u64;
         let max_in_flight = latency.div_ceil(interval) as usize;
-        let (ni, no) = (in_wires.len(), out_slots.len());
         let kills = unit.can_kill();
         Stage {
             name: name.into(),
@@ -188,8 +198,6 @@ impl Stage {
             in_flight: VecDeque::new(),
             next_accept: 0,
             counters: Counters::default(),
-            ins: vec![Word::default(); ni],
-            outs: vec![Word::default(); no],
         }
     }
 
@@ -197,27 +205,49 @@ impl Stage {
         self.unit.as_ref()
     }
 
+    /// Clear the timing state (in-flight work, the next accept, the counters) for a new frame.
+    pub fn reset(&mut self) {
+        self.in_flight.clear();
+        self.next_accept = 0;
+        self.counters = Counters::default();
+    }
+
     /// Whether the stage holds no work.
     pub fn is_empty(&self) -> bool {
         self.in_flight.is_empty()
     }
 
-    /// Evaluate the unit on a token outside of any timing (used for per-frame work and tests).
-    pub fn eval_token(&mut self, token: &mut Token) {
-        for (w, wire) in self.ins.iter_mut().zip(&self.in_wires) {
-            *w = wire.read(&token.slots);
-        }
-        self.unit.eval(self.mode, &self.ins, &mut self.outs);
-        if self.kills && !self.unit.live(self.mode, &self.ins, &self.outs) {
+    /// The input port values of the unit for `token`.
+    pub fn input_words(&self, token: &Token) -> Vec<Word> {
+        self.in_wires.iter().map(|w| w.read(&token.slots)).collect()
+    }
+
+    /// The output port values of the unit in `token` (after [`Stage::eval_token`]).
+    pub fn output_words(&self, token: &Token) -> Vec<Word> {
+        self.out_slots.iter().map(|&s| token.slots[s]).collect()
+    }
+
+    /// The function: evaluate the unit on a token, writing its output slots (and clearing
+    /// the live bit if the unit kills the fragment). Timing is [`Stage::tick`]'s. Units do
+    /// not change when they evaluate, so tokens may be evaluated in any order, on any thread
+    /// (each with its own `scratch`).
+    pub fn eval_token(&self, token: &mut Token, scratch: &mut Scratch) {
+        let Scratch { ins, outs } = scratch;
+        ins.clear();
+        ins.extend(self.in_wires.iter().map(|w| w.read(&token.slots)));
+        outs.clear();
+        outs.resize(self.out_slots.len(), Word::default());
+        self.unit.eval(self.mode, ins, outs);
+        if self.kills && !self.unit.live(self.mode, ins, outs) {
             token.live = false;
         }
-        for (w, &s) in self.outs.iter().zip(&self.out_slots) {
+        for (w, &s) in outs.iter().zip(&self.out_slots) {
             token.slots[s] = *w;
         }
     }
 
-    /// Advance one clock: emit into `output`, accept from `input`. Returns a probe when
-    /// `probe` is set.
+    /// Advance one clock: emit into `output`, accept from `input` (FIFOs of fragment ids).
+    /// Returns a probe, without port values, when `probe` is set.
     pub fn tick(
         &mut self,
         cycle: u64,
@@ -227,15 +257,14 @@ impl Stage {
     ) -> Option<Probe> {
         let mut stalled = false;
         let mut emitted = None;
-        if let Some((ready, _)) = self.in_flight.front() {
-            if *ready <= cycle {
+        if let Some(&(ready, id)) = self.in_flight.front() {
+            if ready <= cycle {
                 if output.has_room() {
-                    let (_, token) = self.in_flight.pop_front().expect("front exists");
+                    self.in_flight.pop_front();
                     if probe {
-                        let words = self.out_slots.iter().map(|&s| token.slots[s]).collect();
-                        emitted = Some((token.id, words));
+                        emitted = Some((id, Vec::new()));
                     }
-                    output.push(token);
+                    output.push(id);
                 } else {
                     stalled = true;
                 }
@@ -245,13 +274,11 @@ impl Stage {
         let mut did_accept = false;
         let can_accept = cycle >= self.next_accept && self.in_flight.len() < self.max_in_flight;
         if can_accept {
-            if let Some(mut token) = input.pop() {
+            if let Some(id) = input.pop() {
                 if probe {
-                    let words = self.in_wires.iter().map(|w| w.read(&token.slots)).collect();
-                    accepted = Some((token.id, words));
+                    accepted = Some((id, Vec::new()));
                 }
-                self.eval_token(&mut token);
-                self.in_flight.push_back((cycle + self.latency, token));
+                self.in_flight.push_back((cycle + self.latency, id));
                 self.next_accept = cycle + self.interval;
                 self.counters.accepted += 1;
                 did_accept = true;
@@ -311,7 +338,7 @@ mod tests {
         fn gates(&self, _: &CostTable) -> GateBudget {
             GateBudget::new()
         }
-        fn eval(&mut self, _: Mode, ins: &[Word], outs: &mut [Word]) {
+        fn eval(&self, _: Mode, ins: &[Word], outs: &mut [Word]) {
             outs[0] = ins[0];
             outs[0].lanes[0].x += 1.0;
         }
@@ -327,7 +354,8 @@ mod tests {
     }
 
     /// Run `n` tokens through a chain of stages; returns the cycle each token left the last
-    /// FIFO (drained one per cycle) and the stages.
+    /// FIFO (drained one per cycle) and the stages. The function runs apart from the timing:
+    /// each drained token is evaluated through every stage and checked.
     fn run(units: Vec<(u32, u32)>, n: u64, fifo: usize) -> (Vec<u64>, Vec<Stage>) {
         let mut stages: Vec<Stage> = units
             .into_iter()
@@ -347,8 +375,21 @@ mod tests {
         let mut out = vec![];
         let mut cycle = 0;
         while (out.len() as u64) < n {
-            if let Some(t) = fifos.last_mut().unwrap().pop() {
-                assert_eq!(t.slots[0].lanes[0].x, (t.id + stages.len() as u64) as f64);
+            if let Some(id) = fifos.last_mut().unwrap().pop() {
+                assert_eq!(id, out.len() as u64, "in order");
+                let mut t = Token {
+                    id,
+                    x: 0,
+                    y: 0,
+                    live: true,
+                    slots: vec![Word::default()],
+                };
+                t.slots[0].lanes[0].x = id as f64;
+                let mut scratch = Scratch::default();
+                for s in stages.iter() {
+                    s.eval_token(&mut t, &mut scratch);
+                }
+                assert_eq!(t.slots[0].lanes[0].x, (id + stages.len() as u64) as f64);
                 out.push(cycle);
             }
             for i in (0..stages.len()).rev() {
@@ -356,15 +397,7 @@ mod tests {
                 stages[i].tick(cycle, &mut a[i], &mut b[0], false);
             }
             if next < n && fifos[0].has_room() {
-                let mut slots = vec![Word::default()];
-                slots[0].lanes[0].x = next as f64;
-                fifos[0].push(Token {
-                    id: next,
-                    x: 0,
-                    y: 0,
-                    live: true,
-                    slots,
-                });
+                fifos[0].push(next);
                 next += 1;
             }
             cycle += 1;

@@ -121,7 +121,7 @@ impl PortSpec {
 }
 
 /// What every hardware unit provides. See the module documentation.
-pub trait Unit: Send {
+pub trait Unit: Send + Sync {
     /// The unit's kind, e.g. `"dot3"`; instance names are given by the pipeline.
     fn kind(&self) -> &'static str;
     fn inputs(&self) -> &[PortSpec];
@@ -157,7 +157,7 @@ pub trait Unit: Send {
     }
     /// Compute the outputs for one set of inputs. `ins` follow [`Unit::inputs`] and `outs`
     /// follow [`Unit::outputs`].
-    fn eval(&mut self, mode: Mode, ins: &[Word], outs: &mut [Word]);
+    fn eval(&self, mode: Mode, ins: &[Word], outs: &mut [Word]);
 }
 
 /// Index of a port by name, for wiring.

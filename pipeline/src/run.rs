@@ -121,6 +121,9 @@ struct Front<'a> {
     frags: &'a [Fragment],
     tris: &'a [[u32; 3]],
     vd: &'a attributes::VertexData,
+    /// The vertex values the interpolator reads: on each attribute's grid in bit-accurate
+    /// mode ([`attributes::VertexData::snapped`]), as computed in exact mode.
+    values: &'a [Vec<[f64; 4]>],
 }
 
 impl Front<'_> {
@@ -138,8 +141,14 @@ impl Front<'_> {
                     &self.vd.values[a][frag.tri as usize],
                 )
             } else {
-                let v = tri.map(|i| &self.vd.values[a][i as usize]);
-                attributes::interpolate(mode, &attr.enc, lanes, [v[0], v[1], v[2]], frag.bary)
+                let v = tri.map(|i| &self.values[a][i as usize]);
+                attributes::interpolate_snapped(
+                    mode,
+                    &attr.enc,
+                    lanes,
+                    [v[0], v[1], v[2]],
+                    frag.bary,
+                )
             };
         }
         (t.id, t.x, t.y) = (f as u64, frag.x, frag.y);
@@ -151,6 +160,8 @@ impl Front<'_> {
 pub struct Prepared {
     pub scene: Scene,
     pub vertices: attributes::VertexData,
+    /// `vertices.values` on the attributes' grids, for the bit-accurate interpolator.
+    snapped: Vec<Vec<[f64; 4]>>,
     pub raster: raster::RasterOutput,
     pub bit: Engine,
     pub exact: Engine,
@@ -179,8 +190,10 @@ pub fn prepare(l: &Loaded) -> Result<Prepared, InputError> {
         &cfg.raster,
         depth,
     );
+    let snapped = vertices.snapped(&cfg.engine.attributes);
     Ok(Prepared {
         scene,
+        snapped,
         vertices,
         raster,
         bit,
@@ -197,9 +210,10 @@ impl Prepared {
             frags: &self.raster.fragments,
             tris: &self.scene.mesh.triangles,
             vd: &self.vertices,
+            values: &self.snapped,
         };
         let (attrs, nslots) = (self.bit.attributes.clone(), self.bit.slots());
-        let mut fill = |f: usize, t: &mut Token| front.fill(&attrs, Mode::BitAccurate, f, t);
+        let fill = |f: usize, t: &mut Token| front.fill(&attrs, Mode::BitAccurate, f, t);
         let ranges = triangle_ranges(front.frags, self.scene.mesh.triangles.len());
         let setup = self
             .raster
@@ -210,7 +224,7 @@ impl Prepared {
         let workload = sim::Workload {
             triangles: ranges,
             setup,
-            fill_token: &mut fill,
+            fill_token: &fill,
             slots: nslots,
             fifo_depth: self.fifo_depth,
         };
@@ -223,15 +237,16 @@ impl Prepared {
             frags: &self.raster.fragments,
             tris: &self.scene.mesh.triangles,
             vd: &self.vertices,
+            values: &self.vertices.values,
         };
         let (attrs, nslots) = (self.exact.attributes.clone(), self.exact.slots());
-        let mut fill = |f: usize, t: &mut Token| front.fill(&attrs, Mode::Exact, f, t);
+        let fill = |f: usize, t: &mut Token| front.fill(&attrs, Mode::Exact, f, t);
         sim::evaluate(
-            &mut self.exact.stages,
+            &self.exact.stages,
             self.exact.output.slot,
             front.frags.len(),
             nslots,
-            &mut fill,
+            &fill,
         )
     }
 

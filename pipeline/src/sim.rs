@@ -13,7 +13,8 @@
 //! Stages are ticked from the last to the first within a clock (see `bumpsim_hw::stage`).
 //! The simulation is single-threaded and deterministic.
 
-use bumpsim_hw::{Counters, CycleState, Fifo, Probe, Stage, Token, Word};
+use bumpsim_hw::{Counters, CycleState, Fifo, Probe, Scratch, Stage, Token, Word};
+use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -43,11 +44,18 @@ pub struct Workload<'a> {
     /// Setup cycles of each triangle (a clipped triangle may need several setups).
     pub setup: Vec<u32>,
     /// Builds the token of a fragment (interpolated attributes).
-    pub fill_token: &'a mut dyn FnMut(usize, &mut Token),
+    pub fill_token: &'a FillToken<'a>,
     /// Slots of a token.
     pub slots: usize,
     pub fifo_depth: usize,
 }
+
+/// Fills a token with a fragment's interpolated attributes (and id and position); called from
+/// any thread.
+pub type FillToken<'a> = dyn Fn(usize, &mut Token) + Sync + 'a;
+
+/// Fragments per task of the parallel function evaluation.
+const CHUNK: usize = 2048;
 
 /// The result of a timed run.
 pub struct SimResult {
@@ -98,7 +106,9 @@ fn frame_probes(stages: &[Stage], trace: Option<(u64, u64)>) -> Vec<(usize, Prob
     out
 }
 
-/// Run one frame with timing. `trace` is a half-open cycle window to probe.
+/// Run one frame: the timing model over fragment ids, then the function over every fragment
+/// (timing does not depend on data), filling in the traced probes' port values. `trace` is a
+/// half-open cycle window to probe.
 pub fn run(
     stages: &mut [Stage],
     output_slot: usize,
@@ -106,20 +116,73 @@ pub fn run(
     trace: Option<(u64, u64)>,
 ) -> SimResult {
     let nfrag: usize = w.triangles.iter().map(|r| r.len()).sum();
+    let (mut cycles, mut probes, first) = timing(stages, &w, trace);
+    // fragment id -> the probes that show it
+    let mut refs: BTreeMap<u64, Vec<usize>> = BTreeMap::new();
+    for (k, (_, p)) in probes.iter().enumerate().skip(first) {
+        for id in [&p.accepted, &p.emitted].into_iter().flatten().map(|x| x.0) {
+            refs.entry(id).or_default().push(k);
+        }
+    }
+    let outputs = evaluate(stages, output_slot, nfrag, w.slots, w.fill_token);
+    // the traced fragments once more, for their port values
+    let (mut t, mut scratch) = (new_token(w.slots), Scratch::default());
+    for (&f, ks) in &refs {
+        eval_one(
+            stages,
+            output_slot,
+            f as usize,
+            &mut t,
+            &mut scratch,
+            w.fill_token,
+        );
+        for &k in ks {
+            let (i, p) = &mut probes[k];
+            let s = &stages[*i];
+            if let Some((id, words)) = &mut p.accepted {
+                if *id == f {
+                    *words = s.input_words(&t);
+                }
+            }
+            if let Some((id, words)) = &mut p.emitted {
+                if *id == f {
+                    *words = s.output_words(&t);
+                }
+            }
+        }
+    }
+    cycles.killed = outputs.iter().filter(|o| o.is_none()).count() as u64;
+    SimResult {
+        outputs,
+        cycles,
+        probes,
+    }
+}
+
+/// The timing model of a frame over fragment ids: frame work, setup, scan, the stages and
+/// the frame buffer write, clock by clock. Returns the cycle report (without `killed`), the
+/// probes of the `trace` window without port values, and the index of the first fragment
+/// probe (the ones before it are frame work).
+fn timing(
+    stages: &mut [Stage],
+    w: &Workload,
+    trace: Option<(u64, u64)>,
+) -> (CycleReport, Vec<(usize, Probe)>, usize) {
+    let nfrag: usize = w.triangles.iter().map(|r| r.len()).sum();
     let nstage = stages.len();
+    for s in stages.iter_mut() {
+        s.reset();
+    }
     let mut fifos: Vec<Fifo> = (0..=nstage).map(|_| Fifo::new(w.fifo_depth)).collect();
     let frame: u64 = stages.iter().map(|s| s.unit().frame_cycles()).sum();
-    let mut outputs = vec![None; nfrag];
     let mut probes = frame_probes(stages, trace);
+    let first = probes.len();
     let (mut setup_c, mut scan_c) = (Counters::default(), Counters::default());
     let mut next_tri = 0usize;
     let mut setting_up: Option<(usize, u64)> = None; // (triangle, cycle its setup completes)
     let mut ready: Option<usize> = None;
     let mut scanning: Option<(usize, usize)> = None; // (triangle, next fragment)
     let mut written = 0usize;
-    let mut killed = 0u64;
-    // tokens leaving the frame buffer are reused by the scan converter
-    let mut pool: Vec<Token> = Vec::new();
     let mut cycle = frame;
     let bump = |c: &mut Counters, busy: bool, stall: bool| {
         if stall {
@@ -133,11 +196,8 @@ pub fn run(
     loop {
         let probe = trace.is_some_and(|(a, b)| cycle >= a && cycle < b);
         // frame buffer write
-        if let Some(t) = fifos[nstage].pop() {
-            outputs[t.id as usize] = t.live.then(|| t.slots[output_slot]);
-            killed += u64::from(!t.live);
+        if fifos[nstage].pop().is_some() {
             written += 1;
-            pool.push(t);
         }
         for i in (0..nstage).rev() {
             let (a, b) = fifos.split_at_mut(i + 1);
@@ -161,17 +221,7 @@ pub fn run(
         }
         if let Some((t, k)) = scanning {
             if fifos[0].has_room() {
-                let f = w.triangles[t].start + k;
-                let mut token = pool.pop().unwrap_or_else(|| Token {
-                    id: 0,
-                    x: 0,
-                    y: 0,
-                    live: true,
-                    slots: vec![Word::default(); w.slots],
-                });
-                token.live = true;
-                (w.fill_token)(f, &mut token);
-                fifos[0].push(token);
+                fifos[0].push((w.triangles[t].start + k) as u64);
                 scanning = Some((t, k + 1));
                 scan_busy = true;
             } else {
@@ -222,7 +272,7 @@ pub fn run(
         total: cycle,
         frame,
         fragments: nfrag as u64,
-        killed,
+        killed: 0,
         triangles: w.triangles.len() as u64,
         per_fragment: if nfrag > 0 {
             work as f64 / nfrag as f64
@@ -231,37 +281,62 @@ pub fn run(
         },
         per_unit,
     };
-    SimResult {
-        outputs,
-        cycles,
-        probes,
-    }
+    (cycles, probes, first)
 }
 
-/// Evaluate every fragment through the stages without timing (used for the exact mode, whose
-/// timing is the same as the bit-accurate run's).
+/// Evaluate every fragment through the stages without timing (the exact mode, whose timing
+/// is the same as the bit-accurate run's; and the function half of [`run`]). Fragments are
+/// independent and units do not change when they evaluate, so chunks of fragments run in
+/// parallel (rayon) and the result is the same at any thread count.
 pub fn evaluate(
-    stages: &mut [Stage],
+    stages: &[Stage],
     output_slot: usize,
     nfrag: usize,
     slots: usize,
-    fill_token: &mut dyn FnMut(usize, &mut Token),
+    fill_token: &FillToken<'_>,
 ) -> Vec<Option<Word>> {
-    let mut t = Token {
+    let mut out = vec![None; nfrag];
+    out.par_chunks_mut(CHUNK)
+        .enumerate()
+        .for_each(|(c, chunk)| {
+            let (mut t, mut scratch) = (new_token(slots), Scratch::default());
+            for (k, o) in chunk.iter_mut().enumerate() {
+                *o = eval_one(
+                    stages,
+                    output_slot,
+                    c * CHUNK + k,
+                    &mut t,
+                    &mut scratch,
+                    fill_token,
+                );
+            }
+        });
+    out
+}
+
+fn new_token(slots: usize) -> Token {
+    Token {
         id: 0,
         x: 0,
         y: 0,
         live: true,
         slots: vec![Word::default(); slots],
-    };
-    (0..nfrag)
-        .map(|f| {
-            t.live = true;
-            fill_token(f, &mut t);
-            for s in stages.iter_mut() {
-                s.eval_token(&mut t);
-            }
-            t.live.then(|| t.slots[output_slot])
-        })
-        .collect()
+    }
+}
+
+/// Fragment `f` through every stage; its output word, or `None` if it was killed.
+fn eval_one(
+    stages: &[Stage],
+    output_slot: usize,
+    f: usize,
+    t: &mut Token,
+    scratch: &mut Scratch,
+    fill_token: &FillToken<'_>,
+) -> Option<Word> {
+    t.live = true;
+    fill_token(f, t);
+    for s in stages {
+        s.eval_token(t, scratch);
+    }
+    t.live.then(|| t.slots[output_slot])
 }

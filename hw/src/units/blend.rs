@@ -589,7 +589,7 @@ impl Unit for BumpBlend {
         }
         g
     }
-    fn eval(&mut self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
+    fn eval(&self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
         let out = self.p.out;
         outs[0] = match mode {
             Mode::Exact => Word::from_exact(&out, &self.eval_exact(ins)),

@@ -94,7 +94,7 @@ impl Unit for CullFragment {
     fn live(&self, _: Mode, _: &[Word], outs: &[Word]) -> bool {
         outs[0].lanes[0].raw != 0
     }
-    fn eval(&mut self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
+    fn eval(&self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
         let live = self.passes(mode, &ins[0]);
         let enc = self.outputs[0].enc;
         outs[0] = Word::from_raw(&enc, &[i64::from(live)]);
@@ -118,7 +118,7 @@ mod tests {
                     }
                 })
                 .collect();
-            let mut u = CullFragment::new(enc, &tests).unwrap();
+            let u = CullFragment::new(enc, &tests).unwrap();
             // every input word: 4 lanes of 4 bits (2^16 words)
             for bits in 0..1u32 << 16 {
                 let raws: Vec<i64> = (0..4)
@@ -144,10 +144,10 @@ mod tests {
         let enc = Encoding::fixed(Format::s(8, 6));
         let mut o = [Word::default()];
         let zero = Word::from_raw(&enc, &[0]);
-        let mut ge = CullFragment::new(enc, &[CullTest::Gequal]).unwrap();
+        let ge = CullFragment::new(enc, &[CullTest::Gequal]).unwrap();
         ge.eval(Mode::BitAccurate, &[zero], &mut o);
         assert_eq!(o[0].lanes[0].raw, 1);
-        let mut lt = CullFragment::new(enc, &[CullTest::Less]).unwrap();
+        let lt = CullFragment::new(enc, &[CullTest::Less]).unwrap();
         lt.eval(Mode::BitAccurate, &[zero], &mut o);
         assert_eq!(o[0].lanes[0].raw, 0);
         assert!(CullFragment::new(enc, &[]).is_err());

@@ -111,7 +111,7 @@ impl Unit for Dot3 {
         g.add(format!("result register {wo}"), self.k(), t.register(wo));
         g
     }
-    fn eval(&mut self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
+    fn eval(&self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
         let a = &ins[0];
         let out = self.outputs[0].enc;
         for (i, o) in outs.iter_mut().enumerate() {
@@ -161,7 +161,7 @@ mod tests {
         // a and b in s1.3 (4 bits): every combination of (a.x, b.x) with the other lanes fixed.
         let ein = Encoding::fixed(Format::s(4, 3));
         let out = Encoding::fixed(Format::u(12, 10));
-        let mut u = Dot3::new(ein, ein, 1, 1, Clamp::Unit, out);
+        let u = Dot3::new(ein, ein, 1, 1, Clamp::Unit, out);
         let mut o = [Word::default()];
         for ax in -8..8 {
             for bx in -8..8 {
@@ -187,7 +187,7 @@ mod tests {
     fn hand_computed_values_and_interval() {
         let n = Encoding::texel(Codec::UnitSigned, true, 8);
         let out = Encoding::fixed(Format::u(9, 8));
-        let mut u = Dot3::new(n, n, 4, 2, Clamp::Unit, out);
+        let u = Dot3::new(n, n, 4, 2, Clamp::Unit, out);
         assert_eq!(u.interval(), 2);
         assert_eq!(u.latency(), 3);
         let mode = Mode::BitAccurate;

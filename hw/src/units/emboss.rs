@@ -145,7 +145,7 @@ impl Unit for EmbossFilter {
         g.add(format!("output register {}", 3 * wo), 1, t.register(3 * wo));
         g
     }
-    fn eval(&mut self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
+    fn eval(&self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
         let out = self.outputs[0].enc;
         let uv = &ins[0];
         match mode {
@@ -191,7 +191,7 @@ mod tests {
         let uv = Encoding::fixed(Format::u(16, 16));
         let texel = Encoding::texel(Codec::UnitUnsigned, false, 8);
         let out = Encoding::fixed(Format::s(16, 4));
-        let mut u = EmbossFilter::new(uv, heights, w, h, texel, 6.0, 3, 2, out).unwrap();
+        let u = EmbossFilter::new(uv, heights, w, h, texel, 6.0, 3, 2, out).unwrap();
         assert_eq!(u.interval(), 3);
         let mut o = [Word::default()];
         for mode in [Mode::Exact, Mode::BitAccurate] {

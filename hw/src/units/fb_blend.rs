@@ -154,7 +154,7 @@ impl Unit for FbBlend {
         g.add(format!("output register {}", 3 * wf), 1, t.register(3 * wf));
         g
     }
-    fn eval(&mut self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
+    fn eval(&self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
         let fb = self.fb();
         let (base, entry) = (&ins[0], &ins[1]);
         outs[0] = match mode {

@@ -298,7 +298,7 @@ impl Unit for TexFetch {
         }
         g
     }
-    fn eval(&mut self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
+    fn eval(&self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
         let out = self.outputs[0].enc;
         let lanes = self.tex.lanes as usize;
         let uv = &ins[0];
@@ -311,14 +311,13 @@ impl Unit for TexFetch {
                 let frac = self.inputs[0].enc.format.frac as u32;
                 let (i, fu) = self.axis(uv.lanes[0].raw, frac, self.log_w);
                 let (j, fv) = self.axis(uv.lanes[1].raw, frac, self.log_h);
-                let code = |i: i64, j: i64, l: usize| {
-                    Acc::from_code(self.codes[self.texel_index(i, j)][l], &self.texel)
-                };
+                let code = |t: usize, l: usize| Acc::from_code(self.codes[t][l], &self.texel);
                 let mut res = [0i64; MAX_LANES];
                 match self.filter {
                     Filter::Nearest => {
+                        let t = self.texel_index(i, j);
                         for (l, r) in res.iter_mut().enumerate().take(lanes) {
-                            *r = code(i, j, l).to_code(&out);
+                            *r = code(t, l).to_code(&out);
                         }
                     }
                     Filter::Bilinear => {
@@ -338,10 +337,12 @@ impl Unit for TexFetch {
                             Acc::new(trunc(fv, fv_bits) as i128, wb),
                         );
                         let one = Acc::new(1, 0);
+                        let [t00, t10, t01, t11] = [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)]
+                            .map(|(a, b)| self.texel_index(a, b));
                         for (l, r) in res.iter_mut().enumerate().take(lanes) {
                             let lerp = |a: Acc, b: Acc, w: Acc| a.mul(one.sub(w)).add(b.mul(w));
-                            let top = lerp(code(i, j, l), code(i + 1, j, l), wu);
-                            let bot = lerp(code(i, j + 1, l), code(i + 1, j + 1, l), wu);
+                            let top = lerp(code(t00, l), code(t10, l), wu);
+                            let bot = lerp(code(t01, l), code(t11, l), wu);
                             *r = lerp(top, bot, wv).to_code(&out);
                         }
                     }
@@ -374,7 +375,7 @@ mod tests {
         let uv = Encoding::fixed(Format::u(16, 16));
         let texel = Encoding::texel(Codec::UnitSigned, true, 8);
         let out = Encoding::fixed(Format::s(12, 10));
-        let mut f = TexFetch::new(uv, ramp(8, 4), texel, Filter::Bilinear, 8, 4, 2, out).unwrap();
+        let f = TexFetch::new(uv, ramp(8, 4), texel, Filter::Bilinear, 8, 4, 2, out).unwrap();
         let mut ob = [Word::default()];
         let mut oe = [Word::default()];
         for k in 0..2000 {
@@ -422,7 +423,7 @@ mod tests {
         let out = Encoding::fixed(Format::s(12, 10));
         for a in [Address::Wrap, Address::Clamp, Address::Mirror] {
             for filter in [Filter::Nearest, Filter::Bilinear] {
-                let mut f = TexFetch::new(uv, ramp(8, 4), texel, filter, 8, 4, 2, out)
+                let f = TexFetch::new(uv, ramp(8, 4), texel, filter, 8, 4, 2, out)
                     .unwrap()
                     .with_address(a, a);
                 let (mut ob, mut oe) = ([Word::default()], [Word::default()]);
@@ -450,7 +451,7 @@ mod tests {
         }
         // clamp: u = 1 reads the last column and u = -0.3 the first; wrap: u = 1 reads the first
         let near = |a: Address, u: f64| {
-            let mut f = TexFetch::new(uv, ramp(8, 4), texel, Filter::Nearest, 8, 1, 1, out)
+            let f = TexFetch::new(uv, ramp(8, 4), texel, Filter::Nearest, 8, 1, 1, out)
                 .unwrap()
                 .with_address(a, a);
             let mut o = [Word::default()];
@@ -469,7 +470,7 @@ mod tests {
         let uv = Encoding::fixed(Format::u(12, 12));
         let texel = Encoding::fixed(Format::s(10, 8));
         let out = texel;
-        let mut f = TexFetch::new(uv, ramp(8, 4), texel, Filter::Nearest, 8, 1, 3, out).unwrap();
+        let f = TexFetch::new(uv, ramp(8, 4), texel, Filter::Nearest, 8, 1, 3, out).unwrap();
         assert_eq!((f.interval(), f.latency()), (1, 4));
         let mut o = [Word::default()];
         // u = 0.40 -> texel 3 (0.375), v = 0.9 -> row 3 (0.75)

@@ -65,7 +65,7 @@ impl Unit for Modulate {
         g.add(format!("output register {}", 3 * wo), 1, t.register(3 * wo));
         g
     }
-    fn eval(&mut self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
+    fn eval(&self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
         let out = self.outputs[0].enc;
         let (c, t) = (&ins[0], &ins[1]);
         outs[0] = match mode {

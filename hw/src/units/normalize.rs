@@ -105,7 +105,7 @@ impl Unit for Normalize {
         );
         g
     }
-    fn eval(&mut self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
+    fn eval(&self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
         let out = self.outputs[0].enc;
         let v = &ins[0];
         match mode {
@@ -165,7 +165,7 @@ mod tests {
     fn unit_vectors_within_the_table_bound_over_a_wide_range_of_lengths() {
         let input = Encoding::fixed(Format::s(16, 4));
         let out = Encoding::fixed(Format::s(12, 10));
-        let mut u = Normalize::new(input, 8, 12, out).unwrap();
+        let u = Normalize::new(input, 8, 12, out).unwrap();
         let mut o = [Word::default()];
         let mut worst: f64 = 0.0;
         for k in 1..3000i64 {
@@ -194,7 +194,7 @@ mod tests {
     #[test]
     fn zero_stays_zero_and_exact_mode_is_exact() {
         let e = Encoding::fixed(Format::s(10, 4));
-        let mut u = Normalize::new(e, 6, 10, Encoding::fixed(Format::s(10, 8))).unwrap();
+        let u = Normalize::new(e, 6, 10, Encoding::fixed(Format::s(10, 8))).unwrap();
         let mut o = [Word::default()];
         u.eval(Mode::BitAccurate, &[Word::from_raw(&e, &[0, 0, 0])], &mut o);
         assert_eq!(o[0].raws::<3>(), [0, 0, 0]);

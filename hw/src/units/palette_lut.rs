@@ -206,7 +206,7 @@ impl Unit for PaletteLut {
         g.add(format!("output register {}", 4 * w), 1, t.register(4 * w));
         g
     }
-    fn eval(&mut self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
+    fn eval(&self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
         let out = self.entry();
         let s = ins[0].lanes[0];
         let n = self.entries();
@@ -257,7 +257,7 @@ mod tests {
         let table: Vec<[f64; 4]> = (0..256)
             .map(|_| std::array::from_fn(|_| lcg(&mut seed)))
             .collect();
-        let mut u = PaletteLut::new(idx(8), rgba8(), table.clone(), 1).unwrap();
+        let u = PaletteLut::new(idx(8), rgba8(), table.clone(), 1).unwrap();
         let bound = rgba8().max_error() + 1e-12;
         for i in 0..256i64 {
             let inp = [Word::from_raw(&idx(8), &[i])];
@@ -277,7 +277,7 @@ mod tests {
 
     #[test]
     fn palette_lut_index_beyond_the_table_reads_zero() {
-        let mut u = PaletteLut::new(idx(8), rgba8(), vec![[1.0; 4]; 10], 1).unwrap();
+        let u = PaletteLut::new(idx(8), rgba8(), vec![[1.0; 4]; 10], 1).unwrap();
         for mode in [Mode::Exact, Mode::BitAccurate] {
             let mut o = [Word::default()];
             u.eval(mode, &[Word::for_mode(mode, &idx(8), &[9.0])], &mut o);

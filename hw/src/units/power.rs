@@ -112,7 +112,7 @@ impl Unit for PowerTable {
         }
         g
     }
-    fn eval(&mut self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
+    fn eval(&self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
         let out = self.outputs[0].enc;
         for (i, o) in outs.iter_mut().enumerate() {
             let s = ins[i].lanes[0];
@@ -151,7 +151,7 @@ mod tests {
     fn every_index_width_to_12_bits_is_monotone_and_within_its_bound() {
         let input = Encoding::fixed(Format::u(16, 15));
         for bits in 1..=12u32 {
-            let mut u = PowerTable::new(input, 1, bits, 12, 16.0, 1);
+            let u = PowerTable::new(input, 1, bits, 12, 16.0, 1);
             let t = u.table().to_vec();
             assert!(t.windows(2).all(|w| w[0] <= w[1]), "bits {bits}");
             let last = (1u32 << bits) - 1;

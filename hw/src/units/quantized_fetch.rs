@@ -225,7 +225,7 @@ impl Unit for QuantizedFetch {
         }
         g
     }
-    fn eval(&mut self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
+    fn eval(&self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
         let mut i = [Word::default()];
         let level = match ins.get(1) {
             Some(lod) if !self.mips.is_empty() => {
@@ -359,7 +359,7 @@ mod tests {
     #[test]
     #[allow(clippy::needless_range_loop)]
     fn quantized_fetch_exact_and_bit_accurate_agree_within_the_entry_bound() {
-        let mut u = unit(256, 16, 8, 1);
+        let u = unit(256, 16, 8, 1);
         let uv = Encoding::fixed(Format::u(16, 12));
         let exact = u.builder().build_exact();
         let words = u.builder().build(Mode::BitAccurate);

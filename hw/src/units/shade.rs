@@ -184,7 +184,7 @@ impl Unit for Shade {
         }
         g
     }
-    fn eval(&mut self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
+    fn eval(&self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
         let out = self.outputs[0].enc;
         let k = self.k();
         let spec = |i: usize| self.has.specular.map(|_| &ins[k + i]);
@@ -258,7 +258,7 @@ mod tests {
 
     #[test]
     fn two_lights_hand_computed() {
-        let mut u = unit(1);
+        let u = unit(1);
         assert_eq!((u.interval(), u.latency()), (2, 4));
         let e = Encoding::fixed(Format::u(9, 8));
         let w = |x: f64| Word::quantize(&e, &[x]);

@@ -252,14 +252,55 @@ pub fn interpolate(
     v: [&[f64; 4]; 3],
     bary: [f64; 3],
 ) -> Word {
+    let snap = |x: &[f64; 4]| std::array::from_fn(|l| to_grid(enc, x[l]));
+    match mode {
+        Mode::Exact => interpolate_snapped(mode, enc, lanes, v, bary),
+        Mode::BitAccurate => {
+            let g: [[f64; 4]; 3] = v.map(snap);
+            interpolate_snapped(mode, enc, lanes, [&g[0], &g[1], &g[2]], bary)
+        }
+    }
+}
+
+/// [`interpolate`] of vertex values already on the encoding's grid in bit-accurate mode
+/// ([`VertexData::snapped`]): the interpolator's inputs are the vertex words.
+#[inline]
+pub fn interpolate_snapped(
+    mode: Mode,
+    enc: &Encoding,
+    lanes: usize,
+    v: [&[f64; 4]; 3],
+    bary: [f64; 3],
+) -> Word {
     let mut xs = [0.0; 4];
     for (l, x) in xs.iter_mut().enumerate().take(lanes) {
         *x = match mode {
             Mode::Exact => bary[0] * v[0][l] + bary[1] * v[1][l] + bary[2] * v[2][l],
-            Mode::BitAccurate => (0..3).map(|k| bary[k] * to_grid(enc, v[k][l])).sum(),
+            Mode::BitAccurate => (0..3).map(|k| bary[k] * v[k][l]).sum(),
         };
     }
     Word::for_mode(mode, enc, &xs[..lanes])
+}
+
+impl VertexData {
+    /// The per-vertex values on each attribute's grid (what bit-accurate interpolation reads;
+    /// per-triangle values are left as they are: [`flat`] rounds them).
+    pub fn snapped(&self, attrs: &[AttributeConfig]) -> Vec<Vec<[f64; 4]>> {
+        self.values
+            .iter()
+            .zip(attrs)
+            .zip(&self.flat)
+            .map(|((vals, a), &flat)| {
+                if flat {
+                    vals.clone()
+                } else {
+                    vals.iter()
+                        .map(|x| std::array::from_fn(|l| to_grid(&a.enc, x[l])))
+                        .collect()
+                }
+            })
+            .collect()
+    }
 }
 
 #[cfg(test)]
