@@ -1,6 +1,7 @@
 //! Criterion benchmarks: the SGI engine's timed, bit-accurate simulation against the float
-//! reference on the same 512x512 scene (configs/sgi-teapot.ron at 512x512). Report the ratio
-//! of the two medians measured in one run (machines here are noisy), and fragments per second.
+//! reference on the same 512x512 scene (configs/sgi-teapot.ron at 512x512), on one and on two
+//! threads (rayon pools built here). Report ratios of medians measured in one run (machines
+//! here are noisy), and fragments per second.
 
 use bumpsim_pipeline::config;
 use bumpsim_pipeline::run::prepare;
@@ -20,15 +21,21 @@ fn engines(c: &mut Criterion) {
     let mut g = c.benchmark_group("sgi-teapot-512");
     g.sample_size(10);
     g.throughput(Throughput::Elements(fragments));
-    g.bench_function("simulated (bit-accurate, timed)", |b| {
-        b.iter(|| p.simulate(None).cycles.total)
-    });
-    g.bench_function("exact mode (untimed)", |b| {
-        b.iter(|| p.evaluate_exact().len())
-    });
-    g.bench_function("float reference", |b| {
-        b.iter(|| p.reference(reference).covered())
-    });
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("a rayon pool");
+        g.bench_function(format!("simulated (bit-accurate, timed), {threads} threads"), |b| {
+            b.iter(|| pool.install(|| p.simulate(None).cycles.total))
+        });
+        g.bench_function(format!("exact mode (untimed), {threads} threads"), |b| {
+            b.iter(|| pool.install(|| p.evaluate_exact().len()))
+        });
+        g.bench_function(format!("float reference, {threads} threads"), |b| {
+            b.iter(|| pool.install(|| p.reference(reference).covered()))
+        });
+    }
     g.finish();
 }
 

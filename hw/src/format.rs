@@ -340,6 +340,16 @@ pub fn shift_round(v: i128, by: u32, q: Quant) -> i128 {
             }
         };
     }
+    // the two common modes directly (the same results as the general path below)
+    match q {
+        Quant::Trn => return v >> by,
+        Quant::Rnd => {
+            if let Some(s) = v.checked_add(1i128 << (by - 1)) {
+                return s >> by;
+            }
+        }
+        _ => {}
+    }
     let floor = v >> by;
     let low = v - (floor << by); // 0 <= low < 2^by
     let half = 1i128 << (by - 1);

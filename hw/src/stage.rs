@@ -233,9 +233,10 @@ impl Stage {
     /// (each with its own `scratch`).
     pub fn eval_token(&self, token: &mut Token, scratch: &mut Scratch) {
         let Scratch { ins, outs } = scratch;
-        ins.clear();
-        ins.extend(self.in_wires.iter().map(|w| w.read(&token.slots)));
-        outs.clear();
+        ins.resize(self.in_wires.len(), Word::default());
+        for (w, wire) in ins.iter_mut().zip(&self.in_wires) {
+            *w = wire.read(&token.slots);
+        }
         outs.resize(self.out_slots.len(), Word::default());
         self.unit.eval(self.mode, ins, outs);
         if self.kills && !self.unit.live(self.mode, ins, outs) {
