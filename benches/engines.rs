@@ -26,9 +26,10 @@ fn engines(c: &mut Criterion) {
             .num_threads(threads)
             .build()
             .expect("a rayon pool");
-        g.bench_function(format!("simulated (bit-accurate, timed), {threads} threads"), |b| {
-            b.iter(|| pool.install(|| p.simulate(None).cycles.total))
-        });
+        g.bench_function(
+            format!("simulated (bit-accurate, timed), {threads} threads"),
+            |b| b.iter(|| pool.install(|| p.simulate(None).cycles.total)),
+        );
         g.bench_function(format!("exact mode (untimed), {threads} threads"), |b| {
             b.iter(|| pool.install(|| p.evaluate_exact().len()))
         });

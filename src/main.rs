@@ -35,6 +35,10 @@ enum Command {
         args: ConfigArgs,
         #[arg(long)]
         out: PathBuf,
+        /// Print each phase's wall time to stderr (scene and assets, simulation, exact mode,
+        /// reference, metrics, writing).
+        #[arg(long)]
+        timings: bool,
     },
     /// Run a config and print its report (a table, or JSON with --json).
     Report {
@@ -103,9 +107,9 @@ fn parse_cycles(s: &str) -> Result<(u64, u64), InputError> {
 
 fn execute(cmd: Command) -> Result<(), Failure> {
     match cmd {
-        Command::Render { args, out } => {
+        Command::Render { args, out, timings } => {
             let l = config::load(&args.config, &args.sets)?;
-            let r = run::run(&l, None)?;
+            let mut r = run::run(&l, None)?;
             let mut set = OutputSet::new(&out);
             set.add_png("image.png", &r.image)
                 .map_err(Failure::Internal)?;
@@ -117,6 +121,10 @@ fn execute(cmd: Command) -> Result<(), Failure> {
             set.commit().map_err(|e| {
                 Failure::Input(InputError::new(out.display().to_string(), "--out", e))
             })?;
+            r.timings.lap("writing");
+            if timings {
+                eprint!("phase wall times:\n{}", r.timings.to_text());
+            }
             print!("{}", r.report.to_table());
             println!(
                 "\nwrote {}/{{image,reference,error}}.png and report.json",
@@ -164,9 +172,7 @@ fn execute(cmd: Command) -> Result<(), Failure> {
         Command::Check { args } => {
             let l = config::load(&args.config, &args.sets)?;
             let scene = run::build_scene(&l)?;
-            for mode in [bumpsim_hw::Mode::Exact, bumpsim_hw::Mode::BitAccurate] {
-                bumpsim_pipeline::engine::build(&l, &scene, mode)?;
-            }
+            bumpsim_pipeline::engine::build(&l, &scene)?;
             println!(
                 "ok: {} ({} triangles, {} units, hash {})",
                 l.config.name,

@@ -334,3 +334,38 @@ fn set_several_overrides_apply_in_order() {
     ]);
     o.expect_code(0, "check with scene.width=0 then 32");
 }
+
+#[test]
+fn render_timings_go_to_stderr_and_leave_the_outputs_alone() {
+    let cfg = config("gouraud-quad-bandwidth");
+    let scratch = Scratch::new("timings");
+    let render = |tag: &str, extra: &[&str]| {
+        let out = scratch.join(tag);
+        let mut args: Vec<&std::ffi::OsStr> = vec![
+            "render".as_ref(),
+            cfg.as_os_str(),
+            "--out".as_ref(),
+            out.as_os_str(),
+        ];
+        args.extend(extra.iter().map(std::ffi::OsStr::new));
+        let o = bumpsim(&args);
+        o.expect_code(0, tag);
+        (o, std::fs::read(out.join("report.json")).unwrap())
+    };
+    let (plain, report_plain) = render("plain", &[]);
+    let (timed, report_timed) = render("timed", &["--timings"]);
+    assert_eq!(plain.stdout.replace("plain", "timed"), timed.stdout);
+    assert_eq!(report_plain, report_timed);
+    assert!(!plain.stderr.contains("phase wall times"));
+    for phase in [
+        "scene and assets",
+        "simulation",
+        "exact mode",
+        "reference",
+        "metrics",
+        "writing",
+        "total",
+    ] {
+        assert!(timed.stderr.contains(phase), "{phase}: {}", timed.stderr);
+    }
+}

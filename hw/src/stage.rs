@@ -151,7 +151,6 @@ pub struct Stage {
     unit: Box<dyn Unit>,
     in_wires: Vec<Wire>,
     out_slots: Vec<usize>,
-    mode: Mode,
     latency: u64,
     interval: u64,
     max_in_flight: usize,
@@ -177,7 +176,6 @@ impl Stage {
         unit: Box<dyn Unit>,
         in_wires: Vec<Wire>,
         out_slots: Vec<usize>,
-        mode: Mode,
     ) -> Self {
         assert_eq!(in_wires.len(), unit.inputs().len());
         assert_eq!(out_slots.len(), unit.outputs().len());
@@ -190,7 +188,6 @@ impl Stage {
             unit,
             in_wires,
             out_slots,
-            mode,
             latency,
             interval,
             max_in_flight,
@@ -227,19 +224,19 @@ impl Stage {
         self.out_slots.iter().map(|&s| token.slots[s]).collect()
     }
 
-    /// The function: evaluate the unit on a token, writing its output slots (and clearing
+    /// The function: evaluate the unit on a token in `mode`, writing its output slots (and clearing
     /// the live bit if the unit kills the fragment). Timing is [`Stage::tick`]'s. Units do
     /// not change when they evaluate, so tokens may be evaluated in any order, on any thread
     /// (each with its own `scratch`).
-    pub fn eval_token(&self, token: &mut Token, scratch: &mut Scratch) {
+    pub fn eval_token(&self, token: &mut Token, mode: Mode, scratch: &mut Scratch) {
         let Scratch { ins, outs } = scratch;
         ins.resize(self.in_wires.len(), Word::default());
         for (w, wire) in ins.iter_mut().zip(&self.in_wires) {
             *w = wire.read(&token.slots);
         }
         outs.resize(self.out_slots.len(), Word::default());
-        self.unit.eval(self.mode, ins, outs);
-        if self.kills && !self.unit.live(self.mode, ins, outs) {
+        self.unit.eval(mode, ins, outs);
+        if self.kills && !self.unit.live(mode, ins, outs) {
             token.live = false;
         }
         for (w, &s) in outs.iter().zip(&self.out_slots) {
@@ -362,13 +359,7 @@ mod tests {
             .into_iter()
             .enumerate()
             .map(|(i, (l, ii))| {
-                Stage::new(
-                    format!("s{i}"),
-                    inc(l, ii),
-                    vec![Wire::Slot(0)],
-                    vec![0],
-                    Mode::Exact,
-                )
+                Stage::new(format!("s{i}"), inc(l, ii), vec![Wire::Slot(0)], vec![0])
             })
             .collect();
         let mut fifos: Vec<Fifo> = (0..=stages.len()).map(|_| Fifo::new(fifo)).collect();
@@ -388,7 +379,7 @@ mod tests {
                 t.slots[0].lanes[0].x = id as f64;
                 let mut scratch = Scratch::default();
                 for s in stages.iter() {
-                    s.eval_token(&mut t, &mut scratch);
+                    s.eval_token(&mut t, Mode::Exact, &mut scratch);
                 }
                 assert_eq!(t.slots[0].lanes[0].x, (id + stages.len() as u64) as f64);
                 out.push(cycle);

@@ -26,6 +26,45 @@ pub struct RunResult {
     pub reference: image::RgbImage,
     pub error: image::RgbImage,
     pub trace: Option<Trace>,
+    /// Wall time of each phase, in order (for `render --timings`; never in the report, which
+    /// stays deterministic).
+    pub timings: Timings,
+}
+
+/// Wall times of a run's phases.
+#[derive(Debug, Clone, Default)]
+pub struct Timings {
+    pub phases: Vec<(&'static str, std::time::Duration)>,
+    last: Option<std::time::Instant>,
+}
+
+impl Timings {
+    /// Start timing.
+    pub fn start() -> Self {
+        Timings {
+            phases: Vec::new(),
+            last: Some(std::time::Instant::now()),
+        }
+    }
+    /// End the phase `name` (it began where the last one ended).
+    pub fn lap(&mut self, name: &'static str) {
+        let now = std::time::Instant::now();
+        let since = self.last.unwrap_or(now);
+        self.phases.push((name, now - since));
+        self.last = Some(now);
+    }
+    /// One line per phase and the total, e.g. `  simulation      12.3 ms`.
+    pub fn to_text(&self) -> String {
+        let total: std::time::Duration = self.phases.iter().map(|p| p.1).sum();
+        let mut s = String::new();
+        for (name, d) in self.phases.iter().chain([&("total", total)]) {
+            s.push_str(&format!(
+                "  {name:<18} {:>10.1} ms\n",
+                d.as_secs_f64() * 1e3
+            ));
+        }
+        s
+    }
 }
 
 /// Build the scene a config describes. Errors name the config file and the field.
@@ -156,28 +195,27 @@ impl Front<'_> {
 }
 
 /// A frame ready to simulate: the scene, the geometry engine's output, the rasterizer's
-/// fragments, and the engine built in both modes.
+/// fragments, and the engine (built once; it evaluates in both modes).
 pub struct Prepared {
     pub scene: Scene,
     pub vertices: attributes::VertexData,
     /// `vertices.values` on the attributes' grids, for the bit-accurate interpolator.
     snapped: Vec<Vec<[f64; 4]>>,
     pub raster: raster::RasterOutput,
-    pub bit: Engine,
-    pub exact: Engine,
+    /// The engine: units with their assets, evaluated in both modes.
+    pub engine: Engine,
     raster_config: raster::RasterConfig,
     fifo_depth: usize,
 }
 
-/// Build the scene, run geometry and the rasterizer, and wire the engine in both modes.
+/// Build the scene, wire the engine (its assets built once), run geometry and the rasterizer.
 pub fn prepare(l: &Loaded) -> Result<Prepared, InputError> {
     let scene = build_scene(l)?;
     let cfg = &l.config;
     let vertices = attributes::compute(&scene, &cfg.engine.attributes);
-    let bit = engine::build(l, &scene, Mode::BitAccurate)?;
-    let exact = engine::build(l, &scene, Mode::Exact)?;
+    let engine = engine::build(l, &scene)?;
     // an engine that may kill fragments needs the depth test after shading
-    let depth = if bit.kills() {
+    let depth = if engine.kills() {
         raster::DepthTest::Late
     } else {
         raster::DepthTest::Early
@@ -196,8 +234,7 @@ pub fn prepare(l: &Loaded) -> Result<Prepared, InputError> {
         snapped,
         vertices,
         raster,
-        bit,
-        exact,
+        engine,
         raster_config: cfg.raster,
         fifo_depth: cfg.sim.fifo_depth as usize,
     })
@@ -212,7 +249,7 @@ impl Prepared {
             vd: &self.vertices,
             values: &self.snapped,
         };
-        let (attrs, nslots) = (self.bit.attributes.clone(), self.bit.slots());
+        let (attrs, nslots) = (self.engine.attributes.clone(), self.engine.slots());
         let fill = |f: usize, t: &mut Token| front.fill(&attrs, Mode::BitAccurate, f, t);
         let ranges = triangle_ranges(front.frags, self.scene.mesh.triangles.len());
         let setup = self
@@ -228,7 +265,12 @@ impl Prepared {
             slots: nslots,
             fifo_depth: self.fifo_depth,
         };
-        sim::run(&mut self.bit.stages, self.bit.output.slot, workload, trace)
+        sim::run(
+            &mut self.engine.stages,
+            self.engine.output.slot,
+            workload,
+            trace,
+        )
     }
 
     /// The engine in exact mode over every fragment (untimed: its timing is the same).
@@ -239,11 +281,12 @@ impl Prepared {
             vd: &self.vertices,
             values: &self.vertices.values,
         };
-        let (attrs, nslots) = (self.exact.attributes.clone(), self.exact.slots());
+        let (attrs, nslots) = (self.engine.attributes.clone(), self.engine.slots());
         let fill = |f: usize, t: &mut Token| front.fill(&attrs, Mode::Exact, f, t);
         sim::evaluate(
-            &self.exact.stages,
-            self.exact.output.slot,
+            &self.engine.stages,
+            Mode::Exact,
+            self.engine.output.slot,
             front.frags.len(),
             nslots,
             &fill,
@@ -264,12 +307,15 @@ impl Prepared {
 /// Run a loaded config.
 pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputError> {
     let cfg = &l.config;
+    let mut timings = Timings::start();
     let mut p = prepare(l)?;
+    timings.lap("scene and assets");
     if let Some(t) = trace {
         if let Some(names) = &t.units {
             for n in names {
-                if !p.bit.stages.iter().any(|s| &s.name == n) {
-                    let known: Vec<&str> = p.bit.stages.iter().map(|s| s.name.as_str()).collect();
+                if !p.engine.stages.iter().any(|s| &s.name == n) {
+                    let known: Vec<&str> =
+                        p.engine.stages.iter().map(|s| s.name.as_str()).collect();
                     return Err(InputError::new(
                         "--units",
                         "",
@@ -280,16 +326,19 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
         }
     }
     let result = p.simulate(trace.map(|t| t.cycles));
+    timings.lap("simulation");
     let exact_out = p.evaluate_exact();
+    timings.lap("exact mode");
     let (w, h) = (p.scene.width, p.scene.height);
     let frags = &p.raster.fragments;
-    let bit = &p.bit;
+    let bit = &p.engine;
     let depth_bits = cfg.raster.depth_bits;
     let fb = crate::rop::write(w, h, depth_bits, frags, &result.outputs);
     let fb_exact = crate::rop::write(w, h, depth_bits, frags, &exact_out);
     let (img_bit, mask) = (&fb.image, &fb.mask);
     let (img_exact, exact_mask) = (&fb_exact.image, &fb_exact.mask);
     let refimg = p.reference(cfg.reference);
+    timings.lap("reference");
     let rimg = Rgb64 {
         width: w,
         height: h,
@@ -381,11 +430,15 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
             None => full,
         }
     });
+    let (image, reference) = (img_bit.to_rgb8(), rimg.to_rgb8());
+    let error = metrics::heatmap(img_bit, mask, &rimg, rmask, 32.0);
+    timings.lap("metrics");
     Ok(RunResult {
-        image: img_bit.to_rgb8(),
-        reference: rimg.to_rgb8(),
-        error: metrics::heatmap(img_bit, mask, &rimg, rmask, 32.0),
+        image,
+        reference,
+        error,
         report,
         trace,
+        timings,
     })
 }

@@ -13,7 +13,7 @@
 //! Stages are ticked from the last to the first within a clock (see `bumpsim_hw::stage`).
 //! The simulation is single-threaded and deterministic.
 
-use bumpsim_hw::{Counters, CycleState, Fifo, Probe, Scratch, Stage, Token, Word};
+use bumpsim_hw::{Counters, CycleState, Fifo, Mode, Probe, Scratch, Stage, Token, Word};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -124,12 +124,20 @@ pub fn run(
             refs.entry(id).or_default().push(k);
         }
     }
-    let outputs = evaluate(stages, output_slot, nfrag, w.slots, w.fill_token);
+    let outputs = evaluate(
+        stages,
+        Mode::BitAccurate,
+        output_slot,
+        nfrag,
+        w.slots,
+        w.fill_token,
+    );
     // the traced fragments once more, for their port values
     let (mut t, mut scratch) = (new_token(w.slots), Scratch::default());
     for (&f, ks) in &refs {
         eval_one(
             stages,
+            Mode::BitAccurate,
             output_slot,
             f as usize,
             &mut t,
@@ -290,6 +298,7 @@ fn timing(
 /// parallel (rayon) and the result is the same at any thread count.
 pub fn evaluate(
     stages: &[Stage],
+    mode: Mode,
     output_slot: usize,
     nfrag: usize,
     slots: usize,
@@ -303,6 +312,7 @@ pub fn evaluate(
             for (k, o) in chunk.iter_mut().enumerate() {
                 *o = eval_one(
                     stages,
+                    mode,
                     output_slot,
                     c * CHUNK + k,
                     &mut t,
@@ -324,9 +334,10 @@ fn new_token(slots: usize) -> Token {
     }
 }
 
-/// Fragment `f` through every stage; its output word, or `None` if it was killed.
+/// Fragment `f` through every stage in `mode`; its output word, or `None` if it was killed.
 fn eval_one(
     stages: &[Stage],
+    mode: Mode,
     output_slot: usize,
     f: usize,
     t: &mut Token,
@@ -336,7 +347,7 @@ fn eval_one(
     t.live = true;
     fill_token(f, t);
     for s in stages {
-        s.eval_token(t, scratch);
+        s.eval_token(t, mode, scratch);
     }
     t.live.then(|| t.slots[output_slot])
 }

@@ -16,7 +16,7 @@ pub mod wire;
 use crate::config::{AttributeConfig, InputError, Loaded};
 use crate::raster::packet::{Field, PacketLayout};
 use crate::scene::Scene;
-use bumpsim_hw::{GateBudget, Mode, PortSpec, Stage};
+use bumpsim_hw::{GateBudget, PortSpec, Stage};
 use std::collections::{BTreeMap, BTreeSet};
 use units::BuildCtx;
 
@@ -85,8 +85,9 @@ impl Engine {
     }
 }
 
-/// Build the engine of a loaded config for `scene`, with every unit in `mode`.
-pub fn build(l: &Loaded, scene: &Scene, mode: Mode) -> Result<Engine, InputError> {
+/// Build the engine of a loaded config for `scene`. Units hold their assets (textures,
+/// tables) and evaluate in either mode, so one engine serves both.
+pub fn build(l: &Loaded, scene: &Scene) -> Result<Engine, InputError> {
     let cfg = &l.config.engine;
     let ctx = BuildCtx { scene };
     let mut signals: Vec<Signal> = cfg
@@ -205,7 +206,7 @@ pub fn build(l: &Loaded, scene: &Scene, mode: Mode) -> Result<Engine, InputError
             texels.push((u.name.clone(), bits));
         }
         gates.push((u.name.clone(), unit.gates(&l.config.cost)));
-        stages.push(Stage::new(u.name.clone(), unit, in_wires, out_slots, mode));
+        stages.push(Stage::new(u.name.clone(), unit, in_wires, out_slots));
     }
     let output = signals
         .iter()
