@@ -241,16 +241,30 @@ pub fn prepare(l: &Loaded) -> Result<Prepared, InputError> {
 }
 
 impl Prepared {
+    /// The front end of `mode`: fragments and the vertex values its interpolator reads.
+    fn front(&self, mode: Mode) -> Front<'_> {
+        Front {
+            frags: &self.raster.fragments,
+            tris: &self.scene.mesh.triangles,
+            vd: &self.vertices,
+            values: match mode {
+                Mode::BitAccurate => &self.snapped,
+                Mode::Exact => &self.vertices.values,
+            },
+        }
+    }
+
     /// The timed, bit-accurate run of the frame.
     pub fn simulate(&mut self, trace: Option<(u64, u64)>) -> sim::SimResult {
+        // the fields one by one: the stages are borrowed mutably below
         let front = Front {
             frags: &self.raster.fragments,
             tris: &self.scene.mesh.triangles,
             vd: &self.vertices,
             values: &self.snapped,
         };
-        let (attrs, nslots) = (self.engine.attributes.clone(), self.engine.slots());
-        let fill = |f: usize, t: &mut Token| front.fill(&attrs, Mode::BitAccurate, f, t);
+        let attrs = &self.engine.attributes;
+        let fill = |f: usize, t: &mut Token| front.fill(attrs, Mode::BitAccurate, f, t);
         let ranges = triangle_ranges(front.frags, self.scene.mesh.triangles.len());
         let setup = self
             .raster
@@ -262,35 +276,45 @@ impl Prepared {
             triangles: ranges,
             setup,
             fill_token: &fill,
-            slots: nslots,
+            slots: self.engine.signals.len(),
             fifo_depth: self.fifo_depth,
         };
-        sim::run(
-            &mut self.engine.stages,
-            self.engine.output.slot,
-            workload,
-            trace,
-        )
+        let output = self.engine.output.slot;
+        sim::run(&mut self.engine.stages, output, workload, trace)
     }
 
     /// The engine in exact mode over every fragment (untimed: its timing is the same).
-    pub fn evaluate_exact(&mut self) -> Vec<Option<Word>> {
-        let front = Front {
-            frags: &self.raster.fragments,
-            tris: &self.scene.mesh.triangles,
-            vd: &self.vertices,
-            values: &self.vertices.values,
-        };
-        let (attrs, nslots) = (self.engine.attributes.clone(), self.engine.slots());
-        let fill = |f: usize, t: &mut Token| front.fill(&attrs, Mode::Exact, f, t);
+    pub fn evaluate_exact(&self) -> Vec<Option<Word>> {
+        let front = self.front(Mode::Exact);
+        let attrs = &self.engine.attributes;
+        let fill = |f: usize, t: &mut Token| front.fill(attrs, Mode::Exact, f, t);
         sim::evaluate(
             &self.engine.stages,
             Mode::Exact,
             self.engine.output.slot,
             front.frags.len(),
-            nslots,
+            self.engine.slots(),
             &fill,
         )
+    }
+
+    /// The token of fragment `f` after every stage in `mode` (every signal's value): for
+    /// tests of the units in their configured engines.
+    pub fn fragment_token(&self, mode: Mode, f: usize) -> Token {
+        let front = self.front(mode);
+        let mut t = Token {
+            id: 0,
+            x: 0,
+            y: 0,
+            live: true,
+            slots: vec![Word::default(); self.engine.slots()],
+        };
+        front.fill(&self.engine.attributes, mode, f, &mut t);
+        let mut scratch = bumpsim_hw::Scratch::default();
+        for s in &self.engine.stages {
+            s.eval_token(&mut t, mode, &mut scratch);
+        }
+        t
     }
 
     /// The float reference of the same scene.
