@@ -4,6 +4,7 @@
 pub mod arith;
 pub mod format;
 pub mod gates;
+pub mod sampler;
 pub mod stage;
 pub mod unit;
 pub mod units;

@@ -16,6 +16,7 @@
 
 use crate::format::{Encoding, Format};
 use crate::gates::{CostTable, GateBudget};
+use crate::sampler::{texel_axis, Address};
 use crate::unit::{Mode, PortSpec, Unit, Word};
 
 pub struct EmbossFilter {
@@ -92,7 +93,7 @@ impl EmbossFilter {
 
     fn at(&self, i: i64, j: i64) -> usize {
         let (w, h) = (self.width as i64, self.height as i64);
-        (j.rem_euclid(h) * w + i.rem_euclid(w)) as usize
+        (Address::Wrap.apply(j, h) * w + Address::Wrap.apply(i, w)) as usize
     }
 
     /// Mask responses over the 3x3 neighbourhood of texel (i, j) for a texel reader `t`.
@@ -109,7 +110,7 @@ impl EmbossFilter {
     }
 
     fn texel_of(&self, raw: i64, frac: u32, log: u32) -> i64 {
-        raw >> (frac - log)
+        texel_axis(raw, frac, log, false).0
     }
 }
 

@@ -19,6 +19,8 @@
 use crate::arith::Acc;
 use crate::format::Encoding;
 use crate::gates::{CostTable, GateBudget};
+use crate::sampler::texel_axis;
+pub use crate::sampler::Address;
 use crate::unit::{Mode, PortSpec, Unit, Word, MAX_LANES};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, Default)]
@@ -26,39 +28,6 @@ pub enum Filter {
     Nearest,
     #[default]
     Bilinear,
-}
-
-/// What happens to a texel address outside the texture, per axis (OpenGL's texture wrap
-/// modes: REPEAT, CLAMP_TO_EDGE, MIRRORED_REPEAT).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, Default)]
-pub enum Address {
-    /// The texture repeats: texel `i mod n`.
-    #[default]
-    Wrap,
-    /// The edge texel repeats: texel `clamp(i, 0, n - 1)`; a coordinate of exactly 1 reads
-    /// the last texel (as lookup tables indexed by a dot product need).
-    Clamp,
-    /// The texture repeats mirrored every other period.
-    Mirror,
-}
-
-impl Address {
-    /// Texel index along an axis of `n` texels.
-    #[inline]
-    pub fn apply(self, i: i64, n: i64) -> i64 {
-        match self {
-            Address::Wrap => i.rem_euclid(n),
-            Address::Clamp => i.clamp(0, n - 1),
-            Address::Mirror => {
-                let m = i.rem_euclid(2 * n);
-                if m >= n {
-                    2 * n - 1 - m
-                } else {
-                    m
-                }
-            }
-        }
-    }
 }
 
 /// Texture contents: `width * height` texels of `lanes` real values each, row-major, row 0
@@ -186,15 +155,8 @@ impl TexFetch {
         (self.address[1].apply(j, h) * w + self.address[0].apply(i, w)) as usize
     }
 
-    /// Texel position along one axis in fixed point: `s = c * size - 1/2` (bilinear) or
-    /// `c * size` (nearest), with `frac` fraction bits; returns (integer part, fraction raw).
     fn axis(&self, raw: i64, frac: u32, log: u32) -> (i64, i64) {
-        let f = frac - log; // fraction bits left after multiplying by 2^log
-        let mut s = raw as i128;
-        if self.filter == Filter::Bilinear {
-            s -= 1i128 << (f - 1);
-        }
-        ((s >> f) as i64, (s & ((1i128 << f) - 1)) as i64)
+        texel_axis(raw, frac, log, self.filter == Filter::Bilinear)
     }
 
     fn eval_exact(&self, u: f64, v: f64) -> [f64; MAX_LANES] {
@@ -393,25 +355,6 @@ mod tests {
                 let bound = texel.max_error() + step * 2f64.powi(-8) + out.max_error();
                 let d = (ob[0].lanes[l].x - oe[0].lanes[l].x).abs();
                 assert!(d <= bound + 1e-12, "k {k} lane {l}: {d} > {bound}");
-            }
-        }
-    }
-
-    #[test]
-    fn address_modes_fold_every_index_of_three_periods() {
-        for n in [1i64, 2, 4, 8] {
-            for i in -3 * n..3 * n {
-                let w = Address::Wrap.apply(i, n);
-                assert_eq!(w, ((i % n) + n) % n);
-                assert_eq!(Address::Clamp.apply(i, n), i.max(0).min(n - 1));
-                // mirrored repeat: 0 1 .. n-1 n-1 .. 1 0 0 1 ..
-                let period = i.div_euclid(n);
-                let m = Address::Mirror.apply(i, n);
-                assert_eq!(
-                    m,
-                    if period % 2 == 0 { w } else { n - 1 - w },
-                    "n {n} i {i}"
-                );
             }
         }
     }
