@@ -18,36 +18,22 @@
 //! 5. **Assembly** — rows in parallel with rayon; each pixel is a pure function of the scene,
 //!    so the image is bit-identical at any thread count.
 
-mod perturb;
 mod shade;
 #[cfg(test)]
 mod tests;
 
-use glam::{DMat3, DMat4, DVec2, DVec3, DVec4};
+use glam::{DMat3, DMat4, DVec3, DVec4};
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
 
 use crate::raster::{rasterize, RasterConfig};
 use crate::scene::{Mesh, Scene};
 
-pub use perturb::{perturb_height, perturb_normal_map, perturbed_normal, tangent_frame};
+// The perturbation is part of the scene (what the bump map does to the surface); the
+// reference evaluates it exactly per pixel, the bakes per texel.
+pub use crate::scene::perturb::{
+    perturb_height, perturb_normal_map, perturbed_normal, tangent_frame, Perturbation, SurfacePoint,
+};
 pub use shade::{base_color, shade, shade_with_view, view_vector};
-
-/// How a height-field gradient perturbs the normal.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-pub enum Perturbation {
-    /// Blinn 1978 (Ernst et al. 1998 §2): `N' = N + D`,
-    /// `D = (Fu (N × Pv) + Fv (Pu × N)) / |N|`, `N = Pu × Pv`. Exactly the normal of the
-    /// displaced surface `P + F n̂` to first order; the visible bump slope therefore scales
-    /// with `1 / |Pu|`, `1 / |Pv|` (Lingard: scaling the surface by 2 scales `N` by 4 but `D`
-    /// only by 2, smoothing the wrinkles).
-    Blinn,
-    /// Lingard 1995's scale-invariant perturbation `D' = sqrt(Fu² + Fv²) · D · |N| / |D|`:
-    /// the direction of Blinn's `D`, with `|D'| / |N| = |∇F|` whatever the parameterisation
-    /// scale, so the bumps look the same on a surface of any size.
-    #[default]
-    ScaleInvariant,
-}
 
 /// The reference image.
 #[derive(Debug, Clone, PartialEq)]
@@ -72,20 +58,6 @@ impl ReferenceImage {
     pub fn covered(&self) -> usize {
         self.mask.iter().filter(|&&m| m).count()
     }
-}
-
-/// A surface point in world space, at a pixel centre.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SurfacePoint {
-    /// Position.
-    pub p: DVec3,
-    /// Interpolated smooth unit normal `n̂` (zero only if the interpolation vanishes).
-    pub n: DVec3,
-    /// `∂P/∂u`, `∂P/∂v` (unnormalised).
-    pub pu: DVec3,
-    pub pv: DVec3,
-    /// Texture coordinates (unwrapped).
-    pub uv: DVec2,
 }
 
 /// The model transform split the three ways vectors transform.

@@ -11,7 +11,7 @@ pub mod overrides;
 
 use crate::engine::units::UnitSpec;
 use crate::raster::RasterConfig;
-use crate::reference::Perturbation;
+use crate::scene::perturb::Perturbation;
 use crate::scene::{BumpSpec, Camera, Light, Material, MeshSpec, Regions};
 use bumpsim_hw::{CostTable, Encoding};
 pub use error::{locate, InputError};

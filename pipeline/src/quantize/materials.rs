@@ -16,9 +16,8 @@ use super::{QuantizeError, Scan, MAX_PALETTE};
 use glam::DVec3;
 use std::ops::Range;
 
-/// Material ids are `0..MAX_MATERIALS` (Tarini §6: "values of 8 or more are sometime
-/// useful").
-pub const MAX_MATERIALS: usize = 8;
+// Material ids are `0..MAX_MATERIALS`, a number the scene defines (Tarini §6).
+pub use crate::scene::material::MAX_MATERIALS;
 
 /// A table sorted by material.
 #[derive(Debug, Clone, PartialEq)]

@@ -233,8 +233,8 @@ mod tests {
     use std::path::PathBuf;
 
     use super::*;
-    use crate::reference::Perturbation;
     use crate::scene::bake::{bake, BakeSpace};
+    use crate::scene::perturb::Perturbation;
     use crate::scene::{BumpSpec, MeshSpec};
 
     /// Distance from `p` to the segment `ab`.

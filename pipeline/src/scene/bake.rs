@@ -21,7 +21,7 @@
 //!    the result is bit-identical at any thread count). The barycentrics of the texel centre,
 //!    in the claiming copy's unwrapped frame, are computed in f64 from the unsnapped uv; they
 //!    interpolate the position, the normal (then renormalised, as in the reference), `Pu` and
-//!    `Pv`; [`crate::reference::perturbed_normal`] applies the bump at the texel centre in
+//!    `Pv`; [`super::perturb::perturbed_normal`] applies the bump at the texel centre in
 //!    `[0, 1)` (bump maps have period 1): Blinn or Lingard's scale-invariant perturbation of
 //!    the analytic gradient for height fields, the `(T, B, N)` frame for normal maps.
 //! 3. **Gutter**. A texel no triangle covers whose centre lies within [`GUTTER_RADIUS`]
@@ -53,8 +53,8 @@ use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use super::perturb::{perturbed_normal, Perturbation, SurfacePoint};
 use super::{BumpMap, Mesh, NormalMap, NormalMethod};
-use crate::reference::{perturbed_normal, Perturbation, SurfacePoint};
 
 /// Which frame the baked normals are expressed in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

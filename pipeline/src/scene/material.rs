@@ -18,7 +18,7 @@ use super::SceneError;
 
 /// Material ids are `0..MAX_MATERIALS`: a 3-bit material field (Tarini §6: "2 or 3 is
 /// usually enough, but values of 8 or more are sometime useful").
-pub const MAX_MATERIALS: usize = crate::quantize::MAX_MATERIALS;
+pub const MAX_MATERIALS: usize = 8;
 
 /// Surface material (OpenGL-style coefficients, linear RGB in [0, 1]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -9,6 +9,7 @@ pub mod lathe;
 pub mod material;
 pub mod mesh;
 pub mod normals;
+pub mod perturb;
 
 use glam::{DMat4, DVec3};
 use serde::{Deserialize, Serialize};

@@ -1,9 +1,43 @@
-//! Step 3: the perturbed normal.
+//! The perturbed normal: what a bump map does to a surface (Blinn 1978 as given in Ernst et
+//! al. 1998 §2, Lingard 1995's scale-invariant variant, tangent-space normal maps in the
+//! `(T, B, N)` frame of §3.4). Part of the scene's definition: the float reference evaluates it
+//! exactly per pixel (`crate::reference`, step 3), the object-space bakes per texel
+//! (`super::bake`).
 
 use glam::{DVec2, DVec3};
+use serde::{Deserialize, Serialize};
 
-use super::{Perturbation, SurfacePoint};
-use crate::scene::BumpMap;
+use super::BumpMap;
+
+/// How a height-field gradient perturbs the normal.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum Perturbation {
+    /// Blinn 1978 (Ernst et al. 1998 §2): `N' = N + D`,
+    /// `D = (Fu (N × Pv) + Fv (Pu × N)) / |N|`, `N = Pu × Pv`. Exactly the normal of the
+    /// displaced surface `P + F n̂` to first order; the visible bump slope therefore scales
+    /// with `1 / |Pu|`, `1 / |Pv|` (Lingard: scaling the surface by 2 scales `N` by 4 but `D`
+    /// only by 2, smoothing the wrinkles).
+    Blinn,
+    /// Lingard 1995's scale-invariant perturbation `D' = sqrt(Fu² + Fv²) · D · |N| / |D|`:
+    /// the direction of Blinn's `D`, with `|D'| / |N| = |∇F|` whatever the parameterisation
+    /// scale, so the bumps look the same on a surface of any size.
+    #[default]
+    ScaleInvariant,
+}
+
+/// A surface point in world space, at a pixel centre.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfacePoint {
+    /// Position.
+    pub p: DVec3,
+    /// Interpolated smooth unit normal `n̂` (zero only if the interpolation vanishes).
+    pub n: DVec3,
+    /// `∂P/∂u`, `∂P/∂v` (unnormalised).
+    pub pu: DVec3,
+    pub pv: DVec3,
+    /// Texture coordinates (unwrapped).
+    pub uv: DVec2,
+}
 
 /// `v / |v|`, or `fallback` if `v` is zero or not finite.
 fn normalize_or(v: DVec3, fallback: DVec3) -> DVec3 {
