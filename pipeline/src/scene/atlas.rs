@@ -165,7 +165,7 @@ pub fn atlas_mesh(
 /// every face has them, and lay it out with [`atlas_mesh`]. Texture coordinates are ignored.
 pub fn load_obj(path: &Path, rep: DVec2) -> Result<Mesh, SceneError> {
     let fail = |message: String| SceneError::file(path.display(), message);
-    let models = super::mesh::read_obj(path)?;
+    let models = super::obj::read_obj(path)?;
     let mut positions: Vec<DVec3> = Vec::new();
     let mut triangles: Vec<[u32; 3]> = Vec::new();
     let mut normals: Vec<DVec3> = Vec::new();

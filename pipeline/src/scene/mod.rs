@@ -9,7 +9,9 @@ pub mod lathe;
 pub mod material;
 pub mod mesh;
 pub mod normals;
+pub mod obj;
 pub mod perturb;
+pub mod shapes;
 
 use glam::{DMat4, DVec3};
 use serde::{Deserialize, Serialize};
@@ -17,8 +19,9 @@ use serde::{Deserialize, Serialize};
 pub use bumpmap::{BumpMap, BumpSpec, HeightField};
 pub use camera::Camera;
 pub use material::{Coord, EnvImage, Looks, Material, RegionRule, Regions, Shading};
-pub use mesh::{Mesh, MeshSpec, Vertex};
+pub use mesh::{Mesh, Vertex};
 pub use normals::{NormalMap, NormalMethod};
+pub use shapes::MeshSpec;
 
 /// A reason a scene cannot be built. Each names the field or file and what was expected.
 #[derive(Debug, thiserror::Error)]
