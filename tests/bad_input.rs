@@ -208,6 +208,8 @@ config_errors! {
         &["engine.units[0].unit", "tests: 0 given", "expected 1 to 4"]);
     cull_unit_with_an_unknown_test: ("cull-test", "cull-fragment", &[("tests: [Gequal]", "tests: [Greater]")], Some("Greater"),
         &["engine.units[0].unit", "Greater", "Gequal", "Less"]);
+    interpolator_weight_bits_out_of_range: ("interp-bits", "sgi-teapot", &[("output: \"shade.color\",", "output: \"shade.color\", interpolator: Fixed(weight_bits: 2),")], Some("interpolator:"),
+        &["engine.interpolator.weight_bits", "weight_bits 2", "expected 4 to 30"]);
     texture_address_mode_unknown: ("address", "dependent-dot-lookup", &[("address: Clamp", "address: Border")], Some("Border"),
         &["engine.units[2].unit", "Border", "Wrap", "Clamp", "Mirror"]);
     lighting_table_of_a_missing_light: ("lighting-light", "dependent-dot-lookup", &[("LightingTable(size: 256, light: 0)", "LightingTable(size: 256, light: 3)")], Some("name: \"light\""),

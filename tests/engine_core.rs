@@ -107,3 +107,27 @@ fn a_prepared_frame_simulates_the_same_twice() {
     assert_eq!(a.cycles, b.cycles);
     assert_eq!(a.outputs, b.outputs);
 }
+
+#[test]
+fn a_fixed_point_interpolator_converges_on_the_exact_one_and_is_costed() {
+    // quantization error of the whole engine (bit-accurate vs exact mode) against the weight
+    // width of a fixed-point interpolator; the exact interpolator is the floor
+    let psnr = |sets: &[&str]| {
+        let r = render(&load("sgi-sphere-bricks", sets)).report;
+        (r.error.quantization.psnr_db, r.gates)
+    };
+    let (exact, g_exact) = psnr(&[]);
+    let (coarse, g_coarse) = psnr(&["engine.interpolator=Fixed(weight_bits: 6)"]);
+    let (fine, g_fine) = psnr(&["engine.interpolator=Fixed(weight_bits: 20)"]);
+    assert!(coarse < fine - 3.0, "6 bits {coarse} dB, 20 bits {fine} dB");
+    assert!(
+        (fine - exact).abs() < 0.5,
+        "20 bits {fine} dB, exact {exact} dB"
+    );
+    let interp = |g: &bumpsim_pipeline::report::Gates| {
+        g.per_unit.get("attribute interpolator").map(|u| u.total)
+    };
+    assert_eq!(interp(&g_exact), None);
+    let (c, f) = (interp(&g_coarse).unwrap(), interp(&g_fine).unwrap());
+    assert!(c > 1_000.0 && f > c, "{c} {f}");
+}

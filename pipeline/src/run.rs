@@ -163,6 +163,9 @@ struct Front<'a> {
     /// The vertex values the interpolator reads: on each attribute's grid in bit-accurate
     /// mode ([`attributes::VertexData::snapped`]), as computed in exact mode.
     values: &'a [Vec<[f64; 4]>],
+    /// The fixed-point interpolator's vertex words and weight bits, when the bit-accurate
+    /// engine has one.
+    fixed: Option<(&'a [Vec<[i64; 4]>], u32)>,
 }
 
 impl Front<'_> {
@@ -179,6 +182,9 @@ impl Front<'_> {
                     lanes,
                     &self.vd.values[a][frag.tri as usize],
                 )
+            } else if let Some((codes, bits)) = self.fixed.filter(|_| mode == Mode::BitAccurate) {
+                let c = tri.map(|i| &codes[a][i as usize]);
+                attributes::interpolate_fixed(&attr.enc, lanes, c, frag.bary, bits)
             } else {
                 let v = tri.map(|i| &self.values[a][i as usize]);
                 attributes::interpolate_snapped(
@@ -194,6 +200,17 @@ impl Front<'_> {
     }
 }
 
+/// The fixed-point interpolator's vertex words and weight bits, if `i` is one.
+fn fixed(
+    codes: &[Vec<[i64; 4]>],
+    i: crate::config::Interpolator,
+) -> Option<(&[Vec<[i64; 4]>], u32)> {
+    match i {
+        crate::config::Interpolator::Exact => None,
+        crate::config::Interpolator::Fixed { weight_bits } => Some((codes, weight_bits)),
+    }
+}
+
 /// A frame ready to simulate: the scene, the geometry engine's output, the rasterizer's
 /// fragments, and the engine (built once; it evaluates in both modes).
 pub struct Prepared {
@@ -201,6 +218,9 @@ pub struct Prepared {
     pub vertices: attributes::VertexData,
     /// `vertices.values` on the attributes' grids, for the bit-accurate interpolator.
     snapped: Vec<Vec<[f64; 4]>>,
+    /// The vertex words of a fixed-point interpolator (empty with `Interpolator::Exact`).
+    codes: Vec<Vec<[i64; 4]>>,
+    interpolator: crate::config::Interpolator,
     pub raster: raster::RasterOutput,
     /// The engine: units with their assets, evaluated in both modes.
     pub engine: Engine,
@@ -229,9 +249,16 @@ pub fn prepare(l: &Loaded) -> Result<Prepared, InputError> {
         depth,
     );
     let snapped = vertices.snapped(&cfg.engine.attributes);
+    let interpolator = cfg.engine.interpolator;
+    let codes = match interpolator {
+        crate::config::Interpolator::Exact => Vec::new(),
+        crate::config::Interpolator::Fixed { .. } => vertices.codes(&cfg.engine.attributes),
+    };
     Ok(Prepared {
         scene,
         snapped,
+        codes,
+        interpolator,
         vertices,
         raster,
         engine,
@@ -251,6 +278,7 @@ impl Prepared {
                 Mode::BitAccurate => &self.snapped,
                 Mode::Exact => &self.vertices.values,
             },
+            fixed: fixed(&self.codes, self.interpolator),
         }
     }
 
@@ -262,6 +290,7 @@ impl Prepared {
             tris: &self.scene.mesh.triangles,
             vd: &self.vertices,
             values: &self.snapped,
+            fixed: fixed(&self.codes, self.interpolator),
         };
         let attrs = &self.engine.attributes;
         let fill = |f: usize, t: &mut Token| front.fill(attrs, Mode::BitAccurate, f, t);
@@ -394,12 +423,16 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
     let baseline = PacketLayout::baseline_textured_gouraud();
     let bits = packet.bits_per_triangle();
     let base_bits = baseline.bits_per_triangle();
-    let units: Vec<(String, String, bumpsim_hw::GateBudget)> = bit
+    let mut units: Vec<(String, String, bumpsim_hw::GateBudget)> = bit
         .stages
         .iter()
         .zip(&bit.gates)
         .map(|(s, (_, g))| (s.name.clone(), s.unit().kind().to_string(), g.clone()))
         .collect();
+    if let crate::config::Interpolator::Fixed { weight_bits } = cfg.engine.interpolator {
+        let g = attributes::interpolator_gates(&bit.attributes, weight_bits, &cfg.cost);
+        units.push(("attribute interpolator".into(), "interpolator".into(), g));
+    }
     let blend = cfg.engine.units.iter().find_map(|u| match u.unit {
         engine::units::UnitSpec::FbBlend { equation, .. } => Some(equation),
         _ => None,

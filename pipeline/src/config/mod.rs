@@ -323,6 +323,31 @@ pub struct EngineConfig {
     pub units: Vec<UnitConfig>,
     /// The 3-lane signal written to the frame buffer.
     pub output: String,
+    /// How the bit-accurate attribute interpolator computes (default `Exact`; left out of the
+    /// canonical config, and so of the hash, when it is the default).
+    #[serde(default, skip_serializing_if = "Interpolator::is_exact")]
+    pub interpolator: Interpolator,
+}
+
+/// The attribute interpolator of the bit-accurate engine (`engine/attributes.rs`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum Interpolator {
+    /// The perspective-correct barycentrics in f64 weight the vertex words (the values on each
+    /// attribute's grid), and the sum is rounded once into the attribute's encoding: an ideal
+    /// interpolator whose only error is the final rounding.
+    #[default]
+    Exact,
+    /// A fixed-point interpolator: the barycentrics rounded to `weight_bits` fraction bits (the
+    /// third as `1 - b0 - b1`, so the weights sum to one exactly), integer products with the
+    /// vertex codes, the sum rounded and saturated (or wrapped) by the attribute's encoding.
+    /// 4 to 30 bits. Costed in the report's gates as `attribute interpolator`.
+    Fixed { weight_bits: u32 },
+}
+
+impl Interpolator {
+    pub fn is_exact(&self) -> bool {
+        *self == Interpolator::Exact
+    }
 }
 
 /// A loaded config with where it came from.
@@ -446,6 +471,15 @@ fn hex(bytes: &[u8]) -> String {
 /// Checks that span fields: lights, FIFO depth, attribute names and light indices.
 fn validate(l: &Loaded) -> Result<(), InputError> {
     let c = &l.config;
+    if let Interpolator::Fixed { weight_bits } = c.engine.interpolator {
+        if !(4..=30).contains(&weight_bits) {
+            return Err(l.error(
+                "engine.interpolator.weight_bits",
+                "interpolator:",
+                format!("weight_bits {weight_bits}: expected 4 to 30"),
+            ));
+        }
+    }
     for (i, light) in c.scene.lights.iter().enumerate() {
         light
             .validate(&format!("scene.lights[{i}]"))

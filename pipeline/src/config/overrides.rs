@@ -24,6 +24,9 @@ pub fn apply(config: &Config, sets: &[String]) -> Result<Config, InputError> {
         if segments.is_empty() {
             return Err(err(path, "empty path: expected path.to.field=value".into()));
         }
+        if walk(&mut tree, &segments).is_err() {
+            add_default_field(&mut tree, &segments);
+        }
         let node = walk(&mut tree, &segments).map_err(|m| err(path, m))?;
         // `None` over an enum variant (a string in the tree, e.g. `raster.cull`) is the
         // variant named None, not an absent option
@@ -34,6 +37,52 @@ pub fn apply(config: &Config, sets: &[String]) -> Result<Config, InputError> {
     }
     let result: Result<Config, _> = serde_path_to_error::deserialize(tree);
     result.map_err(|e| InputError::new("--set", e.path().to_string(), e.into_inner().to_string()))
+}
+
+/// A field at its default may be left out of the config's tree (`skip_serializing_if`, so
+/// that new fields keep old configs' hashes): add the last segment of `segments` under its
+/// parent (inside the parent's enum variant, if it is one) when the schema accepts a field of
+/// that name there. Otherwise leave the tree as it is, for [`walk`]'s error.
+fn add_default_field(tree: &mut Value, segments: &[String]) {
+    let Some((last, parent)) = segments.split_last() else {
+        return;
+    };
+    // the schema knows the field if a value of no type it could take is rejected for another
+    // reason than an unknown field (structures that ignore unknown keys accept it)
+    let mut probe = tree.clone();
+    let Some(m) = field_map(&mut probe, parent) else {
+        return;
+    };
+    m.insert(last.clone(), serde_json::json!({ "\u{0}not a value": 0 }));
+    let unknown = format!("unknown field `{last}`");
+    let known = match serde_json::from_value::<Config>(probe) {
+        Err(e) => !e.to_string().contains(&unknown),
+        Ok(_) => false,
+    };
+    if known {
+        if let Some(m) = field_map(tree, parent) {
+            m.insert(last.clone(), Value::Null);
+        }
+    }
+}
+
+/// The fields of the structure at `parent`: the object itself, or the fields of the enum
+/// variant it holds (`{"Variant": {fields}}`).
+fn field_map<'a>(
+    tree: &'a mut Value,
+    parent: &[String],
+) -> Option<&'a mut serde_json::Map<String, Value>> {
+    let node = walk(tree, parent).ok()?;
+    let variant = matches!(&*node, Value::Object(m) if m.len() == 1
+    && m.iter().next().is_some_and(|(k, v)| {
+        k.starts_with(|c: char| c.is_ascii_uppercase()) && v.is_object()
+    }));
+    let node = if variant {
+        node.as_object_mut()?.values_mut().next()?
+    } else {
+        node
+    };
+    node.as_object_mut()
 }
 
 fn split_path(path: &str) -> Vec<String> {
@@ -283,6 +332,27 @@ mod tests {
         assert_eq!(c.raster.cull, crate::raster::Cull::Back);
         let set = apply(&c, &["raster.cull=None".to_string()]).unwrap();
         assert_eq!(set.raster.cull, crate::raster::Cull::None);
+    }
+
+    #[test]
+    fn fields_left_out_at_their_default_can_be_set() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../configs");
+        let read = |n: &str| std::fs::read_to_string(root.join(n)).unwrap();
+        let c = super::super::parse(&read("sgi-teapot.ron"), "sgi-teapot.ron").unwrap();
+        let set = |s: &str| apply(&c, &[s.to_string()]);
+        let fixed = set("engine.interpolator=Fixed(weight_bits: 12)").unwrap();
+        assert_eq!(
+            fixed.engine.interpolator,
+            super::super::Interpolator::Fixed { weight_bits: 12 }
+        );
+        // inside an enum variant: TexFetch's address
+        let clamp = set("engine.units.fetch.unit.address=Clamp").unwrap();
+        assert_ne!(clamp.engine.units[0].unit, c.engine.units[0].unit);
+        // a name the schema does not know is still an error naming what exists
+        let e = set("engine.interpolatr=Exact").unwrap_err();
+        assert!(e.to_string().contains("no field \"interpolatr\""), "{e}");
+        let e = set("engine.units.fetch.unit.adress=Clamp").unwrap_err();
+        assert!(e.to_string().contains("no field \"adress\""), "{e}");
     }
 
     #[test]

@@ -282,7 +282,106 @@ pub fn interpolate_snapped(
     Word::for_mode(mode, enc, &xs[..lanes])
 }
 
+/// The raw word of a vertex value that the fixed-point interpolator reads: for fixed point the
+/// value on the grid as an integer of LSBs, without overflow (uv beyond [0, 1) stays
+/// unwrapped until the interpolated sum is cast, as in [`interpolate`]); for the unit codecs
+/// the encoded code (their values lie in range).
+pub fn vertex_code(enc: &Encoding, x: f64) -> i64 {
+    match enc.codec {
+        Codec::Fixed => {
+            let r = (x * bumpsim_hw::format::pow2(enc.format.frac as i32)).round();
+            if r.is_finite() {
+                r.clamp(-(2f64.powi(62)), 2f64.powi(62)) as i64
+            } else {
+                0
+            }
+        }
+        _ => enc.encode(x),
+    }
+}
+
+/// The fixed-point interpolator (`Interpolator::Fixed`): barycentrics rounded to `bits`
+/// fraction bits, `q2 = 2^bits - q0 - q1`, `raw = cast(sum q_k c_k >> bits)` in the
+/// encoding's rounding and overflow modes. The weights sum to one, so the codes' affine
+/// readings (every codec of the project) interpolate correctly.
+pub fn interpolate_fixed(
+    enc: &Encoding,
+    lanes: usize,
+    codes: [&[i64; 4]; 3],
+    bary: [f64; 3],
+    bits: u32,
+) -> Word {
+    let one = 1i64 << bits;
+    let q = |b: f64| (b * one as f64).round().clamp(0.0, one as f64) as i64;
+    let (q0, q1) = (q(bary[0]), q(bary[1]));
+    let w = [q0, q1, one - q0 - q1];
+    let int = bumpsim_hw::Format {
+        frac: 0,
+        ..enc.format
+    };
+    let mut raws = [0i64; 4];
+    for (l, r) in raws.iter_mut().enumerate().take(lanes) {
+        let sum: i128 = (0..3).map(|k| w[k] as i128 * codes[k][l] as i128).sum();
+        *r = int.cast(sum, bits, enc.quant, enc.overflow);
+    }
+    Word::from_raw(enc, &raws[..lanes])
+}
+
+/// Gates of the fixed-point interpolator for `attrs` (per-vertex ones): per lane, two
+/// multipliers and adders in the form `c0 + q1 (c1 - c0) + q2 (c2 - c0)` and an output
+/// register.
+pub fn interpolator_gates(
+    attrs: &[AttributeConfig],
+    bits: u32,
+    t: &bumpsim_hw::CostTable,
+) -> bumpsim_hw::GateBudget {
+    let mut g = bumpsim_hw::GateBudget::new();
+    for a in attrs.iter().filter(|a| !a.source.per_triangle()) {
+        let (n, w) = (a.source.lanes() as u32, a.enc.width());
+        g.add(
+            format!("{} difference adders {}", a.name, w + 1),
+            2 * n,
+            t.adder(w + 1),
+        );
+        g.add(
+            format!("{} weight multipliers {}x{bits}", a.name, w + 1),
+            2 * n,
+            t.multiplier(w + 1, bits),
+        );
+        g.add(
+            format!("{} sum adders {}", a.name, w + bits + 2),
+            2 * n,
+            t.adder(w + bits + 2),
+        );
+        g.add(
+            format!("{} output register {}", a.name, n * w),
+            1,
+            t.register(n * w),
+        );
+    }
+    g
+}
+
 impl VertexData {
+    /// The per-vertex values as the fixed-point interpolator's vertex words
+    /// ([`vertex_code`]); per-triangle values are left out (empty).
+    pub fn codes(&self, attrs: &[AttributeConfig]) -> Vec<Vec<[i64; 4]>> {
+        self.values
+            .iter()
+            .zip(attrs)
+            .zip(&self.flat)
+            .map(|((vals, a), &flat)| {
+                if flat {
+                    Vec::new()
+                } else {
+                    vals.iter()
+                        .map(|x| std::array::from_fn(|l| vertex_code(&a.enc, x[l])))
+                        .collect()
+                }
+            })
+            .collect()
+    }
+
     /// The per-vertex values on each attribute's grid (what bit-accurate interpolation reads;
     /// per-triangle values are left as they are: [`flat`] rounds them).
     pub fn snapped(&self, attrs: &[AttributeConfig]) -> Vec<Vec<[f64; 4]>> {
