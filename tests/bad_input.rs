@@ -151,6 +151,9 @@ fn file_fails(b: &Bad, name: &str, needles: &[&str]) {
 config_errors! {
     unknown_unit_kind: ("unit-kind", "sgi-teapot", &[("Dot3(", "Dot4(")], Some("Dot4("),
         &["engine.units[1].unit", "Dot4", "expected one of", "Dot3"]);
+    // inside a unit's variant (it used to be ignored, rendering as if it were absent)
+    unknown_key_in_a_unit: ("unit-key", "sgi-teapot", &[("Dot3(count: 4,", "Dot3(count: 4, paralel: 2,")], Some("paralel"),
+        &["engine.units[1].unit.Dot3.paralel", "paralel", "expected one of", "parallel"]);
     unknown_key_in_scene: ("scene-key", "sgi-teapot", &[("width: 256,", "width: 256, colour: 1,")], Some("colour: 1"),
         &["scene.colour", "colour", "expected one of", "width"]);
     unknown_top_level_key: ("top-key", "emboss", &[("name: \"emboss\",", "name: \"emboss\", frobnicate: true,")], Some("frobnicate"),

@@ -434,7 +434,7 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
         units.push(("attribute interpolator".into(), "interpolator".into(), g));
     }
     let blend = cfg.engine.units.iter().find_map(|u| match u.unit {
-        engine::units::UnitSpec::FbBlend { equation, .. } => Some(equation),
+        engine::units::UnitSpec::FbBlend(ref fb) => Some(fb.equation),
         _ => None,
     });
     let passes = crate::passes::passes(

@@ -1,0 +1,194 @@
+//! Quantized normal maps (Tarini et al. §3–6, `hw/src/units/quantized_fetch.rs`).
+
+use super::checks::check_size;
+use super::defaults::{mem_latency, one};
+use super::palette_lighting::lighting_fn;
+use super::ports::input;
+use super::textures::object_normals;
+use super::{BuildCtx, Spec};
+use crate::quantize::{self, MipMode, Quantizer, Scan};
+use bumpsim_hw::units::{BuilderFormats, PaletteBuilder, QuantizedFetch, SpecGen};
+use bumpsim_hw::{Codec, Encoding, Format, PortSpec, Unit};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// The texture coordinate input.
+const UV: &str = "uv";
+/// The level of detail input (with `mipmap`).
+const LOD: &str = "lod";
+
+/// Quantized normal maps (Tarini et al. §3–6, `hw/src/units/quantized_fetch.rs`): the
+/// object-space normals baked at `size` x `size` are quantized to `s_n` entries (median
+/// cut or NeuQuant, optionally Floyd–Steinberg dithered; with several scene materials,
+/// one interval of entries per material, §6) stored as `index_bits`-bit indices; per
+/// frame the table is shaded by each material's lighting model in object space and
+/// loaded into the colour LUT; per fragment the index under `uv` (nearest) reads its
+/// colour. `split` (§7.1): alpha holds the Lambert intensity and RGB the specular colour,
+/// for an `FbBlend` with a base colour (Phong and Lambert materials only). `mipmap`
+/// (§5.2): index mipmap levels built by `NearestToAverage` (or the wrong
+/// `NaiveIndexAverage`), chosen per fragment by a `lod` input (an `Lod` attribute).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct QuantizedNormalsSpec {
+    pub size: u32,
+    pub s_n: u32,
+    pub quantizer: Quantizer,
+    #[serde(default)]
+    pub dither: bool,
+    pub index_bits: u32,
+    #[serde(default)]
+    pub split: bool,
+    #[serde(default)]
+    pub mipmap: Option<MipMode>,
+    #[serde(default)]
+    pub datapath: BuilderDatapath,
+    pub entry: Encoding,
+    #[serde(default = "one")]
+    pub entries_per_clock: u32,
+    #[serde(default = "one")]
+    pub load_width: u32,
+}
+
+/// The palette builder's datapath words (`hw/src/units/palette_builder.rs`, "Bit-accurate
+/// mode"): the normal table's components, the light / half-way / view vector registers, the
+/// intensities after each dot product, and the power generator.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BuilderDatapath {
+    pub normal: Encoding,
+    pub vector: Encoding,
+    pub intensity: Encoding,
+    pub power: SpecGen,
+}
+
+impl Default for BuilderDatapath {
+    /// s1.10 normals and vectors in 12-bit words, 10-bit intensities, a 1024 x 12 power table.
+    fn default() -> Self {
+        let s1_10 = Encoding::fixed(Format {
+            signed: true,
+            width: 12,
+            frac: 10,
+        });
+        BuilderDatapath {
+            normal: s1_10,
+            vector: s1_10,
+            intensity: Encoding::texel(Codec::UnitUnsigned, false, 10),
+            power: SpecGen::Table {
+                index_bits: 10,
+                value_bits: 12,
+            },
+        }
+    }
+}
+
+impl Spec for QuantizedNormalsSpec {
+    fn input_names(&self, _: &BuildCtx) -> Vec<String> {
+        match self.mipmap {
+            Some(_) => vec![UV.into(), LOD.into()],
+            None => vec![UV.into()],
+        }
+    }
+
+    fn build(
+        &self,
+        ins: &BTreeMap<String, PortSpec>,
+        ctx: &BuildCtx,
+    ) -> Result<Box<dyn Unit>, String> {
+        Ok(Box::new(self.quantized_fetch(ins, ctx)?))
+    }
+}
+
+impl QuantizedNormalsSpec {
+    /// Bake, quantize, build the colour table and the unit (Tarini et al. §3–6).
+    fn quantized_fetch(
+        &self,
+        ins: &BTreeMap<String, PortSpec>,
+        ctx: &BuildCtx,
+    ) -> Result<QuantizedFetch, String> {
+        let (size, s_n, index_bits) = (self.size, self.s_n, self.index_bits);
+        check_size(size)?;
+        if !(8..=14).contains(&index_bits) {
+            return Err(format!("index_bits {index_bits}: expected 8 to 14"));
+        }
+        if s_n < 1 || s_n > 1 << index_bits {
+            return Err(format!(
+                "s_n {s_n}: expected 1 to 2^index_bits = {}",
+                1u32 << index_bits
+            ));
+        }
+        let uv = input(ins, UV)?.enc;
+        let scene = ctx.scene;
+        let normals = &object_normals(ctx, size);
+        let (w, n) = (size as usize, s_n as usize);
+        let (pal, intervals) = match &scene.looks.regions {
+            None => {
+                let mut pal =
+                    quantize::quantize(normals, n, self.quantizer).map_err(|e| e.to_string())?;
+                if self.dither {
+                    pal.indices = quantize::dither(normals, w, w, &pal.entries, Scan::Serpentine);
+                }
+                let len = pal.entries.len();
+                (pal, std::iter::once(0..len).collect())
+            }
+            Some(r) => {
+                // Tarini §6: the material is a fourth, discrete component of each texel
+                let ids: Vec<u8> = normals
+                    .iter()
+                    .enumerate()
+                    .map(|(k, nrm)| {
+                        let uv = glam::DVec2::new(
+                            ((k % w) as f64 + 0.5) / w as f64,
+                            ((k / w) as f64 + 0.5) / w as f64,
+                        );
+                        r.material_at(uv, *nrm)
+                    })
+                    .collect();
+                let mut mp = quantize::quantize_with_materials(normals, &ids, n, self.quantizer)
+                    .map_err(|e| e.to_string())?;
+                if self.dither {
+                    mp.palette.indices = mp.dither(normals, &ids, w, w, Scan::Serpentine);
+                }
+                (mp.palette, mp.intervals)
+            }
+        };
+        let materials = intervals
+            .into_iter()
+            .enumerate()
+            .filter(|(_, r)| !r.is_empty())
+            .map(|(id, r)| Ok((r, lighting_fn(ctx, id as u8, self.split)?)))
+            .collect::<Result<Vec<_>, String>>()?;
+        let dp = &self.datapath;
+        let formats = BuilderFormats {
+            normal: dp.normal,
+            vector: dp.vector,
+            intensity: dp.intensity,
+            power: dp.power,
+            entry: self.entry,
+        };
+        let table = pal.entries.iter().map(|n| n.to_array()).collect();
+        let builder = PaletteBuilder::new(table, materials, formats, self.entries_per_clock)?;
+        let unit = QuantizedFetch::new(
+            uv,
+            size,
+            size,
+            &pal.indices,
+            index_bits,
+            builder,
+            self.load_width,
+            mem_latency(),
+        )?;
+        let Some(mode) = self.mipmap else {
+            return Ok(unit);
+        };
+        // Tarini §5.2: every coarser level from the one below, down to 1 x 1
+        let mut levels = Vec::new();
+        let (mut idx, mut w) = (pal.indices, size as usize);
+        while w > 1 {
+            let (next, w2, _) =
+                quantize::mip_indices(&idx, w, w, &pal.entries, mode).map_err(|e| e.to_string())?;
+            levels.push((w2 as u32, w2 as u32, next.clone()));
+            (idx, w) = (next, w2);
+        }
+        unit.with_mipmaps(input(ins, LOD)?.enc, levels)
+    }
+}

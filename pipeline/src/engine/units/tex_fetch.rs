@@ -1,0 +1,88 @@
+//! Texel fetch and filter (`hw/src/units/fetch.rs`).
+
+use super::defaults::{mem_latency, ports};
+use super::ports::input;
+use super::textures::{texels, TextureSource};
+use super::{BuildCtx, Spec};
+use crate::engine::palette;
+use bumpsim_hw::units::{Address, Filter, TexFetch};
+use bumpsim_hw::{Encoding, PortSpec, Unit};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// The texture coordinate input.
+const UV: &str = "uv";
+
+/// Texel fetch and filter (`hw/src/units/fetch.rs`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TexFetchSpec {
+    pub source: TextureSource,
+    pub texel: Encoding,
+    #[serde(default)]
+    pub filter: Filter,
+    #[serde(default = "weight_bits")]
+    pub weight_bits: u32,
+    #[serde(default = "ports")]
+    pub ports: u32,
+    #[serde(default = "mem_latency")]
+    pub mem_latency: u32,
+    /// Store the texture as indices into a palette of this many entries (Ernst et al. §6),
+    /// chosen as directions spread evenly over the hemisphere (bump normals) or the texture
+    /// itself quantized to them; each texel takes the nearest entry.
+    #[serde(default)]
+    pub palette: Option<u32>,
+    /// Addressing outside [0, 1) on both axes (default wrap; left out of the canonical
+    /// config, and so of the config hash, when it is the default).
+    #[serde(default, skip_serializing_if = "is_wrap")]
+    pub address: Address,
+    pub out: Encoding,
+}
+
+fn weight_bits() -> u32 {
+    8
+}
+
+fn is_wrap(a: &Address) -> bool {
+    *a == Address::Wrap
+}
+
+impl Spec for TexFetchSpec {
+    fn input_names(&self, _: &BuildCtx) -> Vec<String> {
+        vec![UV.into()]
+    }
+
+    fn build(
+        &self,
+        ins: &BTreeMap<String, PortSpec>,
+        ctx: &BuildCtx,
+    ) -> Result<Box<dyn Unit>, String> {
+        let uv = input(ins, UV)?.enc;
+        let mut tex = texels(&self.source, ctx)?;
+        if let Some(n) = self.palette {
+            if !(2..=65536).contains(&n) {
+                return Err(format!("palette {n}: expected 2 to 65536 entries"));
+            }
+            let entries = match self.source {
+                TextureSource::BumpNormals { .. } => palette::hemisphere(n as usize),
+                _ => return Err("palette: expected source BumpNormals (palettes of other textures are not modelled yet)".into()),
+            };
+            palette::quantize(&mut tex.values, &entries);
+        }
+        let unit = TexFetch::new(
+            uv,
+            tex,
+            self.texel,
+            self.filter,
+            self.weight_bits,
+            self.ports,
+            self.mem_latency,
+            self.out,
+        )?
+        .with_address(self.address, self.address);
+        Ok(Box::new(match self.palette {
+            Some(n) => unit.with_palette(n),
+            None => unit,
+        }))
+    }
+}

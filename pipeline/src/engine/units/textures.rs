@@ -1,0 +1,157 @@
+//! The textures units read, built from the scene: texel fetch sources, bump heights and the
+//! baked object-space normals.
+
+use super::checks::check_size;
+use super::BuildCtx;
+use crate::scene::NormalMethod;
+use bumpsim_hw::units::Texels;
+use serde::{Deserialize, Serialize};
+
+/// What a texel fetch unit reads.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum TextureSource {
+    /// The scene's bump map as a tangent-space normal map of `size` x `size` texels, baked by
+    /// `method` (from heights) or resampled (from a normal PNG).
+    BumpNormals { size: u32, method: NormalMethod },
+    /// The scene's bump map as heights in [0, 1] (normalised to the map's range).
+    BumpHeights { size: u32 },
+    /// The scene's colour texture (RGB in [0, 1]); its sides must be powers of two.
+    ColorTexture,
+    /// The mesh's perturbed normals in object space, baked by rasterising the mesh in uv space
+    /// (`scene/bake.rs`): a bump map "containing the computed surface normals ... plus the
+    /// bump-structure" (Ernst et al. §5.4.2, Fig. 8).
+    ObjectNormals { size: u32 },
+    /// A lighting table for a dependent lookup at (N·L, N·H) of light `light` (the
+    /// DOT_PRODUCT_TEXTURE_2D use of NV20 texture shaders): texel (i, j) holds the scene
+    /// material's Blinn-Phong colour at s = (i + 1/2) / size, t = (j + 1/2) / size,
+    /// `ambient + color (diffuse s + specular t^shininess)` (no specular where s is 0), each
+    /// channel clamped to [0, 1]. Read it with `address: Clamp` so that s = 1 reads the last
+    /// column.
+    LightingTable { size: u32, light: usize },
+}
+
+/// The texels of `source` (its size checked).
+pub(super) fn texels(source: &TextureSource, ctx: &BuildCtx) -> Result<Texels, String> {
+    match *source {
+        TextureSource::BumpNormals { size, method } => {
+            check_size(size)?;
+            let nm = ctx.scene.bump.bake_normals(size, size, method);
+            let values = nm.texels.iter().map(|n| [n.x, n.y, n.z, 0.0]).collect();
+            Ok(square(size, 3, values))
+        }
+        TextureSource::BumpHeights { size } => {
+            check_size(size)?;
+            let values = normalise_heights(&heights(ctx, size)?)
+                .into_iter()
+                .map(|x| [x, 0.0, 0.0, 0.0])
+                .collect();
+            Ok(square(size, 1, values))
+        }
+        TextureSource::ObjectNormals { size } => {
+            check_size(size)?;
+            let values = object_normals(ctx, size)
+                .iter()
+                .map(|n| [n.x, n.y, n.z, 0.0])
+                .collect();
+            Ok(square(size, 3, values))
+        }
+        TextureSource::LightingTable { size, light } => {
+            check_size(size)?;
+            let scene = ctx.scene;
+            let l = scene.lights.get(light).ok_or_else(|| {
+                format!(
+                    "light {light}: the scene has {} lights: expected an index below that",
+                    scene.lights.len()
+                )
+            })?;
+            let m = &scene.material;
+            let color = l.color();
+            let n = f64::from(size);
+            let values = (0..size)
+                .flat_map(|j| (0..size).map(move |i| (i, j)))
+                .map(|(i, j)| {
+                    let (s, t) = ((f64::from(i) + 0.5) / n, (f64::from(j) + 0.5) / n);
+                    let spec = if s > 0.0 { t.powf(m.shininess) } else { 0.0 };
+                    let mut v = [0.0; 4];
+                    for c in 0..3 {
+                        v[c] = (m.ambient[c]
+                            + color[c] * (m.diffuse[c] * s + m.specular[c] * spec))
+                            .clamp(0.0, 1.0);
+                    }
+                    v
+                })
+                .collect();
+            Ok(square(size, 3, values))
+        }
+        TextureSource::ColorTexture => {
+            let img =
+                ctx.scene.color_texture.as_ref().ok_or(
+                    "the scene has no color_texture: expected one for source ColorTexture",
+                )?;
+            let values = img
+                .pixels()
+                .map(|p| {
+                    [
+                        p.0[0] as f64 / 255.0,
+                        p.0[1] as f64 / 255.0,
+                        p.0[2] as f64 / 255.0,
+                        0.0,
+                    ]
+                })
+                .collect();
+            Ok(Texels {
+                width: img.width(),
+                height: img.height(),
+                lanes: 3,
+                values,
+            })
+        }
+    }
+}
+
+/// A `size` x `size` texture of `lanes` lanes.
+fn square(size: u32, lanes: u8, values: Vec<[f64; 4]>) -> Texels {
+    Texels {
+        width: size,
+        height: size,
+        lanes,
+        values,
+    }
+}
+
+/// The scene's bump map baked to `size` x `size` heights (as they are, not normalised).
+pub(super) fn heights(ctx: &BuildCtx, size: u32) -> Result<Vec<f64>, String> {
+    ctx.scene.bump.bake_heights(size, size).ok_or_else(|| {
+        "the scene's bump map holds normals, not heights: expected a height map".into()
+    })
+}
+
+/// The mesh's perturbed object-space normals, baked to `size` x `size` texels.
+pub(super) fn object_normals(ctx: &BuildCtx, size: u32) -> Vec<glam::DVec3> {
+    crate::scene::bake::bake(
+        &ctx.scene.mesh,
+        &ctx.scene.bump,
+        size,
+        crate::scene::bake::BakeSpace::Object,
+        crate::reference::Perturbation::ScaleInvariant,
+    )
+    .map
+    .texels
+}
+
+/// Smallest and largest height.
+pub(super) fn height_range(h: &[f64]) -> (f64, f64) {
+    h.iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+            (a.min(x), b.max(x))
+        })
+}
+
+/// Heights rescaled to [0, 1] over the map's range (a constant map becomes 0.5).
+pub(super) fn normalise_heights(h: &[f64]) -> Vec<f64> {
+    let (lo, hi) = height_range(h);
+    if hi - lo < 1e-300 {
+        return vec![0.5; h.len()];
+    }
+    h.iter().map(|x| (x - lo) / (hi - lo)).collect()
+}
