@@ -364,8 +364,23 @@ pub fn interpolator_gates(
 
 impl VertexData {
     /// The per-vertex values as the fixed-point interpolator's vertex words
-    /// ([`vertex_code`]); per-triangle values are left out (empty).
+    /// ([`vertex_code`]).
     pub fn codes(&self, attrs: &[AttributeConfig]) -> Vec<Vec<[i64; 4]>> {
+        self.per_vertex(attrs, vertex_code)
+    }
+
+    /// The per-vertex values on each attribute's grid (what bit-accurate interpolation reads).
+    pub fn snapped(&self, attrs: &[AttributeConfig]) -> Vec<Vec<[f64; 4]>> {
+        self.per_vertex(attrs, to_grid)
+    }
+
+    /// `f` of every lane of every per-vertex value, by attribute; per-triangle attributes are
+    /// left empty ([`flat`] reads their values).
+    fn per_vertex<T>(
+        &self,
+        attrs: &[AttributeConfig],
+        f: impl Fn(&Encoding, f64) -> T,
+    ) -> Vec<Vec<[T; 4]>> {
         self.values
             .iter()
             .zip(attrs)
@@ -375,26 +390,7 @@ impl VertexData {
                     Vec::new()
                 } else {
                     vals.iter()
-                        .map(|x| std::array::from_fn(|l| vertex_code(&a.enc, x[l])))
-                        .collect()
-                }
-            })
-            .collect()
-    }
-
-    /// The per-vertex values on each attribute's grid (what bit-accurate interpolation reads;
-    /// per-triangle values are left as they are: [`flat`] rounds them).
-    pub fn snapped(&self, attrs: &[AttributeConfig]) -> Vec<Vec<[f64; 4]>> {
-        self.values
-            .iter()
-            .zip(attrs)
-            .zip(&self.flat)
-            .map(|((vals, a), &flat)| {
-                if flat {
-                    vals.clone()
-                } else {
-                    vals.iter()
-                        .map(|x| std::array::from_fn(|l| to_grid(&a.enc, x[l])))
+                        .map(|x| std::array::from_fn(|l| f(&a.enc, x[l])))
                         .collect()
                 }
             })
