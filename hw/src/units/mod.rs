@@ -29,3 +29,4 @@ pub mod cull;
 pub use cull::{CullFragment, CullTest};
 pub mod fb_blend;
 pub use fb_blend::{BlendEquation, FbBlend};
+pub mod combiner;
