@@ -25,7 +25,21 @@ struct ConfigArgs {
     /// Override a config field: --set path.to.field=value (repeatable).
     #[arg(long = "set", value_name = "PATH=VALUE")]
     sets: Vec<String>,
+    /// Run past the up-front estimate of time and memory (10 minutes, 8 GiB on a 2-core,
+    /// 24 GB machine); the hard limits of the fields still apply.
+    #[arg(long)]
+    force: bool,
 }
+
+impl ConfigArgs {
+    fn load(&self) -> Result<config::Loaded, InputError> {
+        let opts = config::LoadOptions { force: self.force };
+        config::load_with(&self.config, &self.sets, opts)
+    }
+}
+
+/// The longest trace window, in cycles.
+const MAX_TRACE_CYCLES: u64 = 1_000_000;
 
 #[derive(Subcommand)]
 enum Command {
@@ -99,8 +113,20 @@ fn parse_cycles(s: &str) -> Result<(u64, u64), InputError> {
         a.trim().parse().map_err(|_| bad())?,
         b.trim().parse().map_err(|_| bad())?,
     );
-    if a >= b || b - a > 1_000_000 {
+    if a >= b {
         return Err(bad());
+    }
+    if b - a > MAX_TRACE_CYCLES {
+        return Err(InputError::new(
+            "--cycles",
+            "",
+            format!(
+                "{s:?} is a window of {} cycles: a trace records at most {MAX_TRACE_CYCLES} \
+                 cycles (expected B - A <= {MAX_TRACE_CYCLES}, e.g. {a}..{})",
+                b - a,
+                a.saturating_add(MAX_TRACE_CYCLES)
+            ),
+        ));
     }
     Ok((a, b))
 }
@@ -108,7 +134,7 @@ fn parse_cycles(s: &str) -> Result<(u64, u64), InputError> {
 fn execute(cmd: Command) -> Result<(), Failure> {
     match cmd {
         Command::Render { args, out, timings } => {
-            let l = config::load(&args.config, &args.sets)?;
+            let l = args.load()?;
             let mut r = run::run(&l, None)?;
             let mut set = OutputSet::new(&out);
             set.add_png("image.png", &r.image)
@@ -132,7 +158,7 @@ fn execute(cmd: Command) -> Result<(), Failure> {
             );
         }
         Command::Report { args, json } => {
-            let l = config::load(&args.config, &args.sets)?;
+            let l = args.load()?;
             let r = run::run(&l, None)?;
             if json {
                 print!("{}", r.report.to_json());
@@ -148,7 +174,7 @@ fn execute(cmd: Command) -> Result<(), Failure> {
             out,
         } => {
             let cycles = parse_cycles(&cycles)?;
-            let l = config::load(&args.config, &args.sets)?;
+            let l = args.load()?;
             let req = TraceRequest { cycles, units };
             let r = run::run(&l, Some(&req))?;
             let trace = r
@@ -170,7 +196,7 @@ fn execute(cmd: Command) -> Result<(), Failure> {
             println!("wrote {} ({} records)", out.display(), trace.records.len());
         }
         Command::Check { args } => {
-            let l = config::load(&args.config, &args.sets)?;
+            let l = args.load()?;
             let scene = run::build_scene(&l)?;
             bumpsim_pipeline::engine::build(&l, &scene)?;
             println!(

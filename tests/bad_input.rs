@@ -289,23 +289,163 @@ fn corrupt_obj_file() {
     file_fails(&b, "mesh.obj", &["scene.mesh", "could not load OBJ"]);
 }
 
+/// `bumpsim check CFG [extra]` must succeed (exit 0).
+fn checks_ok(b: &Bad, extra: &[&str]) -> String {
+    let mut args: Vec<String> = vec!["check".into(), b.cfg.display().to_string()];
+    args.extend(extra.iter().map(|s| s.to_string()));
+    let o = bumpsim(&args);
+    o.expect_code(0, &format!("{args:?}"));
+    o.stdout
+}
+
 #[test]
-fn obj_with_a_zero_area_triangle() {
-    // triangle 0 is fine, triangle 1 has three collinear corners
+fn obj_with_a_zero_area_triangle_drops_it() {
+    // triangle 0 is fine, triangle 1 has three collinear corners: dropped (docs/assets.md)
     let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\n\
                vt 0 0\nvt 1 0\nvt 0 1\n\
                f 1/1 2/2 3/3\nf 1/1 2/2 4/3\n";
     let b = mesh_obj("obj-degenerate", obj.as_bytes());
-    let needles = ["scene.mesh", "triangle 1", "degenerate (zero area)"];
-    file_fails(&b, "mesh.obj", &needles);
+    assert!(checks_ok(&b, &[]).contains("(1 triangles"));
+    // only zero-area faces: an error that says so
+    let b = mesh_obj(
+        "obj-all-degenerate",
+        b"v 0 0 0\nv 1 0 0\nv 2 0 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n",
+    );
+    file_fails(&b, "mesh.obj", &["scene.mesh", "non-zero area", "1 faces"]);
 }
 
 #[test]
-fn obj_with_a_zero_uv_area_triangle() {
+fn obj_with_a_zero_uv_area_triangle_names_the_line() {
     let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.25 0.5\nf 1/1 2/1 3/1\n";
     let b = mesh_obj("obj-degenerate-uv", obj.as_bytes());
-    let needles = ["scene.mesh", "triangle 0", "degenerate texture coordinates"];
+    let needles = ["scene.mesh", "line 5", "degenerate texture coordinates"];
     file_fails(&b, "mesh.obj", &needles);
+}
+
+/// A tetrahedron with texture coordinates, plus `extra` lines.
+fn tetra(extra: &str) -> String {
+    format!(
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 5 5 5\n\
+         vt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\n\
+         f 1/1 3/3 2/2\nf 1/1 2/2 4/4\nf 1/1 4/4 3/3\nf 2/2 3/3 4/4\n{extra}"
+    )
+}
+
+#[test]
+fn obj_scan_defects_load_under_the_documented_rule() {
+    // an exact duplicate face, a back-to-back copy, a zero-area face, an unreferenced vertex
+    // (v 5 5 5): the first copy of a face is kept, the rest dropped
+    let obj = tetra("f 1/1 3/3 2/2\nf 1/1 2/2 3/3\nf 1/1 1/1 2/2\n");
+    let b = mesh_obj("obj-scan", obj.as_bytes());
+    assert!(checks_ok(&b, &[]).contains("(4 triangles"));
+    // a sheet of two back-to-back faces alone: one is kept, its normal defined
+    let sheet = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\nf 1/1 3/3 2/2\n";
+    let b = mesh_obj("obj-sheet", sheet.as_bytes());
+    assert!(checks_ok(&b, &[]).contains("(1 triangles"));
+    // the same with a generated atlas
+    let b = bad(
+        "obj-sheet-atlas",
+        "sgi-teapot",
+        &[(
+            TEAPOT_MESH,
+            "Obj(path: \"mesh.obj\", uv_repeat: (1.0, 1.0), atlas: true)",
+        )],
+        &[("mesh.obj", sheet.as_bytes())],
+    );
+    assert!(checks_ok(&b, &[]).contains("(1 triangles"));
+}
+
+#[test]
+fn obj_vertex_whose_face_normals_cancel_gets_a_normal() {
+    // vertex 5 is the tip of two faces folded onto each other (a zero-volume fin): their
+    // area-weighted normals cancel; the documented fallback gives it one
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 2 2 0\n\
+               vt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\nvt 0.5 0.5\n\
+               f 1/1 2/2 4/4\nf 1/1 4/4 3/3\nf 2/2 5/5 4/4\nf 3/3 5/5 4/4\n";
+    let b = mesh_obj("obj-fold", obj.as_bytes());
+    checks_ok(&b, &[]);
+}
+
+#[test]
+fn obj_face_without_texture_coordinates_names_its_line() {
+    let obj = tetra("f 1 2 3\n");
+    let b = mesh_obj("obj-no-vt", obj.as_bytes());
+    file_fails(
+        &b,
+        "mesh.obj",
+        &["scene.mesh", "line 14", "without texture coordinates (vt)"],
+    );
+}
+
+#[test]
+fn obj_coordinate_beyond_f32_is_out_of_range_with_its_line() {
+    let obj = tetra("").replace("v 5 5 5", "v 5 1e39 5");
+    let b = mesh_obj("obj-big", obj.as_bytes());
+    file_fails(
+        &b,
+        "mesh.obj",
+        &["scene.mesh", "line 5", "1e39 is out of range", "f32"],
+    );
+}
+
+#[test]
+fn a_directory_as_a_mesh_or_image_is_named_a_directory() {
+    let b = obj_config("obj-dir", "meshdir", &[]);
+    std::fs::create_dir(b.scratch.join("meshdir")).unwrap();
+    file_fails(&b, "meshdir", &["scene.mesh", "is a directory"]);
+    let to = "HeightPng(path: \"pngdir\", depth: 0.1)";
+    let b = bad("png-dir", "emboss", &[(EMBOSS_BUMP, to)], &[]);
+    std::fs::create_dir(b.scratch.join("pngdir")).unwrap();
+    file_fails(&b, "pngdir", &["scene.bump", "is a directory"]);
+}
+
+/// A PNG file with only a signature and an IHDR chunk of `w` x `h` 8-bit grey pixels: its
+/// dimensions are read, nothing is decoded.
+fn png_header(w: u32, h: u32) -> Vec<u8> {
+    fn crc(bytes: &[u8]) -> u32 {
+        let mut c = 0xffff_ffffu32;
+        for &b in bytes {
+            c ^= u32::from(b);
+            for _ in 0..8 {
+                c = if c & 1 == 1 {
+                    0xedb8_8320 ^ (c >> 1)
+                } else {
+                    c >> 1
+                };
+            }
+        }
+        !c
+    }
+    let mut ihdr = b"IHDR".to_vec();
+    ihdr.extend(w.to_be_bytes());
+    ihdr.extend(h.to_be_bytes());
+    ihdr.extend([8, 0, 0, 0, 0]);
+    let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
+    png.extend(13u32.to_be_bytes());
+    png.extend(&ihdr);
+    png.extend(crc(&ihdr).to_be_bytes());
+    png
+}
+
+#[test]
+fn an_8192_png_is_refused_from_its_header() {
+    let to = "HeightPng(path: \"big.png\", depth: 0.1)";
+    let b = bad(
+        "png-8192",
+        "emboss",
+        &[(EMBOSS_BUMP, to)],
+        &[("big.png", &png_header(8192, 8192))],
+    );
+    file_fails(
+        &b,
+        "big.png",
+        &[
+            "scene.bump",
+            "8192 x 8192 pixels",
+            "expected 1 to 4096",
+            "before decoding",
+        ],
+    );
 }
 
 const EMBOSS_BUMP: &str = "Bricks(rows: 8, cols: 4, mortar: 0.12, bevel: 0.1, depth: 0.01)";
@@ -594,4 +734,586 @@ fn light_index_message_with_no_lights() {
         &["engine.attributes[1].source", "light index 0", "0 lights"],
     );
     assert!(!msg.contains("expected 0 to 0"), "{msg}");
+}
+
+// ---------------------------------------------------------------- strict schema (issue 10)
+
+config_errors! {
+    // unknown keys inside struct variants used to be ignored (exit 0, same hash)
+    unknown_key_in_a_light_kind: ("light-kind-key", "sgi-teapot", &[(LIGHT0_DIR, "dir: (1.0, 1.0, 1.0), dirr: (0.0, 1.0, 0.0)")], Some("dirr:"),
+        &["scene.lights[0].kind.Directional.dirr", "dirr", "expected", "dir"]);
+    unknown_key_in_an_attribute_source: ("attr-source-key", "sgi-teapot", &[("LightDir(light: 0, frame: Tangent)", "LightDir(light: 0, frame: Tangent, per_triangel: true)")], Some("per_triangel"),
+        &["engine.attributes[1].source.LightDir.per_triangel", "per_triangel", "per_triangle"]);
+    unknown_key_in_a_bump_map: ("bump-key", "emboss", &[("mortar: 0.12,", "mortar: 0.12, mortr: 0.2,")], Some("mortr"),
+        &["scene.bump.Bricks.mortr", "mortr", "mortar"]);
+    unknown_key_in_a_material_model: ("shading-key", "quantized-cartoon", &[("Cartoon(bands: ", "Cartoon(band: 2, bands: ")], Some("band:"),
+        &["Cartoon.band", "`band`", "bands"]);
+}
+
+/// The canonical RON of a config (one line, no struct names) and the byte offsets of every
+/// `(` that opens named fields (a struct, or a struct variant `Name(field: ...`), with the
+/// name it is known by: the variant's name, or the field's that holds the struct.
+fn named_field_groups(canon: &str) -> Vec<(usize, String)> {
+    let b = canon.as_bytes();
+    let ident = |i: usize| {
+        let mut j = i;
+        while j < b.len() && (b[j].is_ascii_alphanumeric() || b[j] == b'_') {
+            j += 1;
+        }
+        j
+    };
+    let (mut groups, mut in_str, mut i) = (Vec::new(), false, 0);
+    while i < b.len() {
+        match b[i] {
+            b'\\' if in_str => i += 1,
+            b'"' => in_str = !in_str,
+            b'(' if !in_str => {
+                let j = ident(i + 1);
+                if j > i + 1 && b.get(j) == Some(&b':') {
+                    // the name before the bracket, or the field name before `name:(`
+                    let mut k = i;
+                    while k > 0 && (b[k - 1].is_ascii_alphanumeric() || b[k - 1] == b'_') {
+                        k -= 1;
+                    }
+                    let name = if k < i {
+                        canon[k..i].to_string()
+                    } else {
+                        let end = canon[..i].trim_end_matches([':', '(']);
+                        let s = end
+                            .rfind(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+                            .map_or(0, |p| p + 1);
+                        format!("({})", &end[s..])
+                    };
+                    groups.push((i, name));
+                }
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    groups
+}
+
+/// The schema walk: for every bundled config (and test fixture), every struct and struct
+/// variant it contains gets a bogus key in turn (in the config's canonical RON), and parsing
+/// must fail with a clean error that names the key. A struct or enum that forgets
+/// `deny_unknown_fields` makes this test fail.
+#[test]
+fn every_struct_in_every_config_rejects_an_unknown_key() {
+    use bumpsim_pipeline::config;
+    let mut files = configs();
+    files.extend(
+        std::fs::read_dir(root().join("tests/fixtures"))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|e| e == "ron")),
+    );
+    let key = "zz_bogus_key";
+    let (mut checked, mut accepted) = (0, Vec::new());
+    let mut names = std::collections::BTreeSet::new();
+    for path in &files {
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path).unwrap();
+        let parsed = config::parse(&text, &file).unwrap_or_else(|e| panic!("{e}"));
+        let canon = config::canonical(&parsed);
+        // the canonical form is itself a config, with the same hash
+        assert_eq!(config::parse(&canon, &file).unwrap(), parsed);
+        let groups = named_field_groups(&canon);
+        assert!(groups.len() >= 10, "{file}: only {} structs", groups.len());
+        for (at, name) in groups {
+            let mutated = format!("{}{key}: 0, {}", &canon[..=at], &canon[at + 1..]);
+            names.insert(name.clone());
+            checked += 1;
+            match config::parse(&mutated, &file) {
+                Ok(_) => accepted.push(format!("{file}: {name} at byte {at}")),
+                Err(e) => {
+                    assert!(
+                        e.field.ends_with(key) && e.message.contains(key) && e.pos.is_some(),
+                        "{file}: {name} at byte {at}: the error does not name the key: {e}"
+                    );
+                }
+            }
+        }
+    }
+    assert!(
+        accepted.is_empty(),
+        "{} structs ignore an unknown key (add #[serde(deny_unknown_fields)]):\n{}",
+        accepted.len(),
+        accepted.join("\n")
+    );
+    // the walk reaches the schema's structs and struct variants
+    for n in [
+        "(scene)",
+        "(camera)",
+        "Directional",
+        "LightDir",
+        "HalfVec",
+        "Gouraud",
+        "Bricks",
+        "Teapot",
+        "Dot3",
+        "TexFetch",
+        "(cost)",
+        "(format)",
+        "(raster)",
+        "(material)",
+    ] {
+        assert!(names.contains(n), "no config has {n}: {names:?}");
+    }
+    assert!(checked > 1000, "only {checked} structs checked");
+}
+
+/// Types deserialized with derive but not read from a config (built by the engine from
+/// config fields): exempt from the source check below.
+const NOT_CONFIG_SYNTAX: &[&str] = &[
+    "LightingFn",
+    "BuilderFormats",
+    "BumpBlendParams",
+    "LightState",
+];
+
+/// The source check: every type in `pipeline/src` and `hw/src` that derives `Deserialize`
+/// and has named fields (a braced struct, or an enum with a struct variant) says
+/// `deny_unknown_fields`, so a new struct that no bundled config uses yet is caught too.
+#[test]
+fn every_deserialized_struct_in_the_source_denies_unknown_fields() {
+    fn rust_files(dir: &std::path::Path, out: &mut Vec<PathBuf>) {
+        for e in std::fs::read_dir(dir).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                rust_files(&p, out);
+            } else if p.extension().is_some_and(|e| e == "rs") {
+                out.push(p);
+            }
+        }
+    }
+    let mut files = Vec::new();
+    rust_files(&root().join("pipeline/src"), &mut files);
+    rust_files(&root().join("hw/src"), &mut files);
+    files.sort();
+    let (mut missing, mut seen) = (Vec::new(), 0);
+    for f in &files {
+        let text = std::fs::read_to_string(f).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        let mut attrs = String::new();
+        for (i, line) in lines.iter().enumerate() {
+            let t = line.trim_start();
+            if t.starts_with("#[") || (!attrs.is_empty() && !t.starts_with("///") && !is_item(t)) {
+                attrs.push_str(t);
+                continue;
+            }
+            if t.starts_with("///") || t.starts_with("//") {
+                continue;
+            }
+            if !attrs.contains("Deserialize") || !is_item(t) {
+                attrs.clear();
+                continue;
+            }
+            let words: Vec<&str> = t
+                .split(|c: char| !(c.is_alphanumeric() || c == '_'))
+                .collect();
+            let kind = if words.contains(&"struct") {
+                "struct"
+            } else {
+                "enum"
+            };
+            let name = words
+                .iter()
+                .skip_while(|w| **w != kind)
+                .nth(1)
+                .copied()
+                .unwrap_or("?");
+            let indent = line.len() - t.len();
+            let named = if kind == "struct" {
+                t.trim_end().ends_with('{')
+            } else {
+                // a variant line `Name {` one level in, before the enum's closing brace
+                lines[i + 1..]
+                    .iter()
+                    .take_while(|l| l.trim_end() != format!("{}}}", " ".repeat(indent)))
+                    .any(|l| {
+                        let v = l.trim();
+                        l.len() - l.trim_start().len() == indent + 4
+                            && v.ends_with('{')
+                            && v.starts_with(|c: char| c.is_ascii_uppercase())
+                    })
+            };
+            let converted = ["try_from", "from =", "transparent"]
+                .iter()
+                .any(|a| attrs.contains(a));
+            if named {
+                seen += 1;
+                let exempt = NOT_CONFIG_SYNTAX.contains(&name);
+                if !attrs.contains("deny_unknown_fields") && !converted && !exempt {
+                    let rel = f.strip_prefix(root()).unwrap_or(f);
+                    missing.push(format!("{}:{}: {kind} {name}", rel.display(), i + 1));
+                }
+            }
+            attrs.clear();
+        }
+    }
+    assert!(
+        seen > 20,
+        "only {seen} types found: is the check still reading the source?"
+    );
+    assert!(
+        missing.is_empty(),
+        "these types derive Deserialize with named fields but accept unknown keys (add \
+         #[serde(deny_unknown_fields)]):\n{}",
+        missing.join("\n")
+    );
+}
+
+/// A line that starts a struct or enum item.
+fn is_item(t: &str) -> bool {
+    let t = t
+        .strip_prefix("pub(crate) ")
+        .or_else(|| t.strip_prefix("pub(super) "))
+        .or_else(|| t.strip_prefix("pub "))
+        .unwrap_or(t);
+    t.starts_with("struct ") || t.starts_with("enum ")
+}
+
+// ---------------------------------------------------------------- gate-cost overrides
+
+#[test]
+fn gate_cost_overrides_must_be_finite_and_not_negative() {
+    for (tag, price, shown) in [
+        ("nan", "NaN", "price NaN"),
+        ("inf", "inf", "price inf"),
+        ("neg", "-2.5", "price -2.5"),
+        ("big", "1e9", "price 1000000000"),
+    ] {
+        let to = format!("name: \"emboss\",\n    cost: (inv: 0.67, full_adder: {price}),");
+        let b = bad(
+            &format!("cost-{tag}"),
+            "emboss",
+            &[("name: \"emboss\",", &to)],
+            &[],
+        );
+        fails_at(
+            &b,
+            Some("full_adder:"),
+            &[
+                "cost.full_adder",
+                shown,
+                "expected a finite number of gate equivalents from 0 to",
+            ],
+        );
+    }
+    // the same through --set (which takes no NaN at all)
+    let b = bad("cost-set", "emboss", &[], &[]);
+    fails(
+        &b,
+        &["--set", "cost.sram_bit=-1"],
+        &[
+            "with --set cost.sram_bit=-1",
+            "cost.sram_bit",
+            "price -1",
+            "expected a finite number",
+        ],
+    );
+    let msg = set_fails(
+        "cost-set-nan",
+        "cost.sram_bit=NaN",
+        &["cost.sram_bit", "NaN"],
+    );
+    assert!(msg.contains("not allowed"), "{msg}");
+}
+
+#[test]
+fn gate_cost_of_zero_is_accepted() {
+    let b = bad(
+        "cost-zero",
+        "emboss",
+        &[(
+            "name: \"emboss\",",
+            "name: \"emboss\", cost: (rom_bit: 0.0),",
+        )],
+        &[],
+    );
+    bumpsim(&["check".to_string(), b.cfg.display().to_string()]).expect_code(0, "rom_bit 0");
+}
+
+// ---------------------------------------------------------------- bounded input
+
+#[test]
+fn dev_zero_as_the_config_is_refused_after_16_mib() {
+    let o = bumpsim(&["check", "/dev/zero"]);
+    o.expect_code(2, "check /dev/zero");
+    assert!(
+        o.stderr.contains("/dev/zero") && o.stderr.contains("larger than 16 MiB"),
+        "{}",
+        o.stderr
+    );
+}
+
+#[test]
+fn an_oversized_config_file_is_refused() {
+    let b = bad("huge", "emboss", &[], &[]);
+    // a valid config padded with a comment past the limit
+    let mut text = b.text.clone();
+    text.push_str("\n// ");
+    text.push_str(&"x".repeat(16 << 20));
+    std::fs::write(&b.cfg, text).unwrap();
+    fails(
+        &b,
+        &[],
+        &["huge.ron", "cannot read the config", "larger than 16 MiB"],
+    );
+}
+
+#[test]
+fn a_directory_as_the_config_is_named_a_directory() {
+    let scratch = Scratch::new("bad-config-dir");
+    let dir = scratch.join("configs.ron");
+    std::fs::create_dir(&dir).unwrap();
+    for cmd in ["check", "report"] {
+        let o = bumpsim(&[cmd, &dir.display().to_string()]);
+        o.expect_code(2, cmd);
+        assert!(
+            o.stderr.contains(&dir.display().to_string())
+                && o.stderr
+                    .contains("cannot read the config: it is a directory"),
+            "{}",
+            o.stderr
+        );
+    }
+}
+
+#[test]
+fn a_config_that_is_not_utf8_is_named_so() {
+    let b = bad("not-utf8", "emboss", &[], &[]);
+    let mut bytes = b.text.clone().into_bytes();
+    bytes.insert(3, 0xff);
+    std::fs::write(&b.cfg, bytes).unwrap();
+    fails(&b, &[], &["not-utf8.ron", "not UTF-8", "offset 3"]);
+}
+
+#[test]
+fn a_byte_order_mark_is_accepted_with_the_same_hash() {
+    let b = bad("bom", "emboss", &[], &[]);
+    let plain = bumpsim(&["check".to_string(), b.cfg.display().to_string()]);
+    plain.expect_code(0, "without a BOM");
+    std::fs::write(&b.cfg, format!("\u{feff}{}", b.text)).unwrap();
+    let bom = bumpsim(&["check".to_string(), b.cfg.display().to_string()]);
+    bom.expect_code(0, "with a BOM");
+    assert_eq!(bom.stdout, plain.stdout, "same config, same hash");
+}
+
+#[test]
+fn set_values_nest_a_bounded_depth() {
+    for (tag, open, close) in [("sq", "[", "]"), ("par", "(", ")"), ("map", "{\"a\":", "}")] {
+        let v = format!("{}1{}", open.repeat(20_000), close.repeat(20_000));
+        let msg = set_fails(
+            &format!("set-deep-{tag}"),
+            &format!("scene.lights={v}"),
+            &[
+                "scene.lights",
+                "nested more than 128 levels",
+                "expected at most 128",
+                "bytes)",
+            ],
+        );
+        assert!(msg.len() < 400, "the value is abbreviated: {msg}");
+    }
+    // an unclosed one too
+    set_fails(
+        "set-deep-open",
+        &format!("scene.lights={}", "[".repeat(20_000)),
+        &["nested more than 128"],
+    );
+}
+
+// ---------------------------------------------------------------- outputs
+
+#[test]
+fn a_failed_render_leaves_no_output_parent_behind() {
+    let b = bad("stray-parent", "emboss", &[], &[]);
+    let out = b.scratch.join("a").join("x".repeat(300));
+    let (cfg, path) = (b.cfg.display().to_string(), out.display().to_string());
+    exits_2(
+        &["render", &cfg, "--out", &path],
+        &["--out", "cannot create output directory"],
+    );
+    assert_eq!(
+        listing(&b.scratch.path),
+        ["stray-parent.ron"],
+        "a/ was left behind"
+    );
+    // and a render that succeeds creates the parents
+    let ok = b.scratch.join("a").join("b");
+    bumpsim(&["render", &cfg, "--out", &ok.display().to_string()]).expect_code(0, "render");
+    assert_eq!(
+        listing(&ok),
+        ["error.png", "image.png", "reference.png", "report.json"]
+    );
+}
+
+// ---------------------------------------------------------------- messages
+
+config_errors! {
+    // it said "scene.?: Expected comma"
+    fractional_image_width: ("width-frac", "sgi-teapot", &[("width: 256,", "width: 256.5,")], Some("width: 256.5"),
+        &["scene.width", "expected an integer, found 256.5"]);
+    exponent_image_width: ("width-exp", "sgi-teapot", &[("width: 256,", "width: 2.56e2,")], Some("width: 2.56e2"),
+        &["scene.width", "expected an integer, found 2.56e2"]);
+    fractional_unit_count: ("count-frac", "sgi-teapot", &[("Dot3(count: 4,", "Dot3(count: 4.0,")], Some("count: 4.0"),
+        &["engine.units[1].unit.Dot3.count", "expected an integer, found 4.0"]);
+    // a NaN no check looks at used to render (or reach --set as null): every number is finite
+    nan_in_an_unchecked_field: ("mortar-nan", "emboss", &[("mortar: 0.12,", "mortar: NaN,")], Some("mortar: NaN"),
+        &["scene.bump.Bricks.mortar", "expected a finite number, found NaN"]);
+    overflowing_literal_is_infinite: ("depth-inf", "emboss", &[("depth: 0.01)", "depth: 1e400)")], Some("depth: 1e400"),
+        &["scene.bump.Bricks.depth", "expected a finite number, found inf"]);
+}
+
+#[test]
+fn nan_in_the_file_with_a_set_names_the_field_not_null() {
+    let b = bad(
+        "nan-set",
+        "emboss",
+        &[("mortar: 0.12,", "mortar: NaN,")],
+        &[],
+    );
+    let msg = fails(
+        &b,
+        &["--set", "scene.width=64"],
+        &[
+            "scene.bump.Bricks.mortar",
+            "expected a finite number, found NaN",
+        ],
+    );
+    assert!(
+        msg.starts_with(&format!("error: {}:", b.cfg.display())),
+        "names the file: {msg}"
+    );
+    assert!(
+        !msg.contains("null") && !msg.starts_with("error: --set"),
+        "{msg}"
+    );
+    let line = line_of(&b.text, "mortar: NaN");
+    assert_eq!(
+        position(&msg, &b.cfg.display().to_string()).map(|p| p.0),
+        Some(line),
+        "{msg}"
+    );
+}
+
+// ---------------------------------------------------------------- ranges that bound work
+
+config_errors! {
+    // 2^31 port names used to be allocated (51 GB) before the range check
+    unit_count_of_2_pow_31: ("count-2-31", "sgi-teapot", &[("Dot3(count: 4,", "Dot3(count: 2147483648,")], Some("name: \"dot\""),
+        &["engine.units[1].unit.count", "count 2147483648", "expected 1 to 8"]);
+    // u32::MAX used to wrap the latency to fewer cycles than 4
+    mem_latency_beyond_its_range: ("mem-latency", "sgi-teapot", &[("mem_latency: 4,", "mem_latency: 4294967295,")], Some("name: \"fetch\""),
+        &["engine.units[0].unit.mem_latency", "expected 1 to 1024 cycles"]);
+    mem_latency_2_pow_31: ("mem-latency-31", "emboss", &[("mem_latency: 4,", "mem_latency: 2147483648,")], None,
+        &["mem_latency", "expected 1 to 1024 cycles"]);
+    palette_beyond_its_range: ("palette-range", "sgi-teapot", &[("mem_latency: 4,", "mem_latency: 4, palette: 65537,")], Some("name: \"fetch\""),
+        &["engine.units[0].unit.palette", "expected 2 to 65536"]);
+    light_direction_whose_length_overflows: ("light-1e154", "sgi-teapot", &[("Directional(dir: (1.0, 1.0, 1.0))", "Directional(dir: (1e154, 1e154, 1e154))")], Some("lights:"),
+        &["scene.lights[0].kind.dir", "out of range", "overflow"]);
+    far_plane_that_overflows_the_projection: ("far-1e308", "sgi-teapot", &[("far: 30.0", "far: 1e308")], Some("camera:"),
+        &["scene.camera.far", "out of range", "at most 1e12"]);
+    eye_beyond_the_coordinate_range: ("eye-1e200", "sgi-teapot", &[("eye: (0.0, 3.5, 8.0)", "eye: (0.0, 3.5, 8e200)")], Some("camera:"),
+        &["scene.camera.eye", "out of range"]);
+    model_scale_beyond_its_range: ("scale-1e300", "sgi-teapot", &[("model: (translate: (-0.2, -1.2, 0.0))", "model: (translate: (-0.2, -1.2, 0.0), scale: 1e300)")], Some("model:"),
+        &["scene.model.scale", "1e-12 < abs(scale) <= 1e12"]);
+}
+
+/// `bumpsim check CONFIG --set ...` of a bundled config exits 2 with every needle; with
+/// `--force` it passes the estimate (check builds the scene and the engine).
+fn over_budget(cfg: &str, sets: &[&str], needles: &[&str], forced_ok: bool) {
+    let path = config(cfg).display().to_string();
+    let mut args = vec!["check", path.as_str()];
+    for s in sets {
+        args.extend(["--set", s]);
+    }
+    let mut all = vec!["over the budget", "--force", "2-core, 24 GB"];
+    all.extend_from_slice(needles);
+    exits_2(&args, &all);
+    if forced_ok {
+        args.push("--force");
+        bumpsim(&args).expect_code(0, &args.join(" "));
+    }
+}
+
+#[test]
+fn a_16384_square_image_is_over_the_estimate() {
+    // aborted after 4.6 GB; --force runs `check` (no render)
+    over_budget(
+        "sgi-teapot",
+        &["scene.width=16384", "scene.height=16384"],
+        &["scene.width x scene.height", "GiB"],
+        true,
+    );
+}
+
+#[test]
+fn uv_repeat_1e5_on_a_quantized_config_is_over_the_estimate() {
+    over_budget(
+        "quantized-sphere",
+        &["scene.mesh.uv_repeat=[100000.0,100000.0]"],
+        &["engine.units[0].unit.size^2", "uv area"],
+        false,
+    );
+}
+
+#[test]
+fn palette_65536_on_a_4096_texture_is_over_the_estimate() {
+    over_budget(
+        "sgi-teapot",
+        &[
+            "engine.units.fetch.unit.source.size=4096",
+            "engine.units.fetch.unit.palette=65536",
+        ],
+        &["engine.units[0].unit.palette = 65536"],
+        false,
+    );
+}
+
+#[test]
+fn kmeans_16384_entries_300_iterations_is_over_the_estimate() {
+    over_budget(
+        "quantized-sphere",
+        &[
+            "engine.units.qnm.unit.index_bits=14",
+            "engine.units.qnm.unit.s_n=16384",
+            "engine.units.qnm.unit.quantizer=KMeans(start:MedianCut,max_iterations:300)",
+        ],
+        &["k-means", "s_n = 16384", "max_iterations = 300"],
+        false,
+    );
+}
+
+#[test]
+fn force_does_not_go_past_a_hard_limit() {
+    let cfg = config("sgi-teapot").display().to_string();
+    exits_2(
+        &[
+            "check",
+            &cfg,
+            "--force",
+            "--set",
+            "engine.units.dot.unit.count=2147483648",
+        ],
+        &["engine.units[1].unit.count", "expected 1 to 8"],
+    );
+}
+
+#[test]
+fn trace_cycle_window_beyond_a_million_says_so() {
+    let scratch = Scratch::new("bad-trace-window-long");
+    let out = scratch.join("t.txt").display().to_string();
+    let cfg = config("sgi-teapot").display().to_string();
+    exits_2(
+        &["trace", &cfg, "--cycles", "0..2000000", "--out", &out],
+        &[
+            "--cycles",
+            "window of 2000000 cycles",
+            "at most 1000000 cycles",
+        ],
+    );
+    assert!(listing(&scratch.path).is_empty());
 }

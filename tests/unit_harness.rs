@@ -87,7 +87,7 @@ fn timed_outputs_are_the_untimed_evaluation_at_any_fifo_depth() {
             let n = p.raster.fragments.len();
             for f in sample(&p) {
                 let t = p.fragment_token(Mode::BitAccurate, f);
-                let untimed = t.live.then(|| t.slots[p.engine.output.slot]);
+                let untimed = t.live.then(|| p.engine.output.wire.read(&t.slots));
                 assert_eq!(
                     timed.outputs[f], untimed,
                     "{name} depth {depth} fragment {f}"

@@ -51,6 +51,42 @@ impl Default for CostTable {
 }
 
 impl CostTable {
+    /// The largest price a config may give a primitive, in GE (the largest default is 8).
+    pub const MAX_PRICE: f64 = 1e6;
+
+    /// Every price with its field name, in declaration order.
+    pub fn prices(&self) -> [(&'static str, f64); 10] {
+        [
+            ("inv", self.inv),
+            ("and2", self.and2),
+            ("xor2", self.xor2),
+            ("mux2", self.mux2),
+            ("half_adder", self.half_adder),
+            ("full_adder", self.full_adder),
+            ("dff", self.dff),
+            ("reg_bit", self.reg_bit),
+            ("rom_bit", self.rom_bit),
+            ("sram_bit", self.sram_bit),
+        ]
+    }
+
+    /// Check a table of overrides: every price a finite number from 0 to
+    /// [`CostTable::MAX_PRICE`] GE. The error is the field name and what was expected.
+    pub fn validate(&self) -> Result<(), (&'static str, String)> {
+        for (name, ge) in self.prices() {
+            if !(ge.is_finite() && (0.0..=Self::MAX_PRICE).contains(&ge)) {
+                return Err((
+                    name,
+                    format!(
+                        "price {ge}: expected a finite number of gate equivalents from 0 to {}",
+                        Self::MAX_PRICE
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// n-bit ripple-carry adder or subtractor.
     pub fn adder(&self, n: u32) -> f64 {
         self.full_adder * n as f64
@@ -137,6 +173,25 @@ mod tests {
         assert!((t.squarer(8) - 0.5 * t.multiplier(8, 8)).abs() < 1e-9);
         assert!((t.mux(8, 4) - 8.0 * 3.0 * 2.33).abs() < 1e-9);
         assert!((t.rom(256, 8) - 819.2).abs() < 1e-9);
+    }
+
+    #[test]
+    fn overrides_must_be_finite_and_not_negative() {
+        assert!(CostTable::default().validate().is_ok());
+        let zero = CostTable {
+            rom_bit: 0.0,
+            ..CostTable::default()
+        };
+        assert!(zero.validate().is_ok());
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, -1.0, 1e7] {
+            let t = CostTable {
+                full_adder: bad,
+                ..CostTable::default()
+            };
+            let (field, msg) = t.validate().unwrap_err();
+            assert_eq!(field, "full_adder");
+            assert!(msg.contains(&format!("price {bad}")), "{msg}");
+        }
     }
 
     #[test]

@@ -6,10 +6,13 @@ pub mod format;
 pub mod gates;
 pub mod sampler;
 pub mod stage;
+pub mod texture;
 pub mod unit;
 pub mod units;
 
 pub use format::{Codec, Encoding, Format, Overflow, Quant};
 pub use gates::{CostTable, GateBudget};
+pub use sampler::{Address, Filter, Sampler};
 pub use stage::{Counters, CycleState, Fifo, Probe, Scratch, Stage, Token, Wire};
-pub use unit::{Mode, PortSpec, Sample, Unit, Word, MAX_LANES};
+pub use texture::{Texels, Texture};
+pub use unit::{Mode, PortSpec, Sample, TextureRead, Unit, Word, MAX_LANES};

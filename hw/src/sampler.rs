@@ -1,8 +1,24 @@
-//! Texel addressing shared by the units that read textures: from a fixed-point texture
-//! coordinate to a texel index and filter weight on one axis, and what happens to an index
-//! outside the texture ([`Address`]). Texture sizes are powers of two, so the texel address
-//! is a shift of the coordinate (an arithmetic shift: negative coordinates floor, as the
-//! hardware's two's-complement shifter does).
+//! The sampler: the one texel addressing and filtering datapath of the engine, used by every
+//! unit that reads a [`Texture`] (texel fetches, the emboss filter, the quantized-normal
+//! index fetch, texture-shader stages).
+//!
+//! * Addressing: from a fixed-point texture coordinate to a texel index and filter weight on
+//!   one axis ([`texel_axis`]), and what happens to an index outside the texture
+//!   ([`Address`]). Texture sizes are powers of two, so the texel address is a shift of the
+//!   coordinate (an arithmetic shift: negative coordinates floor, as the hardware's
+//!   two's-complement shifter does).
+//! * Filtering ([`Sampler`]): nearest or bilinear, the bilinear weights truncated to
+//!   `weight_bits` bits of the coordinate's fraction, exact products and one cast of the
+//!   filtered value into the output encoding (the filtered vector is not renormalised, as in
+//!   the hardware of the period). Exact mode reads the unquantized texels with exact weights.
+//! * Mip selection: [`Texture::nearest_level`].
+//! * Cube maps: the face and face coordinates of a direction ([`cube_face`],
+//!   [`cube_face_bits`]), OpenGL 1.3 §3.8.6.
+
+use crate::arith::Acc;
+use crate::format::Encoding;
+use crate::texture::{Level, Texture};
+use crate::unit::MAX_LANES;
 
 /// What happens to a texel address outside the texture, per axis (OpenGL's texture wrap
 /// modes: REPEAT, CLAMP_TO_EDGE, MIRRORED_REPEAT).
@@ -51,6 +67,221 @@ pub fn texel_axis(raw: i64, frac: u32, log: u32, centered: bool) -> (i64, i64) {
     ((s >> f) as i64, (s & ((1i128 << f) - 1)) as i64)
 }
 
+/// Texel filter.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, Default)]
+pub enum Filter {
+    Nearest,
+    #[default]
+    Bilinear,
+}
+
+/// A texture sampler: filter, weight width and address modes. See the module documentation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Sampler {
+    filter: Filter,
+    weight_bits: u32,
+    address: [Address; 2],
+}
+
+impl Sampler {
+    /// `weight_bits` 1 to 16 (bilinear weights); wrap addressing on both axes.
+    pub fn new(filter: Filter, weight_bits: u32) -> Result<Self, String> {
+        if !(1..=16).contains(&weight_bits) {
+            return Err(format!("weight_bits {weight_bits}: expected 1 to 16"));
+        }
+        Ok(Sampler {
+            filter,
+            weight_bits,
+            address: [Address::Wrap; 2],
+        })
+    }
+    /// Address modes along s and t.
+    pub fn with_address(mut self, s: Address, t: Address) -> Self {
+        self.address = [s, t];
+        self
+    }
+    pub fn filter(&self) -> Filter {
+        self.filter
+    }
+    pub fn weight_bits(&self) -> u32 {
+        self.weight_bits
+    }
+    pub fn address(&self) -> [Address; 2] {
+        self.address
+    }
+    /// Texels read per sample.
+    pub fn taps(&self) -> u32 {
+        match self.filter {
+            Filter::Nearest => 1,
+            Filter::Bilinear => 4,
+        }
+    }
+    /// Check that coordinates of encoding `coord` address every texel of `tex` (at least
+    /// `log2 side + 1` fraction bits, for the bilinear half-texel offset).
+    pub fn check(&self, tex: &Texture, coord: &Encoding) -> Result<(), String> {
+        let l = tex.level_at(0);
+        let (log_w, log_h) = l.logs();
+        if (coord.format.frac as u32) < log_w.max(log_h) + 1 {
+            return Err(format!(
+                "texture coordinate format {} has too few fraction bits for a {}x{} texture: expected at least {}",
+                coord.format,
+                l.width(),
+                l.height(),
+                log_w.max(log_h) + 1
+            ));
+        }
+        Ok(())
+    }
+
+    /// Memory index of texel (i, j) of `face` of level `l`, after addressing.
+    #[inline]
+    pub fn index(&self, l: &Level, face: usize, i: i64, j: i64) -> usize {
+        l.index(face, i, j, self.address)
+    }
+
+    /// The filtered texel at real coordinates (s, t) of `face` of level `level` (exact mode).
+    pub fn sample_exact(
+        &self,
+        tex: &Texture,
+        level: usize,
+        face: usize,
+        s: f64,
+        t: f64,
+    ) -> [f64; MAX_LANES] {
+        let l = tex.level_at(level);
+        let (w, h) = (l.width() as f64, l.height() as f64);
+        let get = |i: i64, j: i64| *l.value(self.index(l, face, i, j));
+        match self.filter {
+            Filter::Nearest => get((s * w).floor() as i64, (t * h).floor() as i64),
+            Filter::Bilinear => {
+                let (su, sv) = (s * w - 0.5, t * h - 0.5);
+                let (i, j) = (su.floor(), sv.floor());
+                let (fu, fv) = (su - i, sv - j);
+                let (i, j) = (i as i64, j as i64);
+                let (t00, t10, t01, t11) =
+                    (get(i, j), get(i + 1, j), get(i, j + 1), get(i + 1, j + 1));
+                std::array::from_fn(|k| {
+                    let top = t00[k] + (t10[k] - t00[k]) * fu;
+                    let bot = t01[k] + (t11[k] - t01[k]) * fu;
+                    top + (bot - top) * fv
+                })
+            }
+        }
+    }
+
+    /// The filtered texel at raw coordinates (s, t) with `frac` fraction bits, as raw words of
+    /// `out` (bit-accurate mode). Lanes beyond the texture's are 0.
+    #[allow(clippy::too_many_arguments)]
+    pub fn sample_bits(
+        &self,
+        tex: &Texture,
+        level: usize,
+        face: usize,
+        s: i64,
+        t: i64,
+        frac: u32,
+        out: &Encoding,
+    ) -> [i64; MAX_LANES] {
+        let l = tex.level_at(level);
+        let (log_w, log_h) = l.logs();
+        let centered = self.filter == Filter::Bilinear;
+        let (i, fu) = texel_axis(s, frac, log_w, centered);
+        let (j, fv) = texel_axis(t, frac, log_h, centered);
+        let texel = tex.texel();
+        let code = |k: usize, lane: usize| Acc::from_code(l.code(k)[lane], texel);
+        let lanes = tex.lanes() as usize;
+        let mut res = [0i64; MAX_LANES];
+        match self.filter {
+            Filter::Nearest => {
+                let k = self.index(l, face, i, j);
+                for (lane, r) in res.iter_mut().enumerate().take(lanes) {
+                    *r = code(k, lane).to_code(out);
+                }
+            }
+            Filter::Bilinear => {
+                // weights truncated to weight_bits of the coordinate fraction
+                let wb = self.weight_bits;
+                let trunc = |f: i64, bits: u32| {
+                    if bits >= wb {
+                        f >> (bits - wb)
+                    } else {
+                        f << (wb - bits)
+                    }
+                };
+                let (wu, wv) = (
+                    Acc::new(trunc(fu, frac - log_w) as i128, wb),
+                    Acc::new(trunc(fv, frac - log_h) as i128, wb),
+                );
+                let one = Acc::new(1, 0);
+                let [t00, t10, t01, t11] = [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)]
+                    .map(|(a, b)| self.index(l, face, a, b));
+                let lerp = |a: Acc, b: Acc, w: Acc| a.mul(one.sub(w)).add(b.mul(w));
+                for (lane, r) in res.iter_mut().enumerate().take(lanes) {
+                    let top = lerp(code(t00, lane), code(t10, lane), wu);
+                    let bot = lerp(code(t01, lane), code(t11, lane), wu);
+                    *r = lerp(top, bot, wv).to_code(out);
+                }
+            }
+        }
+        res
+    }
+}
+
+/// The major axis of a cube-map direction: (face, sc, tc, ma) by OpenGL 1.3 table 3.19, faces
+/// +X, -X, +Y, -Y, +Z, -Z = 0..5. Ties go to x before y before z (the spec leaves them open).
+#[inline]
+fn major<T: Copy + PartialOrd + std::ops::Neg<Output = T>>(
+    d: [T; 3],
+    abs: impl Fn(T) -> T,
+    zero: T,
+) -> (usize, T, T, T) {
+    let [x, y, z] = d;
+    let (ax, ay, az) = (abs(x), abs(y), abs(z));
+    if ax >= ay && ax >= az {
+        if x >= zero {
+            (0, -z, -y, ax)
+        } else {
+            (1, z, -y, ax)
+        }
+    } else if ay >= az {
+        if y >= zero {
+            (2, x, z, ay)
+        } else {
+            (3, x, -z, ay)
+        }
+    } else if z >= zero {
+        (4, x, -y, az)
+    } else {
+        (5, -x, -y, az)
+    }
+}
+
+/// Face and coordinates `s = (sc / |ma| + 1) / 2`, `t = (tc / |ma| + 1) / 2` of direction
+/// `d` (exact mode). A zero direction reads the centre of face +X.
+pub fn cube_face(d: [f64; 3]) -> (usize, f64, f64) {
+    let (f, sc, tc, ma) = major(d, f64::abs, 0.0);
+    if ma == 0.0 {
+        return (0, 0.5, 0.5);
+    }
+    (f, (sc / ma + 1.0) * 0.5, (tc / ma + 1.0) * 0.5)
+}
+
+/// [`cube_face`] on raw direction words of one format (bit-accurate mode): the face from
+/// comparisons of magnitudes, and `s`, `t` as raw words with `frac` fraction bits from one
+/// divider, `round((sc + |ma|) 2^frac / (2 |ma|))` (correctly rounded, half up; the
+/// projection's divider is modelled exact at the output width).
+pub fn cube_face_bits(d: [i64; 3], frac: u32) -> (usize, i64, i64) {
+    let (f, sc, tc, ma) = major(d, i64::abs, 0);
+    if ma == 0 {
+        return (0, 1 << frac.saturating_sub(1), 1 << frac.saturating_sub(1));
+    }
+    let div = |c: i64| {
+        let ma = ma as i128;
+        ((((c as i128 + ma) << frac) + ma) / (2 * ma)) as i64
+    };
+    (f, div(sc), div(tc))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -70,6 +301,38 @@ mod tests {
                     if period % 2 == 0 { w } else { n - 1 - w },
                     "n {n} i {i}"
                 );
+            }
+        }
+    }
+
+    #[test]
+    fn cube_faces_follow_the_gl_table_and_the_divider_rounds_to_nearest() {
+        // each face's centre and its (s, t) orientation: +X at (1, y, z) has s = (-z + 1) / 2
+        let cases = [
+            ([1.0, 0.0, -0.5], 0, 0.75, 0.5),
+            ([-1.0, 0.5, 0.0], 1, 0.5, 0.25),
+            ([0.25, 1.0, 0.5], 2, 0.625, 0.75),
+            ([0.25, -1.0, 0.5], 3, 0.625, 0.25),
+            ([0.5, 0.0, 1.0], 4, 0.75, 0.5),
+            ([0.5, 0.5, -1.0], 5, 0.25, 0.25),
+        ];
+        for (d, f, s, t) in cases {
+            assert_eq!(cube_face(d), (f, s, t), "{d:?}");
+        }
+        assert_eq!(cube_face([0.0; 3]), (0, 0.5, 0.5));
+        // raw directions with 8 fraction bits, s and t with 12: every direction of a small
+        // grid agrees with the exact face and within half an output step
+        for x in -6i64..=6 {
+            for y in -6i64..=6 {
+                for z in -6i64..=6 {
+                    let d = [x * 37, y * 41, z * 43];
+                    let (fe, se, te) = cube_face(d.map(|v| v as f64 / 256.0));
+                    let (fb, sb, tb) = cube_face_bits(d, 12);
+                    assert_eq!(fb, fe, "{d:?}");
+                    for (b, e) in [(sb, se), (tb, te)] {
+                        assert!((b as f64 / 4096.0 - e).abs() <= 0.5 / 4096.0, "{d:?}");
+                    }
+                }
             }
         }
     }

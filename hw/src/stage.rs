@@ -127,7 +127,9 @@ pub struct Counters {
 
 impl Counters {
     pub fn total(&self) -> u64 {
-        self.busy + self.idle + self.stall
+        self.busy
+            .saturating_add(self.idle)
+            .saturating_add(self.stall)
     }
 }
 
@@ -179,8 +181,8 @@ impl Stage {
     ) -> Self {
         assert_eq!(in_wires.len(), unit.inputs().len());
         assert_eq!(out_slots.len(), unit.outputs().len());
-        let latency = unit.latency().max(1) as u64;
-        let interval = unit.interval().max(1) as u64;
+        let latency = u64::from(unit.latency().max(1));
+        let interval = u64::from(unit.interval().max(1));
         let max_in_flight = latency.div_ceil(interval) as usize;
         let kills = unit.can_kill();
         Stage {
@@ -276,8 +278,10 @@ impl Stage {
                 if probe {
                     accepted = Some((id, Vec::new()));
                 }
-                self.in_flight.push_back((cycle + self.latency, id));
-                self.next_accept = cycle + self.interval;
+                // saturating: a latency or interval from a config cannot wrap the clock
+                self.in_flight
+                    .push_back((cycle.saturating_add(self.latency), id));
+                self.next_accept = cycle.saturating_add(self.interval);
                 self.counters.accepted += 1;
                 did_accept = true;
             }

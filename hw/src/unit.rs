@@ -15,6 +15,8 @@
 
 use crate::format::Encoding;
 use crate::gates::{CostTable, GateBudget};
+use crate::texture::Texture;
+use std::sync::Arc;
 
 /// Largest number of lanes a port carries (RGBA, xyz + w).
 pub const MAX_LANES: usize = 4;
@@ -120,6 +122,13 @@ impl PortSpec {
     }
 }
 
+/// A texture a unit reads: the shared texture and the texels one fragment reads of it.
+#[derive(Debug, Clone)]
+pub struct TextureRead {
+    pub texture: Arc<Texture>,
+    pub taps: u32,
+}
+
 /// What every hardware unit provides. See the module documentation.
 pub trait Unit: Send + Sync {
     /// The unit's kind, e.g. `"dot3"`; instance names are given by the pipeline.
@@ -142,9 +151,10 @@ pub trait Unit: Send + Sync {
     fn frame_writes(&self) -> Vec<(u64, u64, Vec<Word>)> {
         Vec::new()
     }
-    /// Stored bits per texel of the texture the unit reads, if it reads one.
-    fn texel_bits(&self) -> Option<u32> {
-        None
+    /// The textures of the engine's texture memory the unit reads, and how many texels per
+    /// fragment. Default none.
+    fn textures(&self) -> Vec<TextureRead> {
+        Vec::new()
     }
     /// Whether the unit may kill fragments (CULL_FRAGMENT, clip planes). Default no.
     fn can_kill(&self) -> bool {

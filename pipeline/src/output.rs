@@ -4,7 +4,8 @@
 //! `.<name>.<pid>.<n>.tmp`) and renamed into place, so a reader sees either the old file or
 //! the whole new one. An [`OutputSet`] first writes every temporary file of the set and only
 //! then renames them all; if any write fails, the temporary files already written are removed
-//! and no target is touched.
+//! and no target is touched. Directories that `commit` creates are removed again when it
+//! fails, so a failed run leaves no stray parent directory either.
 
 use std::fs;
 use std::io::{self, Write};
@@ -58,13 +59,27 @@ impl OutputSet {
     /// file next to its target, then rename them all into place. On an error no target has
     /// been touched (unless a rename itself fails, after every write succeeded: then the
     /// files renamed so far are complete new files and the rest keep their old contents),
-    /// no temporary file is left, and the message names the path. Returns the paths
-    /// written, in the order added.
+    /// no temporary file is left, the directories created are removed, and the message
+    /// names the path. Returns the paths written, in the order added.
     pub fn commit(self) -> Result<Vec<PathBuf>, String> {
         for (name, _) in &self.files {
             check_name(name)?;
         }
-        fs::create_dir_all(&self.dir)
+        let mut created = Vec::new();
+        let result = self.write(&mut created);
+        if result.is_err() {
+            // innermost first; `remove_dir` only removes empty directories
+            for d in created.iter().rev() {
+                let _ = fs::remove_dir(d);
+            }
+        }
+        result
+    }
+
+    /// [`OutputSet::commit`] after the names are checked; records the directories it
+    /// creates in `created`, outermost first.
+    fn write(&self, created: &mut Vec<PathBuf>) -> Result<Vec<PathBuf>, String> {
+        create_dirs(&self.dir, created)
             .map_err(|e| format!("cannot create output directory {}: {e}", self.dir.display()))?;
         if !self.dir.is_dir() {
             return Err(format!(
@@ -102,6 +117,28 @@ impl OutputSet {
         sync_dir(&self.dir);
         Ok(targets)
     }
+}
+
+/// Create `dir` and its missing parents like `create_dir_all`, recording each directory
+/// created, outermost first (a directory that appears meanwhile is not recorded).
+fn create_dirs(dir: &Path, created: &mut Vec<PathBuf>) -> io::Result<()> {
+    let mut missing = Vec::new();
+    let mut d = dir;
+    while !d.as_os_str().is_empty() && fs::symlink_metadata(d).is_err() {
+        missing.push(d.to_path_buf());
+        match d.parent() {
+            Some(p) => d = p,
+            None => break,
+        }
+    }
+    for m in missing.into_iter().rev() {
+        match fs::create_dir(&m) {
+            Ok(()) => created.push(m),
+            Err(e) if e.kind() == io::ErrorKind::AlreadyExists => {}
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(())
 }
 
 /// Write one file atomically: to a temporary file in the same directory, then renamed over
@@ -278,6 +315,32 @@ mod tests {
         // the old file is untouched and no temporary file is left
         assert_eq!(listing(&root), vec!["first.txt"]);
         assert_eq!(fs::read(root.join("first.txt")).unwrap(), b"old");
+        fs::remove_dir_all(&root).unwrap();
+    }
+
+    #[test]
+    fn a_failed_commit_removes_the_directories_it_created() {
+        let root = scratch("stray");
+        fs::create_dir(root.join("kept")).unwrap();
+        // a name too long for the file system: `a/` and `a/b/` are created, then removed
+        let long = root.join("a").join("b").join("x".repeat(300));
+        let mut set = OutputSet::new(&long);
+        set.add("report.json", b"{}".to_vec());
+        let err = set.commit().unwrap_err();
+        assert!(err.contains("cannot create output directory"), "{err}");
+        assert_eq!(listing(&root), vec!["kept"]);
+        // a write that fails inside a created directory: the directory goes too
+        let dir = root.join("c").join("d");
+        let mut set = OutputSet::new(&dir);
+        set.add("ok.txt", b"ok".to_vec());
+        set.add(&"y".repeat(300), b"x".to_vec());
+        assert!(set.commit().is_err());
+        assert_eq!(listing(&root), vec!["kept"]);
+        // an existing directory is never removed, even empty
+        let mut set = OutputSet::new(&root.join("kept"));
+        set.add(&"z".repeat(300), b"x".to_vec());
+        assert!(set.commit().is_err());
+        assert_eq!(listing(&root), vec!["kept"]);
         fs::remove_dir_all(&root).unwrap();
     }
 

@@ -1,5 +1,6 @@
 //! The run report: `report.json` and the readable table of `bumpsim report`.
 
+use crate::engine::memory::TextureStats;
 use crate::metrics::ErrorStats;
 use crate::raster::packet::PacketLayout;
 use crate::sim::CycleReport;
@@ -47,10 +48,13 @@ pub struct Gates {
     /// Gate equivalents of all engine units (2-input NAND = 1).
     pub total: f64,
     pub per_unit: BTreeMap<String, UnitGates>,
+    /// The raster operations (depth and alpha tests, blending, colour write): beside the
+    /// engine's total, not in it, as the papers' budgets leave the raster back end out.
+    pub rop: UnitGates,
 }
 
 impl Gates {
-    pub fn new(units: &[(String, String, GateBudget)]) -> Gates {
+    pub fn new(units: &[(String, String, GateBudget)], rop: &GateBudget) -> Gates {
         let per_unit: BTreeMap<String, UnitGates> = units
             .iter()
             .map(|(name, kind, b)| {
@@ -67,6 +71,11 @@ impl Gates {
         Gates {
             total: round2(per_unit.values().map(|u| u.total).sum()),
             per_unit,
+            rop: UnitGates {
+                kind: "rop".into(),
+                total: round2(rop.total()),
+                items: rop.items.clone(),
+            },
         }
     }
 }
@@ -93,6 +102,9 @@ pub struct Bandwidth {
     pub bits_per_texel: u32,
     /// Every texture the units hold: unit name and bits per texel.
     pub textures: BTreeMap<String, u32>,
+    /// The engine's texture memory: each texture (named after its first reader), its
+    /// readers, stored bits and texel traffic per frame.
+    pub texture_memory: BTreeMap<String, TextureStats>,
     pub packet: PacketLayout,
 }
 
@@ -152,6 +164,11 @@ impl Report {
         for (name, u) in &self.gates.per_unit {
             let _ = writeln!(s, "  {:<14} {:<14} {:>10.0}", name, u.kind, u.total);
         }
+        let _ = writeln!(
+            s,
+            "  (beside the total: rop {:.0} GE)",
+            self.gates.rop.total
+        );
         let b = &self.bandwidth;
         let _ = writeln!(
             s,
@@ -163,6 +180,22 @@ impl Report {
             b.bump_extra_percent,
             b.bits_per_texel
         );
+        for (name, t) in &b.texture_memory {
+            let _ = writeln!(
+                s,
+                "  texture {:<12} {} {}x{}, {} levels, {} bits/texel, {} bits stored, {} texels/fragment, {} bits/frame (read by {})",
+                name,
+                t.shape,
+                t.size[0],
+                t.size[1],
+                t.levels,
+                t.bits_per_texel,
+                t.stored_bits,
+                t.texels_per_fragment,
+                t.bits_per_frame,
+                t.readers.join(", ")
+            );
+        }
         let p = &self.passes;
         let _ = writeln!(
             s,

@@ -1,56 +1,81 @@
-//! The frame buffer write (ROP): the depth test and the colour write of the fragments that
-//! leave the pipe, in the order they leave it.
+//! The frame buffer write: the ROP unit (`hw/src/units/rop.rs`: alpha test, depth test,
+//! blending, the colour write in the framebuffer's format) driven over the fragments that
+//! leave the pipe, in the order they leave it (their rasterization order: the pipe is in
+//! order).
 //!
-//! The test is LESS against a buffer cleared to the largest code, on the fragment's quantised
-//! window depth. With the rasterizer's early test ([`crate::raster::DepthTest::Early`]) every
-//! arriving fragment is nearer than all earlier ones at its pixel, so this test passes them
-//! all and the frame is the same as without it; with the late test (an engine that may kill)
-//! it is the only depth test, and a killed fragment neither writes colour nor depth.
+//! The depth test (default LESS against a buffer cleared to the largest code) reads the
+//! fragment's quantised window depth. With the rasterizer's early test
+//! ([`crate::raster::DepthTest::Early`]) every arriving fragment is nearer than all earlier
+//! ones at its pixel, so a LESS test passes them all and the frame is the same as without it;
+//! with the late test (an engine that may kill, or a ROP whose depth function is not LESS, or
+//! one that tests alpha) it is the only depth test, and a killed fragment neither writes colour
+//! nor depth.
 
 use crate::metrics::Rgb64;
-use crate::raster::{scan::depth_max, Fragment};
-use bumpsim_hw::Word;
+use crate::raster::Fragment;
+use bumpsim_hw::units::rop::Outcome;
+use bumpsim_hw::units::Rop;
+use bumpsim_hw::{Mode, Word};
 
 /// The frame buffer after the ROP has taken `outputs` (by fragment; `None` = killed).
 pub struct Framebuffer {
+    /// The colour that reached each pixel (clamped to [0, 1], blended in f64): what the
+    /// error measures compare, before the framebuffer's rounding.
     pub image: Rgb64,
+    /// The framebuffer as 8-bit RGB: the stored codes (rescaled when the framebuffer is not 8
+    /// bits per channel).
+    pub rgb8: image::RgbImage,
     /// Pixels written.
     pub mask: Vec<bool>,
-    /// Live fragments that reached the depth test (each reads depth).
+    /// Live fragments that reached the ROP's tests.
     pub tested: u64,
-    /// Fragments that passed it (each writes colour and depth).
+    /// Fragments that passed the alpha test (each reads depth).
+    pub depth_tested: u64,
+    /// Fragments that passed both tests (each writes colour and depth).
     pub written: u64,
 }
 
-/// The frame buffer after writing `outputs` of `frags` for a `depth_bits`-bit depth buffer.
-/// Colours are clamped to [0, 1].
+/// The frame buffer of a `w` x `h` image after `rop` has written `outputs` of `frags` in
+/// `mode`.
 pub fn write(
+    rop: &Rop,
+    mode: Mode,
     w: u32,
     h: u32,
-    depth_bits: u32,
     frags: &[Fragment],
     outputs: &[Option<Word>],
 ) -> Framebuffer {
-    let mut img = Rgb64::new(w, h);
-    let mut mask = vec![false; (w as usize) * (h as usize)];
-    let mut depth = vec![depth_max(depth_bits); mask.len()];
-    let (mut tested, mut written) = (0, 0);
+    let mut fb = rop.clear(w, h);
+    let (mut tested, mut depth_tested, mut written) = (0, 0, 0);
     for (f, o) in frags.iter().zip(outputs) {
         let Some(o) = o else { continue };
         tested += 1;
         let i = (f.y as usize) * (w as usize) + f.x as usize;
-        if f.depth >= depth[i] {
-            continue;
+        match rop.write(&mut fb, mode, i, f.depth, o) {
+            Outcome::AlphaFailed => {}
+            Outcome::DepthFailed => depth_tested += 1,
+            Outcome::Written => {
+                depth_tested += 1;
+                written += 1;
+            }
         }
-        written += 1;
-        depth[i] = f.depth;
-        img.px[i] = [0, 1, 2].map(|c| o.lanes[c].x.clamp(0.0, 1.0));
-        mask[i] = true;
+    }
+    let one = (1i64 << rop.params().color_bits) - 1;
+    let to8 = |c: i64| ((2 * c * 255 + one) / (2 * one)) as u8;
+    let mut rgb8 = image::RgbImage::new(w, h);
+    for (p, px) in rgb8.pixels_mut().zip(&fb.color) {
+        p.0 = px.code.map(to8);
     }
     Framebuffer {
-        image: img,
-        mask,
+        image: Rgb64 {
+            width: w,
+            height: h,
+            px: fb.color.iter().map(|p| p.x).collect(),
+        },
+        rgb8,
+        mask: fb.written,
         tested,
+        depth_tested,
         written,
     }
 }

@@ -234,8 +234,9 @@ pub fn prepare(l: &Loaded) -> Result<Prepared, InputError> {
     let cfg = &l.config;
     let vertices = attributes::compute(&scene, &cfg.engine.attributes);
     let engine = engine::build(l, &scene)?;
-    // an engine that may kill fragments needs the depth test after shading
-    let depth = if engine.kills() {
+    // an engine that may kill fragments, or a ROP with other tests, needs the depth test
+    // after shading
+    let depth = if engine.late_depth() {
         raster::DepthTest::Late
     } else {
         raster::DepthTest::Early
@@ -308,7 +309,7 @@ impl Prepared {
             slots: self.engine.signals.len(),
             fifo_depth: self.fifo_depth,
         };
-        let output = self.engine.output.slot;
+        let output = self.engine.output.wire;
         sim::run(&mut self.engine.stages, output, workload, trace)
     }
 
@@ -320,7 +321,7 @@ impl Prepared {
         sim::evaluate(
             &self.engine.stages,
             Mode::Exact,
-            self.engine.output.slot,
+            self.engine.output.wire,
             front.frags.len(),
             self.engine.slots(),
             &fill,
@@ -385,9 +386,8 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
     let (w, h) = (p.scene.width, p.scene.height);
     let frags = &p.raster.fragments;
     let bit = &p.engine;
-    let depth_bits = cfg.raster.depth_bits;
-    let fb = crate::rop::write(w, h, depth_bits, frags, &result.outputs);
-    let fb_exact = crate::rop::write(w, h, depth_bits, frags, &exact_out);
+    let fb = crate::rop::write(&bit.rop, Mode::BitAccurate, w, h, frags, &result.outputs);
+    let fb_exact = crate::rop::write(&bit.rop, Mode::Exact, w, h, frags, &exact_out);
     let (img_bit, mask) = (&fb.image, &fb.mask);
     let (img_exact, exact_mask) = (&fb_exact.image, &fb_exact.mask);
     let refimg = p.reference(cfg.reference);
@@ -442,14 +442,15 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
             frame_cycles: result.cycles.frame,
             stream_cycles: result.cycles.total - result.cycles.frame,
             triangles: result.cycles.triangles,
-            fragments: fb.tested,
+            fragments: fb.depth_tested,
             written: fb.written,
             bits_per_triangle: bits,
-            color_bits: 3 * u64::from(bit.output.spec.enc.width()),
+            color_bits: 3 * u64::from(bit.rop.params().color_bits),
             depth_bits: u64::from(cfg.raster.depth_bits),
         },
         blend,
     );
+    let fragments = result.cycles.fragments;
     let report = Report {
         version: VERSION.to_string(),
         name: cfg.name.clone(),
@@ -461,7 +462,7 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
             coverage_mismatch: mismatch,
         },
         cycles: result.cycles,
-        gates: Gates::new(&units),
+        gates: Gates::new(&units, &bit.rop.gates(&cfg.cost)),
         bandwidth: Bandwidth {
             bits_per_triangle: bits,
             baseline_bits_per_triangle: base_bits,
@@ -471,6 +472,7 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
             bump_extra_percent: (extras as f64 / base_bits as f64 * 1000.0).round() / 10.0,
             bits_per_texel: bit.texels.first().map_or(0, |t| t.1),
             textures: bit.texels.iter().cloned().collect(),
+            texture_memory: engine::memory::stats(&bit.stages, fragments),
             packet,
         },
         passes,
@@ -487,7 +489,7 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
             None => full,
         }
     });
-    let (image, reference) = (img_bit.to_rgb8(), rimg.to_rgb8());
+    let (image, reference) = (fb.rgb8.clone(), rimg.to_rgb8());
     let error = metrics::heatmap(img_bit, mask, &rimg, rmask, 32.0);
     timings.lap("metrics");
     Ok(RunResult {

@@ -13,7 +13,7 @@
 //! Stages are ticked from the last to the first within a clock (see `bumpsim_hw::stage`).
 //! The simulation is single-threaded and deterministic.
 
-use bumpsim_hw::{Counters, CycleState, Fifo, Mode, Probe, Scratch, Stage, Token, Word};
+use bumpsim_hw::{Counters, CycleState, Fifo, Mode, Probe, Scratch, Stage, Token, Wire, Word};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -78,17 +78,17 @@ fn frame_probes(stages: &[Stage], trace: Option<(u64, u64)>) -> Vec<(usize, Prob
     let mut start = 0u64;
     for (i, s) in stages.iter().enumerate() {
         let n = s.unit().frame_cycles();
-        let (lo, hi) = (a.max(start), b.min(start + n));
+        let (lo, hi) = (a.max(start), b.min(start.saturating_add(n)));
         if lo < hi {
             let writes = s.unit().frame_writes();
             let mut w = writes.iter().peekable();
             for cycle in lo..hi {
-                while w.peek().is_some_and(|x| start + x.0 < cycle) {
+                while w.peek().is_some_and(|x| start.saturating_add(x.0) < cycle) {
                     w.next();
                 }
                 let emitted = w
                     .peek()
-                    .filter(|x| start + x.0 == cycle)
+                    .filter(|x| start.saturating_add(x.0) == cycle)
                     .map(|x| (x.1, x.2.clone()));
                 out.push((
                     i,
@@ -101,7 +101,7 @@ fn frame_probes(stages: &[Stage], trace: Option<(u64, u64)>) -> Vec<(usize, Prob
                 ));
             }
         }
-        start += n;
+        start = start.saturating_add(n);
     }
     out
 }
@@ -111,7 +111,7 @@ fn frame_probes(stages: &[Stage], trace: Option<(u64, u64)>) -> Vec<(usize, Prob
 /// half-open cycle window to probe.
 pub fn run(
     stages: &mut [Stage],
-    output_slot: usize,
+    output: Wire,
     w: Workload,
     trace: Option<(u64, u64)>,
 ) -> SimResult {
@@ -127,7 +127,7 @@ pub fn run(
     let outputs = evaluate(
         stages,
         Mode::BitAccurate,
-        output_slot,
+        output,
         nfrag,
         w.slots,
         w.fill_token,
@@ -138,7 +138,7 @@ pub fn run(
         eval_one(
             stages,
             Mode::BitAccurate,
-            output_slot,
+            output,
             f as usize,
             &mut t,
             &mut scratch,
@@ -182,7 +182,12 @@ fn timing(
         s.reset();
     }
     let mut fifos: Vec<Fifo> = (0..=nstage).map(|_| Fifo::new(w.fifo_depth)).collect();
-    let frame: u64 = stages.iter().map(|s| s.unit().frame_cycles()).sum();
+    // saturating sums and additions of the config-derived cycle counts (frame work, setup):
+    // a huge value saturates instead of wrapping to a small one
+    let frame: u64 = stages
+        .iter()
+        .map(|s| s.unit().frame_cycles())
+        .fold(0, u64::saturating_add);
     let mut probes = frame_probes(stages, trace);
     let first = probes.len();
     let (mut setup_c, mut scan_c) = (Counters::default(), Counters::default());
@@ -252,7 +257,10 @@ fn timing(
             }
         }
         if setting_up.is_none() && next_tri < w.triangles.len() {
-            setting_up = Some((next_tri, cycle + w.setup[next_tri].max(1) as u64));
+            setting_up = Some((
+                next_tri,
+                cycle.saturating_add(u64::from(w.setup[next_tri].max(1))),
+            ));
             next_tri += 1;
             setup_busy = true;
         }
@@ -299,7 +307,7 @@ fn timing(
 pub fn evaluate(
     stages: &[Stage],
     mode: Mode,
-    output_slot: usize,
+    output: Wire,
     nfrag: usize,
     slots: usize,
     fill_token: &FillToken<'_>,
@@ -313,7 +321,7 @@ pub fn evaluate(
                 *o = eval_one(
                     stages,
                     mode,
-                    output_slot,
+                    output,
                     c * CHUNK + k,
                     &mut t,
                     &mut scratch,
@@ -338,7 +346,7 @@ fn new_token(slots: usize) -> Token {
 fn eval_one(
     stages: &[Stage],
     mode: Mode,
-    output_slot: usize,
+    output: Wire,
     f: usize,
     t: &mut Token,
     scratch: &mut Scratch,
@@ -349,5 +357,5 @@ fn eval_one(
     for s in stages {
         s.eval_token(t, mode, scratch);
     }
-    t.live.then(|| t.slots[output_slot])
+    t.live.then(|| output.read(&t.slots))
 }

@@ -16,48 +16,37 @@
 
 use crate::format::{Encoding, Format};
 use crate::gates::{CostTable, GateBudget};
-use crate::sampler::{texel_axis, Address};
-use crate::unit::{Mode, PortSpec, Unit, Word};
+use crate::sampler::{texel_axis, Filter, Sampler};
+use crate::texture::{Shape, Texture};
+use crate::unit::{Mode, PortSpec, TextureRead, Unit, Word};
+use std::sync::Arc;
 
 pub struct EmbossFilter {
     inputs: Vec<PortSpec>,
     outputs: Vec<PortSpec>,
-    width: u32,
-    height: u32,
-    log_w: u32,
-    log_h: u32,
-    heights: Vec<f64>,
-    codes: Vec<i64>,
-    texel: Encoding,
+    tex: Arc<Texture>,
+    sampler: Sampler,
     nz: f64,
     ports: u32,
     mem_latency: u32,
 }
 
 impl EmbossFilter {
-    /// `heights` in [0, 1] (1 = white), `width * height`, row-major, row 0 at v in [0, 1/h).
-    /// `texel` is the stored intensity format (unsigned, usually 8 bits, `UnitUnsigned`).
-    #[allow(clippy::too_many_arguments)]
+    /// `tex`: the height map, one lane of heights in [0, 1] (1 = white) stored in an unsigned
+    /// intensity format (usually 8 bits, `UnitUnsigned`); level 0 is read.
     pub fn new(
         uv: Encoding,
-        heights: Vec<f64>,
-        width: u32,
-        height: u32,
-        texel: Encoding,
+        tex: Arc<Texture>,
         bevel_w: f64,
         ports: u32,
         mem_latency: u32,
         out: Encoding,
     ) -> Result<Self, String> {
-        for (name, v) in [("width", width), ("height", height)] {
-            if !v.is_power_of_two() || v > 1 << 14 {
-                return Err(format!(
-                    "height map {name} {v}: expected a power of two from 1 to 16384"
-                ));
-            }
-        }
-        if heights.len() != (width * height) as usize {
-            return Err("height count does not match the map size".into());
+        if tex.lanes() != 1 || tex.shape() != Shape::Flat {
+            return Err(format!(
+                "height map {}: expected a 2D texture of one lane",
+                tex.name()
+            ));
         }
         if !(bevel_w.is_finite() && bevel_w > 0.0) {
             return Err(format!(
@@ -67,50 +56,40 @@ impl EmbossFilter {
         if !(1..=9).contains(&ports) {
             return Err(format!("ports {ports}: expected 1 to 9"));
         }
-        let (log_w, log_h) = (width.trailing_zeros(), height.trailing_zeros());
+        let l = tex.level_at(0);
+        let (log_w, log_h) = l.logs();
         if (uv.format.frac as u32) < log_w.max(log_h) {
             return Err(format!(
-                "texture coordinate format {} has too few fraction bits for a {width}x{height} map",
-                uv.format
+                "texture coordinate format {} has too few fraction bits for a {}x{} map",
+                uv.format,
+                l.width(),
+                l.height()
             ));
         }
-        let codes = heights.iter().map(|&h| texel.encode(h)).collect();
         Ok(EmbossFilter {
             inputs: vec![PortSpec::new("uv", 2, uv)],
             outputs: vec![PortSpec::new("n", 3, out)],
-            width,
-            height,
-            log_w,
-            log_h,
-            heights,
-            codes,
-            texel,
+            tex,
+            sampler: Sampler::new(Filter::Nearest, 1)?,
             nz: 6.0 * 255.0 / bevel_w,
             ports,
             mem_latency: mem_latency.max(1),
         })
     }
 
-    fn at(&self, i: i64, j: i64) -> usize {
-        let (w, h) = (self.width as i64, self.height as i64);
-        (Address::Wrap.apply(j, h) * w + Address::Wrap.apply(i, w)) as usize
-    }
-
-    /// Mask responses over the 3x3 neighbourhood of texel (i, j) for a texel reader `t`.
+    /// Mask responses over the 3x3 neighbourhood of texel (i, j) for a texel reader `t` of
+    /// memory indices.
     fn masks<T: Copy + std::ops::Add<Output = T> + std::ops::Sub<Output = T>>(
         &self,
         i: i64,
         j: i64,
         t: impl Fn(usize) -> T,
     ) -> (T, T) {
-        let g = |a: i64, b: i64| t(self.at(i + a, j + b));
+        let l = self.tex.level_at(0);
+        let g = |a: i64, b: i64| t(self.sampler.index(l, 0, i + a, j + b));
         let iu = (g(1, -1) - g(-1, -1)) + (g(1, 0) - g(-1, 0)) + (g(1, 1) - g(-1, 1));
         let iv = (g(-1, 1) - g(-1, -1)) + (g(0, 1) - g(0, -1)) + (g(1, 1) - g(1, -1));
         (iu, iv)
-    }
-
-    fn texel_of(&self, raw: i64, frac: u32, log: u32) -> i64 {
-        texel_axis(raw, frac, log, false).0
     }
 }
 
@@ -130,12 +109,15 @@ impl Unit for EmbossFilter {
     fn interval(&self) -> u32 {
         9u32.div_ceil(self.ports)
     }
-    fn texel_bits(&self) -> Option<u32> {
-        Some(self.texel.width())
+    fn textures(&self) -> Vec<TextureRead> {
+        vec![TextureRead {
+            texture: self.tex.clone(),
+            taps: 9,
+        }]
     }
     fn gates(&self, t: &CostTable) -> GateBudget {
         let wc = self.inputs[0].enc.width();
-        let wt = self.texel.width();
+        let wt = self.tex.texel().width();
         let wo = self.outputs[0].enc.width();
         let mut g = GateBudget::new();
         g.add(format!("address adder {wc}"), 2 * self.ports, t.adder(wc));
@@ -151,18 +133,21 @@ impl Unit for EmbossFilter {
         let uv = &ins[0];
         match mode {
             Mode::Exact => {
-                let i = (uv.lanes[0].x * self.width as f64).floor() as i64;
-                let j = (uv.lanes[1].x * self.height as f64).floor() as i64;
-                let (iu, iv) = self.masks(i, j, |k| self.heights[k] * 255.0);
+                let l = self.tex.level_at(0);
+                let i = (uv.lanes[0].x * l.width() as f64).floor() as i64;
+                let j = (uv.lanes[1].x * l.height() as f64).floor() as i64;
+                let (iu, iv) = self.masks(i, j, |k| l.value(k)[0] * 255.0);
                 outs[0] = Word::from_exact(&out, &[-iu, -iv, self.nz]);
             }
             Mode::BitAccurate => {
                 let frac = self.inputs[0].enc.format.frac as u32;
-                let i = self.texel_of(uv.lanes[0].raw, frac, self.log_w);
-                let j = self.texel_of(uv.lanes[1].raw, frac, self.log_h);
+                let l = self.tex.level_at(0);
+                let (log_w, log_h) = l.logs();
+                let i = texel_axis(uv.lanes[0].raw, frac, log_w, false).0;
+                let j = texel_axis(uv.lanes[1].raw, frac, log_h, false).0;
                 // intensities as stored codes, read on the 0..255 scale of an 8-bit texel
-                let scale = 255.0 / self.texel.format.max_raw() as f64;
-                let (iu, iv) = self.masks(i, j, |k| self.codes[k]);
+                let scale = 255.0 / self.tex.texel().format.max_raw() as f64;
+                let (iu, iv) = self.masks(i, j, |k| l.code(k)[0]);
                 let f = Format {
                     signed: true,
                     width: 32,
@@ -181,6 +166,7 @@ impl Unit for EmbossFilter {
 mod tests {
     use super::*;
     use crate::format::Codec;
+    use crate::texture::Texels;
 
     #[test]
     fn a_ramp_gives_six_a_and_the_bevel_constant() {
@@ -192,7 +178,15 @@ mod tests {
         let uv = Encoding::fixed(Format::u(16, 16));
         let texel = Encoding::texel(Codec::UnitUnsigned, false, 8);
         let out = Encoding::fixed(Format::s(16, 4));
-        let u = EmbossFilter::new(uv, heights, w, h, texel, 6.0, 3, 2, out).unwrap();
+        let values = heights.iter().map(|&x| [x, 0.0, 0.0, 0.0]).collect();
+        let tex = Texels {
+            width: w,
+            height: h,
+            lanes: 1,
+            values,
+        };
+        let tex = Arc::new(Texture::new("heights", texel, tex).unwrap());
+        let u = EmbossFilter::new(uv, tex, 6.0, 3, 2, out).unwrap();
         assert_eq!(u.interval(), 3);
         let mut o = [Word::default()];
         for mode in [Mode::Exact, Mode::BitAccurate] {

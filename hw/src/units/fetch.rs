@@ -16,166 +16,89 @@
 //! Memory: `ports` texels are read per clock, so a bilinear fetch takes `ceil(4 / ports)`
 //! clocks. Exact mode reads the unquantized texels with exact weights.
 
-use crate::arith::Acc;
 use crate::format::Encoding;
 use crate::gates::{CostTable, GateBudget};
-use crate::sampler::texel_axis;
-pub use crate::sampler::Address;
-use crate::unit::{Mode, PortSpec, Unit, Word, MAX_LANES};
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, Default)]
-pub enum Filter {
-    Nearest,
-    #[default]
-    Bilinear,
-}
-
-/// Texture contents: `width * height` texels of `lanes` real values each, row-major, row 0
-/// at v in [0, 1/height).
-#[derive(Debug, Clone)]
-pub struct Texels {
-    pub width: u32,
-    pub height: u32,
-    pub lanes: u8,
-    pub values: Vec<[f64; MAX_LANES]>,
-}
+use crate::sampler::Sampler;
+pub use crate::sampler::{Address, Filter};
+pub use crate::texture::Texels;
+use crate::texture::Texture;
+use crate::unit::{Mode, PortSpec, TextureRead, Unit, Word};
+use std::sync::Arc;
 
 pub struct TexFetch {
     inputs: Vec<PortSpec>,
     outputs: Vec<PortSpec>,
-    texel: Encoding,
-    filter: Filter,
-    weight_bits: u32,
+    sampler: Sampler,
     ports: u32,
     mem_latency: u32,
-    tex: Texels,
-    codes: Vec<[i64; MAX_LANES]>,
-    log_w: u32,
-    log_h: u32,
-    palette: Option<u32>,
-    address: [Address; 2],
+    tex: Arc<Texture>,
 }
 
 impl TexFetch {
-    /// Address modes along u and v (default wrap on both).
-    pub fn with_address(mut self, u: Address, v: Address) -> Self {
-        self.address = [u, v];
-        self
-    }
-
-    /// Store the texture as indices into a palette of `entries` texels (Ernst et al. §6:
-    /// "The memory requirements for the bump maps can be minimized by using palletized bumps.
-    /// With eight bit addressing a table lookup (bump) texture, up to 256 surface orientations
-    /// can be modeled."). The texels given to [`TexFetch::new`] must already be palette
-    /// entries; the unit then counts `ceil(log2 entries)` bits per stored texel and adds the
-    /// palette RAM (entries x lanes x texel bits, loaded once per frame) to its gates and its
-    /// per-frame cycles. Filtering happens after the palette lookup (one lookup per tap).
-    pub fn with_palette(mut self, entries: u32) -> Self {
-        self.palette = Some(entries.max(1));
-        self
-    }
-
+    /// Read level 0 of the 2D texture `tex` of the engine's texture memory through `sampler`
+    /// at coordinates of encoding `uv`; `ports` texels per clock, `mem_latency` clocks of
+    /// memory latency; the filtered texel cast into `out`. If the texture is stored as palette
+    /// indices ([`Texture::with_palette`], Ernst et al. §6: "The memory requirements for the
+    /// bump maps can be minimized by using palletized bumps. With eight bit addressing a table
+    /// lookup (bump) texture, up to 256 surface orientations can be modeled."), the unit adds
+    /// the palette RAM (entries x texel bits, loaded once per frame) to its gates and its
+    /// per-frame cycles; filtering happens after the palette lookup (one lookup per tap).
     /// Errors name the parameter and what was expected.
-    #[allow(clippy::too_many_arguments)]
     pub fn new(
         uv: Encoding,
-        tex: Texels,
-        texel: Encoding,
-        filter: Filter,
-        weight_bits: u32,
+        tex: Arc<Texture>,
+        sampler: Sampler,
         ports: u32,
         mem_latency: u32,
         out: Encoding,
     ) -> Result<Self, String> {
-        for (name, v) in [("width", tex.width), ("height", tex.height)] {
-            if !v.is_power_of_two() || v > 1 << 14 {
-                return Err(format!(
-                    "texture {name} {v}: expected a power of two from 1 to 16384"
-                ));
-            }
-        }
-        if !(1..=16).contains(&weight_bits) {
-            return Err(format!("weight_bits {weight_bits}: expected 1 to 16"));
-        }
         if !(1..=4).contains(&ports) {
             return Err(format!("ports {ports}: expected 1 to 4"));
         }
-        if tex.values.len() != (tex.width * tex.height) as usize {
-            return Err("texel count does not match the texture size".into());
-        }
-        let log_w = tex.width.trailing_zeros();
-        let log_h = tex.height.trailing_zeros();
-        if (uv.format.frac as u32) < log_w.max(log_h) + 1 {
+        if tex.shape() != crate::texture::Shape::Flat {
             return Err(format!(
-                "texture coordinate format {} has too few fraction bits for a {}x{} texture: expected at least {}",
-                uv.format, tex.width, tex.height, log_w.max(log_h) + 1
+                "texture {}: a cube map: expected a 2D texture",
+                tex.name()
             ));
         }
-        let lanes = tex.lanes;
-        let codes = tex
-            .values
-            .iter()
-            .map(|t| {
-                std::array::from_fn(|l| {
-                    if l < lanes as usize {
-                        texel.encode(t[l])
-                    } else {
-                        0
-                    }
-                })
-            })
-            .collect();
+        sampler.check(&tex, &uv)?;
         Ok(TexFetch {
             inputs: vec![PortSpec::new("uv", 2, uv)],
-            outputs: vec![PortSpec::new("t", lanes, out)],
-            texel,
-            filter,
-            weight_bits,
+            outputs: vec![PortSpec::new("t", tex.lanes(), out)],
+            sampler,
             ports,
             mem_latency: mem_latency.max(1),
             tex,
-            codes,
-            log_w,
-            log_h,
-            palette: None,
-            address: [Address::Wrap; 2],
         })
     }
 
-    fn taps(&self) -> u32 {
-        match self.filter {
-            Filter::Nearest => 1,
-            Filter::Bilinear => 4,
-        }
+    /// Clocks of memory latency.
+    pub fn mem_latency(&self) -> u32 {
+        self.mem_latency
     }
 
-    /// Index of texel (i, j) after addressing.
-    fn texel_index(&self, i: i64, j: i64) -> usize {
-        let (w, h) = (self.tex.width as i64, self.tex.height as i64);
-        (self.address[1].apply(j, h) * w + self.address[0].apply(i, w)) as usize
+    /// The texture read.
+    pub fn texture(&self) -> &Arc<Texture> {
+        &self.tex
     }
 
-    fn axis(&self, raw: i64, frac: u32, log: u32) -> (i64, i64) {
-        texel_axis(raw, frac, log, self.filter == Filter::Bilinear)
-    }
-
-    fn eval_exact(&self, u: f64, v: f64) -> [f64; MAX_LANES] {
-        let (w, h) = (self.tex.width as f64, self.tex.height as f64);
-        let get = |i: i64, j: i64| self.tex.values[self.texel_index(i, j)];
-        match self.filter {
-            Filter::Nearest => get((u * w).floor() as i64, (v * h).floor() as i64),
-            Filter::Bilinear => {
-                let (su, sv) = (u * w - 0.5, v * h - 0.5);
-                let (i, j) = (su.floor(), sv.floor());
-                let (fu, fv) = (su - i, sv - j);
-                let (i, j) = (i as i64, j as i64);
-                let (t00, t10, t01, t11) =
-                    (get(i, j), get(i + 1, j), get(i, j + 1), get(i + 1, j + 1));
-                std::array::from_fn(|l| {
-                    let top = t00[l] + (t10[l] - t00[l]) * fu;
-                    let bot = t01[l] + (t11[l] - t01[l]) * fu;
-                    top + (bot - top) * fv
-                })
+    /// The filtered texel of mip level `level` at the coordinate `uv`, in `mode`.
+    pub fn sample(&self, mode: Mode, level: usize, uv: &Word) -> Word {
+        let out = self.outputs[0].enc;
+        let lanes = self.tex.lanes() as usize;
+        match mode {
+            Mode::Exact => {
+                let (s, t) = (uv.lanes[0].x, uv.lanes[1].x);
+                let v = self.sampler.sample_exact(&self.tex, level, 0, s, t);
+                Word::from_exact(&out, &v[..lanes])
+            }
+            Mode::BitAccurate => {
+                let frac = self.inputs[0].enc.format.frac as u32;
+                let (s, t) = (uv.lanes[0].raw, uv.lanes[1].raw);
+                let res = self
+                    .sampler
+                    .sample_bits(&self.tex, level, 0, s, t, frac, &out);
+                Word::from_raw(&out, &res[..lanes])
             }
         }
     }
@@ -192,29 +115,31 @@ impl Unit for TexFetch {
         &self.outputs
     }
     fn latency(&self) -> u32 {
-        self.mem_latency + self.interval() + u32::from(self.filter == Filter::Bilinear)
+        self.mem_latency
+            .saturating_add(self.interval())
+            .saturating_add(u32::from(self.sampler.filter() == Filter::Bilinear))
     }
     fn interval(&self) -> u32 {
-        self.taps().div_ceil(self.ports)
+        self.sampler.taps().div_ceil(self.ports)
     }
-    fn texel_bits(&self) -> Option<u32> {
-        Some(match self.palette {
-            Some(n) => n.next_power_of_two().trailing_zeros().max(1),
-            None => self.tex.lanes as u32 * self.texel.width(),
-        })
+    fn textures(&self) -> Vec<TextureRead> {
+        vec![TextureRead {
+            texture: self.tex.clone(),
+            taps: self.sampler.taps(),
+        }]
     }
     fn frame_cycles(&self) -> u64 {
-        self.palette.map_or(0, u64::from)
+        self.tex.palette().map_or(0, u64::from)
     }
     fn gates(&self, t: &CostTable) -> GateBudget {
         let wc = self.inputs[0].enc.width();
-        let wt = self.texel.width();
-        let wb = self.weight_bits;
-        let lanes = self.tex.lanes as u32;
+        let wt = self.tex.texel().width();
+        let wb = self.sampler.weight_bits();
+        let lanes = self.tex.lanes() as u32;
         let wo = self.outputs[0].enc.width();
         let mut g = GateBudget::new();
         g.add(format!("address adder {wc}"), 2 * self.ports, t.adder(wc));
-        if self.filter == Filter::Bilinear {
+        if self.sampler.filter() == Filter::Bilinear {
             // three lerps per lane, a + (b - a) w: two along u on (wt + 1)-bit differences,
             // one along v on the exact (wt + wb + 1)-bit results of the first two
             g.add(
@@ -242,7 +167,7 @@ impl Unit for TexFetch {
         if self.interval() > 1 {
             g.add(
                 format!("tap register {}", wt * lanes),
-                self.taps(),
+                self.sampler.taps(),
                 t.register(wt * lanes),
             );
         }
@@ -251,7 +176,7 @@ impl Unit for TexFetch {
             1,
             t.register(wo * lanes),
         );
-        if let Some(n) = self.palette {
+        if let Some(n) = self.tex.palette() {
             g.add(
                 format!("bump palette {n}x{} (loadable)", wt * lanes),
                 self.ports,
@@ -261,57 +186,7 @@ impl Unit for TexFetch {
         g
     }
     fn eval(&self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
-        let out = self.outputs[0].enc;
-        let lanes = self.tex.lanes as usize;
-        let uv = &ins[0];
-        match mode {
-            Mode::Exact => {
-                let v = self.eval_exact(uv.lanes[0].x, uv.lanes[1].x);
-                outs[0] = Word::from_exact(&out, &v[..lanes]);
-            }
-            Mode::BitAccurate => {
-                let frac = self.inputs[0].enc.format.frac as u32;
-                let (i, fu) = self.axis(uv.lanes[0].raw, frac, self.log_w);
-                let (j, fv) = self.axis(uv.lanes[1].raw, frac, self.log_h);
-                let code = |t: usize, l: usize| Acc::from_code(self.codes[t][l], &self.texel);
-                let mut res = [0i64; MAX_LANES];
-                match self.filter {
-                    Filter::Nearest => {
-                        let t = self.texel_index(i, j);
-                        for (l, r) in res.iter_mut().enumerate().take(lanes) {
-                            *r = code(t, l).to_code(&out);
-                        }
-                    }
-                    Filter::Bilinear => {
-                        // weights truncated to weight_bits of the coordinate fraction
-                        let fu_bits = frac - self.log_w;
-                        let fv_bits = frac - self.log_h;
-                        let wb = self.weight_bits;
-                        let trunc = |f: i64, bits: u32| {
-                            if bits >= wb {
-                                f >> (bits - wb)
-                            } else {
-                                f << (wb - bits)
-                            }
-                        };
-                        let (wu, wv) = (
-                            Acc::new(trunc(fu, fu_bits) as i128, wb),
-                            Acc::new(trunc(fv, fv_bits) as i128, wb),
-                        );
-                        let one = Acc::new(1, 0);
-                        let [t00, t10, t01, t11] = [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)]
-                            .map(|(a, b)| self.texel_index(a, b));
-                        for (l, r) in res.iter_mut().enumerate().take(lanes) {
-                            let lerp = |a: Acc, b: Acc, w: Acc| a.mul(one.sub(w)).add(b.mul(w));
-                            let top = lerp(code(t00, l), code(t10, l), wu);
-                            let bot = lerp(code(t01, l), code(t11, l), wu);
-                            *r = lerp(top, bot, wv).to_code(&out);
-                        }
-                    }
-                }
-                outs[0] = Word::from_raw(&out, &res[..lanes]);
-            }
-        }
+        outs[0] = self.sample(mode, 0, &ins[0]);
     }
 }
 
@@ -319,6 +194,24 @@ impl Unit for TexFetch {
 mod tests {
     use super::*;
     use crate::format::{Codec, Format};
+
+    /// A fetch of a new texture `tex` with address mode `a` on both axes.
+    #[allow(clippy::too_many_arguments)]
+    fn fetch_at(
+        uv: Encoding,
+        tex: Texels,
+        texel: Encoding,
+        filter: Filter,
+        weight_bits: u32,
+        ports: u32,
+        mem_latency: u32,
+        out: Encoding,
+        a: Address,
+    ) -> Result<TexFetch, String> {
+        let tex = Arc::new(Texture::new("t", texel, tex)?);
+        let sampler = Sampler::new(filter, weight_bits)?.with_address(a, a);
+        TexFetch::new(uv, tex, sampler, ports, mem_latency, out)
+    }
 
     fn ramp(w: u32, h: u32) -> Texels {
         let values = (0..h)
@@ -337,7 +230,18 @@ mod tests {
         let uv = Encoding::fixed(Format::u(16, 16));
         let texel = Encoding::texel(Codec::UnitSigned, true, 8);
         let out = Encoding::fixed(Format::s(12, 10));
-        let f = TexFetch::new(uv, ramp(8, 4), texel, Filter::Bilinear, 8, 4, 2, out).unwrap();
+        let f = fetch_at(
+            uv,
+            ramp(8, 4),
+            texel,
+            Filter::Bilinear,
+            8,
+            4,
+            2,
+            out,
+            Address::Wrap,
+        )
+        .unwrap();
         let mut ob = [Word::default()];
         let mut oe = [Word::default()];
         for k in 0..2000 {
@@ -366,9 +270,7 @@ mod tests {
         let out = Encoding::fixed(Format::s(12, 10));
         for a in [Address::Wrap, Address::Clamp, Address::Mirror] {
             for filter in [Filter::Nearest, Filter::Bilinear] {
-                let f = TexFetch::new(uv, ramp(8, 4), texel, filter, 8, 4, 2, out)
-                    .unwrap()
-                    .with_address(a, a);
+                let f = fetch_at(uv, ramp(8, 4), texel, filter, 8, 4, 2, out, a).unwrap();
                 let (mut ob, mut oe) = ([Word::default()], [Word::default()]);
                 for k in 0..1500 {
                     let (u, v) = (
@@ -394,9 +296,7 @@ mod tests {
         }
         // clamp: u = 1 reads the last column and u = -0.3 the first; wrap: u = 1 reads the first
         let near = |a: Address, u: f64| {
-            let f = TexFetch::new(uv, ramp(8, 4), texel, Filter::Nearest, 8, 1, 1, out)
-                .unwrap()
-                .with_address(a, a);
+            let f = fetch_at(uv, ramp(8, 4), texel, Filter::Nearest, 8, 1, 1, out, a).unwrap();
             let mut o = [Word::default()];
             f.eval(Mode::BitAccurate, &[Word::quantize(&uv, &[u, 0.1])], &mut o);
             o[0].lanes[0].x
@@ -413,7 +313,18 @@ mod tests {
         let uv = Encoding::fixed(Format::u(12, 12));
         let texel = Encoding::fixed(Format::s(10, 8));
         let out = texel;
-        let f = TexFetch::new(uv, ramp(8, 4), texel, Filter::Nearest, 8, 1, 3, out).unwrap();
+        let f = fetch_at(
+            uv,
+            ramp(8, 4),
+            texel,
+            Filter::Nearest,
+            8,
+            1,
+            3,
+            out,
+            Address::Wrap,
+        )
+        .unwrap();
         assert_eq!((f.interval(), f.latency()), (1, 4));
         let mut o = [Word::default()];
         // u = 0.40 -> texel 3 (0.375), v = 0.9 -> row 3 (0.75)
@@ -423,26 +334,53 @@ mod tests {
             &mut o,
         );
         assert_eq!(o[0].raws::<3>(), [96, 192, 128]);
-        assert_eq!(f.texel_bits(), Some(30));
+        assert_eq!(f.textures()[0].texture.bits_per_texel(), 30);
     }
 
     #[test]
     fn bad_parameters_are_rejected() {
         let uv = Encoding::fixed(Format::u(16, 16));
         let t = Encoding::fixed(Format::s(8, 6));
-        assert!(
-            TexFetch::new(uv, ramp(6, 4), t, Filter::Nearest, 8, 1, 1, t)
-                .err()
-                .unwrap()
-                .contains("power of two")
-        );
+        assert!(fetch_at(
+            uv,
+            ramp(6, 4),
+            t,
+            Filter::Nearest,
+            8,
+            1,
+            1,
+            t,
+            Address::Wrap
+        )
+        .err()
+        .unwrap()
+        .contains("power of two"));
         let uv_short = Encoding::fixed(Format::u(4, 3));
-        assert!(
-            TexFetch::new(uv_short, ramp(8, 4), t, Filter::Nearest, 8, 1, 1, t)
-                .err()
-                .unwrap()
-                .contains("fraction bits")
-        );
-        assert!(TexFetch::new(uv, ramp(8, 4), t, Filter::Bilinear, 0, 1, 1, t).is_err());
+        assert!(fetch_at(
+            uv_short,
+            ramp(8, 4),
+            t,
+            Filter::Nearest,
+            8,
+            1,
+            1,
+            t,
+            Address::Wrap
+        )
+        .err()
+        .unwrap()
+        .contains("fraction bits"));
+        assert!(fetch_at(
+            uv,
+            ramp(8, 4),
+            t,
+            Filter::Bilinear,
+            0,
+            1,
+            1,
+            t,
+            Address::Wrap
+        )
+        .is_err());
     }
 }

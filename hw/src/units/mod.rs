@@ -30,3 +30,6 @@ pub use cull::{CullFragment, CullTest};
 pub mod fb_blend;
 pub use fb_blend::{BlendEquation, FbBlend};
 pub mod combiner;
+pub mod rop;
+pub use rop::{Rop, RopParams};
+pub mod texture_shader;

@@ -10,21 +10,25 @@
 //!
 //! * Port `uv`: 2 lanes (the wired encoding). Outputs `c`: 4 lanes RGBA of the entry encoding,
 //!   and `color`: its first 3 lanes (RGB) for the frame buffer.
-//! * The index texture is a [`TexFetch`] of 1-lane texels holding the index value in an
-//!   unsigned integer `Fixed` word of `index_bits` bits, nearest filtering, 1 port.
+//! * The index texture is a [`Texture`] of 1-lane texels holding the index value in an
+//!   unsigned integer `Fixed` word of `index_bits` bits, with its mip levels, read by a
+//!   [`TexFetch`] with nearest filtering and 1 port.
 //! * Latency: the fetch's latency plus the LUT's 2; interval 1.
 //! * [`Unit::frame_cycles`] = builder [`PaletteBuilder::cycles_per_frame`] + LUT load
 //!   (`ceil(entries / load_width)`); neither depends on the texture size.
 //! * [`Unit::gates`] = builder + LUT + the index fetch's address logic and register.
-//! * [`Unit::texel_bits`] = `index_bits`.
+//! * [`Unit::textures`]: the index texture, `index_bits` per texel, one read per fragment.
 //! * Exact mode reads the builder's f64 table; bit-accurate mode the builder's words.
 
 use crate::format::{Encoding, Format};
 use crate::gates::{CostTable, GateBudget};
-use crate::unit::{Mode, PortSpec, Unit, Word};
-use crate::units::fetch::{Filter, TexFetch, Texels};
+use crate::sampler::{Filter, Sampler};
+use crate::texture::{Texels, Texture};
+use crate::unit::{Mode, PortSpec, TextureRead, Unit, Word};
+use crate::units::fetch::TexFetch;
 use crate::units::palette_builder::PaletteBuilder;
 use crate::units::palette_lut::PaletteLut;
+use std::sync::Arc;
 
 pub struct QuantizedFetch {
     inputs: Vec<PortSpec>,
@@ -35,18 +39,17 @@ pub struct QuantizedFetch {
     lut_bits: PaletteLut,
     builder: PaletteBuilder,
     index_bits: u32,
-    /// Coarser index levels 1.. (Tarini §5.2), selected by the `lod` input; empty: no
-    /// mipmaps.
-    mips: Vec<TexFetch>,
 }
 
 impl QuantizedFetch {
-    /// `uv`: the coordinate encoding; `width` x `height` `indices` (row-major, row 0 at v in
+    /// `name`: the index texture's name in the texture memory; `uv`: the coordinate
+    /// encoding; `width` x `height` `indices` (row-major, row 0 at v in
     /// [0, 1/height)) into the builder's table; `index_bits` 8 to 14 (the table must fit);
     /// `load_width`: LUT entries written per clock; `mem_latency`: clocks of the index read.
     /// Errors name the parameter and what was expected.
     #[allow(clippy::too_many_arguments)]
     pub fn new(
+        name: &str,
         uv: Encoding,
         width: u32,
         height: u32,
@@ -76,7 +79,9 @@ impl QuantizedFetch {
             lanes: 1,
             values: indices.iter().map(|&i| [i as f64, 0.0, 0.0, 0.0]).collect(),
         };
-        let fetch = TexFetch::new(uv, tex, idx, Filter::Nearest, 8, 1, mem_latency, idx)?;
+        let tex = Arc::new(Texture::new(name, idx, tex)?);
+        let nearest = Sampler::new(Filter::Nearest, 8)?;
+        let fetch = TexFetch::new(uv, tex, nearest, 1, mem_latency, idx)?;
         let entry = builder.formats().entry;
         let lut_exact = PaletteLut::new(idx, entry, builder.build_exact(), load_width)?;
         let mut lut_bits = PaletteLut::new(idx, entry, vec![[0.0; 4]; n], load_width)?;
@@ -92,7 +97,6 @@ impl QuantizedFetch {
             lut_bits,
             builder,
             index_bits,
-            mips: Vec::new(),
         })
     }
 
@@ -108,7 +112,7 @@ impl QuantizedFetch {
         lod.validate()?;
         let n = self.builder.entries();
         let idx = Encoding::fixed(Format::u(self.index_bits as u8, 0));
-        let uv = self.inputs[0].enc;
+        let mut mips = Vec::new();
         for (k, (w, h, indices)) in levels.into_iter().enumerate() {
             if let Some(i) = indices.iter().find(|&&i| i as usize >= n) {
                 return Err(format!(
@@ -116,31 +120,24 @@ impl QuantizedFetch {
                     k + 1
                 ));
             }
-            let tex = Texels {
+            mips.push(Texels {
                 width: w,
                 height: h,
                 lanes: 1,
                 values: indices.iter().map(|&i| [i as f64, 0.0, 0.0, 0.0]).collect(),
-            };
-            let latency = self.fetch.latency();
-            self.mips.push(TexFetch::new(
-                uv,
-                tex,
-                idx,
-                Filter::Nearest,
-                8,
-                1,
-                latency.max(1),
-                idx,
-            )?);
+            });
         }
+        let tex = Arc::new(Texture::clone(self.fetch.texture()).with_mips(mips)?);
+        let uv = self.inputs[0].enc;
+        let nearest = Sampler::new(Filter::Nearest, 8)?;
+        self.fetch = TexFetch::new(uv, tex, nearest, 1, self.fetch.mem_latency(), idx)?;
         self.inputs.push(PortSpec::new("lod", 1, lod));
         Ok(self)
     }
 
     /// Mip levels including level 0.
     pub fn levels(&self) -> usize {
-        1 + self.mips.len()
+        self.fetch.texture().levels()
     }
 
     pub fn builder(&self) -> &PaletteBuilder {
@@ -171,8 +168,8 @@ impl Unit for QuantizedFetch {
     fn interval(&self) -> u32 {
         1
     }
-    fn texel_bits(&self) -> Option<u32> {
-        Some(self.index_bits)
+    fn textures(&self) -> Vec<TextureRead> {
+        self.fetch.textures()
     }
     fn frame_cycles(&self) -> u64 {
         self.builder.cycles_per_frame() + self.lut_bits.frame_cycles()
@@ -226,21 +223,17 @@ impl Unit for QuantizedFetch {
         g
     }
     fn eval(&self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
-        let mut i = [Word::default()];
         let level = match ins.get(1) {
-            Some(lod) if !self.mips.is_empty() => {
+            Some(lod) if self.levels() > 1 => {
                 let x = match mode {
                     Mode::Exact => lod.lanes[0].x,
                     Mode::BitAccurate => self.inputs[1].enc.decode(lod.lanes[0].raw),
                 };
-                ((x + 0.5).floor().max(0.0) as usize).min(self.mips.len())
+                self.fetch.texture().nearest_level(x)
             }
             _ => 0,
         };
-        match level {
-            0 => self.fetch.eval(mode, &ins[..1], &mut i),
-            k => self.mips[k - 1].eval(mode, &ins[..1], &mut i),
-        }
+        let i = [self.fetch.sample(mode, level, &ins[0])];
         let mut c = [Word::default()];
         match mode {
             Mode::Exact => self.lut_exact.eval(mode, &i, &mut c),
@@ -296,7 +289,7 @@ mod tests {
         let b = PaletteBuilder::single(normals(n), specular(), formats(), 1).unwrap();
         let idx: Vec<u32> = (0..size * size).map(|k| k * 7 % n as u32).collect();
         let uv = Encoding::fixed(Format::u(16, 12));
-        QuantizedFetch::new(uv, size, size, &idx, bits, b, load, 3).unwrap()
+        QuantizedFetch::new("indices", uv, size, size, &idx, bits, b, load, 3).unwrap()
     }
 
     #[test]
@@ -305,7 +298,7 @@ mod tests {
         let b = PaletteBuilder::single(normals(8), specular(), formats(), 1).unwrap();
         let uv = Encoding::fixed(Format::u(16, 12));
         let lod = Encoding::fixed(Format::u(8, 4));
-        let mut u = QuantizedFetch::new(uv, 4, 4, &[0; 16], 8, b, 1, 3)
+        let mut u = QuantizedFetch::new("indices", uv, 4, 4, &[0; 16], 8, b, 1, 3)
             .unwrap()
             .with_mipmaps(lod, vec![(2, 2, vec![1; 4]), (1, 1, vec![2])])
             .unwrap();
@@ -342,7 +335,7 @@ mod tests {
         assert_eq!(o[0].xs::<4>(), exact[0]);
         // an index outside the table is refused
         let b = PaletteBuilder::single(normals(8), specular(), formats(), 1).unwrap();
-        let err = QuantizedFetch::new(uv, 4, 4, &[0; 16], 8, b, 1, 3)
+        let err = QuantizedFetch::new("indices", uv, 4, 4, &[0; 16], 8, b, 1, 3)
             .unwrap()
             .with_mipmaps(lod, vec![(2, 2, vec![8; 4])])
             .err()
@@ -414,7 +407,7 @@ mod tests {
                 b.cycles_per_frame() + (n as u64).div_ceil(load as u64)
             );
             assert_eq!(u.frame_cycles(), unit(n, 128, bits, load).frame_cycles());
-            assert_eq!(u.texel_bits(), Some(bits));
+            assert_eq!(u.textures()[0].texture.bits_per_texel(), bits);
             let t = CostTable::default();
             let want = b.gates(&t).total() + u.lut(Mode::BitAccurate).gates(&t).total();
             assert!(u.gates(&t).total() > want);
@@ -425,9 +418,9 @@ mod tests {
     fn quantized_fetch_rejects_bad_parameters() {
         let uv = Encoding::fixed(Format::u(16, 12));
         let b = || PaletteBuilder::single(normals(300), specular(), formats(), 1).unwrap();
-        assert!(QuantizedFetch::new(uv, 4, 4, &[0; 16], 8, b(), 1, 1).is_err());
-        assert!(QuantizedFetch::new(uv, 4, 4, &[0; 16], 15, b(), 1, 1).is_err());
-        assert!(QuantizedFetch::new(uv, 4, 4, &[300; 16], 9, b(), 1, 1).is_err());
-        assert!(QuantizedFetch::new(uv, 4, 4, &[299; 16], 9, b(), 1, 1).is_ok());
+        assert!(QuantizedFetch::new("indices", uv, 4, 4, &[0; 16], 8, b(), 1, 1).is_err());
+        assert!(QuantizedFetch::new("indices", uv, 4, 4, &[0; 16], 15, b(), 1, 1).is_err());
+        assert!(QuantizedFetch::new("indices", uv, 4, 4, &[300; 16], 9, b(), 1, 1).is_err());
+        assert!(QuantizedFetch::new("indices", uv, 4, 4, &[299; 16], 9, b(), 1, 1).is_ok());
     }
 }

@@ -43,6 +43,7 @@ use crate::gates::{CostTable, GateBudget};
 
 /// Which specular intensity generator, and its widths.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub enum SpecGen {
     /// `2^index_bits` entries of `value_bits`, entry `i = (i / (2^b - 1))^n`, input rounded to
     /// the nearest index (as [`crate::units::PowerTable`]).

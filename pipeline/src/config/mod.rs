@@ -1,27 +1,39 @@
 //! Pipeline configs: RON files that name a scene and wire hardware units into an engine.
 //!
-//! Unknown keys are rejected everywhere (`deny_unknown_fields`); number formats and sizes are
-//! checked while parsing, so their errors carry the file, line and column; checks that span
-//! several fields (wiring, light indices) run after parsing and name the field. `--set`
-//! overrides are applied to the parsed config (see [`overrides`]). The config hash is the
-//! SHA-256 of the canonical RON serialisation of the final config.
+//! Unknown keys are rejected everywhere (`deny_unknown_fields` on every struct and on every
+//! enum with struct variants, where serde's derive applies it to each variant; the unit specs'
+//! own structs in `engine/units/`); number formats and sizes are checked while parsing, so
+//! their errors carry the file, line and column; checks that span several fields (wiring,
+//! light indices) run after parsing and name the field, and every number must be finite
+//! ([`finite`]). `--set` overrides are applied to the parsed config (see [`overrides`]). The
+//! config hash is the SHA-256 of the canonical RON serialisation of the final config.
+//!
+//! A config file is read whole, at most [`MAX_CONFIG_BYTES`], as UTF-8 (a byte-order mark at
+//! the start is skipped); ranges of every field are listed in `docs/configs.md`.
 
 pub mod error;
+pub mod finite;
+pub mod limits;
 pub mod overrides;
 
 use crate::engine::units::UnitSpec;
 use crate::raster::RasterConfig;
 use crate::scene::perturb::Perturbation;
 use crate::scene::{BumpSpec, Camera, Light, Material, MeshSpec, Regions};
+use bumpsim_hw::units::RopParams;
 use bumpsim_hw::{CostTable, Encoding};
 pub use error::{locate, InputError};
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 use std::collections::BTreeMap;
+use std::io::Read;
 use std::path::{Path, PathBuf};
 
 /// Largest image side.
 pub const MAX_IMAGE_SIDE: u32 = 16384;
+
+/// Largest config file read, in bytes (16 MiB; the bundled configs are a few KiB).
+pub const MAX_CONFIG_BYTES: usize = 16 << 20;
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -120,6 +132,7 @@ pub struct SceneConfig {
 
 /// A colour texture.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub enum TextureSpec {
     /// An RGB PNG file, relative to the config file (PNG values are taken as linear).
     Png(String),
@@ -139,11 +152,10 @@ impl TextureSpec {
         match self {
             TextureSpec::Png(p) => {
                 let path = base_dir.join(p);
-                let img = image::open(&path).map_err(|e| {
-                    (
-                        path.display().to_string(),
-                        format!("expected a PNG image: {e}"),
-                    )
+                let max = crate::scene::files::MAX_PNG_SIDE;
+                let img = crate::scene::files::read_png(&path, max).map_err(|e| match e {
+                    crate::scene::SceneError::File { path, message } => (path, message),
+                    e => (path.display().to_string(), e.to_string()),
                 })?;
                 Ok(img.to_rgb8())
             }
@@ -220,6 +232,7 @@ pub enum VecFrame {
 /// interpolated, or once per triangle (`per_triangle: true`, at the centroid) and held
 /// constant over the triangle.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub enum AttrSource {
     /// Texture coordinates (u, v).
     Uv,
@@ -321,16 +334,23 @@ pub struct UnitConfig {
 pub struct EngineConfig {
     pub attributes: Vec<AttributeConfig>,
     pub units: Vec<UnitConfig>,
-    /// The 3-lane signal written to the frame buffer.
+    /// The signal written to the frame buffer: RGB (3 lanes), or RGBA (4 lanes) for a ROP
+    /// that tests or blends with alpha.
     pub output: String,
     /// How the bit-accurate attribute interpolator computes (default `Exact`; left out of the
     /// canonical config, and so of the hash, when it is the default).
     #[serde(default, skip_serializing_if = "Interpolator::is_exact")]
     pub interpolator: Interpolator,
+    /// The raster operations at the end of the pipe: depth and alpha tests, blending, the
+    /// framebuffer's channel width (`hw/src/units/rop.rs`; default: depth `Less`, no alpha
+    /// test, no blending, 8 bits; left out of the canonical config when it is the default).
+    #[serde(default, skip_serializing_if = "RopParams::is_default")]
+    pub rop: RopParams,
 }
 
 /// The attribute interpolator of the bit-accurate engine (`engine/attributes.rs`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub enum Interpolator {
     /// The perspective-correct barycentrics in f64 weight the vertex words (the values on each
     /// attribute's grid), and the sum is rounded once into the attribute's encoding: an ideal
@@ -409,8 +429,10 @@ fn ron_options() -> ron::Options {
     ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
 }
 
-/// Parse RON text into a config, with the path of the failing field and its position.
+/// Parse RON text into a config, with the path of the failing field and its position. A
+/// byte-order mark at the start is skipped.
 pub fn parse(text: &str, file: &str) -> Result<Config, InputError> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let opts = ron_options();
     let mut de = ron::Deserializer::from_str_with_options(text, &opts).map_err(|e| {
         InputError::new(file, "", e.code.to_string())
@@ -430,10 +452,108 @@ pub fn parse(text: &str, file: &str) -> Result<Config, InputError> {
             let field = e.path().to_string();
             let s = de.span_error(e.into_inner());
             let field = if field == "." { String::new() } else { field };
-            Err(InputError::new(file, field, s.code.to_string())
-                .at(Some((s.span.start.line, s.span.start.col))))
+            let pos = (s.span.start.line, s.span.start.col);
+            if let Some((field, message)) = not_an_integer(text, pos, &field) {
+                return Err(InputError::new(file, field, message).at(Some(pos)));
+            }
+            Err(InputError::new(file, field, s.code.to_string()).at(Some(pos)))
         }
     }
+}
+
+/// A number with a fraction or an exponent where an integer was expected: RON reads the
+/// integer part and then stops at the `.5` ("Expected comma", at the next field, `?`) or at
+/// the `e` ("Invalid digit"). When the error at `pos` is inside such a literal, the path of
+/// its field (the name before the `:`) and "expected an integer, found 256.5".
+fn not_an_integer(text: &str, pos: (usize, usize), path: &str) -> Option<(String, String)> {
+    let line = text.split('\n').nth(pos.0.checked_sub(1)?)?;
+    let line_start = line.as_ptr() as usize - text.as_ptr() as usize;
+    let at = line_start
+        + line
+            .char_indices()
+            .nth(pos.1.checked_sub(1)?)
+            .map_or(line.len(), |(i, _)| i);
+    let b = text.as_bytes();
+    let numeric = |c: u8| c.is_ascii_digit() || b"+-.eE".contains(&c);
+    let mut start = at;
+    while start > 0 && numeric(b[start - 1]) {
+        start -= 1;
+    }
+    let mut end = at;
+    while end < b.len() && numeric(b[end]) {
+        end += 1;
+    }
+    let lit = &text[start..end];
+    let digit_first = lit
+        .trim_start_matches(['+', '-'])
+        .starts_with(|c: char| c.is_ascii_digit());
+    if !digit_first || !lit.contains(['.', 'e', 'E']) || lit.parse::<f64>().is_err() {
+        return None;
+    }
+    // the field name before `:`, when the literal is a field's value
+    let before = text[..start].trim_end();
+    let name = before.strip_suffix(':').map(|b| {
+        let b = b.trim_end();
+        let from = b
+            .rfind(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+            .map_or(0, |i| i + 1);
+        &b[from..]
+    });
+    let field = match name {
+        Some(n) if !n.is_empty() && path == "?" => n.to_string(),
+        Some(n) if !n.is_empty() && path.ends_with(".?") => {
+            format!("{}{n}", &path[..path.len() - 1])
+        }
+        _ => path
+            .trim_end_matches(".?")
+            .trim_end_matches('?')
+            .to_string(),
+    };
+    Some((field, format!("expected an integer, found {lit}")))
+}
+
+/// Read a config file: a regular file of at most [`MAX_CONFIG_BYTES`] of UTF-8 text; a
+/// byte-order mark at the start is skipped.
+fn read_config(path: &Path, file: &str) -> Result<String, InputError> {
+    let cannot = |m: String| InputError::new(file, "", format!("cannot read the config: {m}"));
+    let meta = std::fs::metadata(path).map_err(|e| cannot(e.to_string()))?;
+    if meta.is_dir() {
+        return Err(cannot("it is a directory (expected a RON file)".into()));
+    }
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)
+        .and_then(|f| f.take(MAX_CONFIG_BYTES as u64 + 1).read_to_end(&mut bytes))
+        .map_err(|e| cannot(e.to_string()))?;
+    if bytes.len() > MAX_CONFIG_BYTES {
+        return Err(cannot(format!(
+            "it is larger than {} MiB (expected a RON file of at most {} bytes)",
+            MAX_CONFIG_BYTES >> 20,
+            MAX_CONFIG_BYTES
+        )));
+    }
+    let text = String::from_utf8(bytes).map_err(|e| {
+        cannot(format!(
+            "it is not UTF-8 text (invalid byte at offset {})",
+            e.utf8_error().valid_up_to()
+        ))
+    })?;
+    Ok(match text.strip_prefix('\u{feff}') {
+        Some(t) => t.to_string(),
+        None => text,
+    })
+}
+
+/// The field name of a path (`dir` of `scene.lights[0].kind.Directional.dir[1]`), to find
+/// it in the text.
+fn last_name(path: &str) -> &str {
+    let name = path.rsplit('.').next().unwrap_or(path);
+    name.split('[').next().unwrap_or(name)
+}
+
+/// "expected a finite number" for the first NaN or infinity in `c`, if any: (field, message).
+fn non_finite(c: &Config) -> Option<(String, String)> {
+    finite::first_non_finite(c)
+        .map(|(field, x)| (field, format!("expected a finite number, found {x}")))
 }
 
 /// Canonical RON text of a config (used for the hash).
@@ -441,13 +561,32 @@ pub fn canonical(config: &Config) -> String {
     ron::ser::to_string(config).expect("a parsed config serialises")
 }
 
-/// Load a config file, apply `--set` overrides and validate it.
+/// How a config is loaded.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct LoadOptions {
+    /// Run past the up-front estimate of work and memory ([`limits::check_budget`]); the
+    /// hard limits still apply. `bumpsim --force`.
+    pub force: bool,
+}
+
+/// Load a config file, apply `--set` overrides and validate it, within the budget of
+/// [`limits::estimate`].
 pub fn load(path: &Path, sets: &[String]) -> Result<Loaded, InputError> {
+    load_with(path, sets, LoadOptions::default())
+}
+
+/// [`load`] with options (`force`: past the estimate's budget).
+pub fn load_with(path: &Path, sets: &[String], opts: LoadOptions) -> Result<Loaded, InputError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| InputError::new(&file, "", format!("cannot read the config: {e}")))?;
+    let text = read_config(path, &file)?;
     let mut config = parse(&text, &file)?;
     if !sets.is_empty() {
+        // the overrides go through JSON, which has no NaN or infinity: name the field here
+        // (in the file) rather than let it arrive as a `null` blamed on --set
+        if let Some((field, message)) = non_finite(&config) {
+            let needle = format!("{}:", last_name(&field));
+            return Err(InputError::new(&file, field, message).at(locate(&text, &needle)));
+        }
         config = overrides::apply(&config, sets)?;
     }
     let hash = hex(&Sha256::digest(canonical(&config).as_bytes()));
@@ -461,6 +600,7 @@ pub fn load(path: &Path, sets: &[String]) -> Result<Loaded, InputError> {
         sets: sets.to_vec(),
     };
     validate(&loaded)?;
+    limits::check_budget(&loaded, opts.force)?;
     Ok(loaded)
 }
 
@@ -468,9 +608,13 @@ fn hex(bytes: &[u8]) -> String {
     bytes.iter().map(|b| format!("{b:02x}")).collect()
 }
 
-/// Checks that span fields: lights, FIFO depth, attribute names and light indices.
+/// Checks that span fields: lights, FIFO depth, attribute names and light indices, gate
+/// prices; last, that every number is finite (for the fields no check above covers).
 fn validate(l: &Loaded) -> Result<(), InputError> {
     let c = &l.config;
+    if let Err((name, message)) = c.cost.validate() {
+        return Err(l.error(&format!("cost.{name}"), &format!("{name}:"), message));
+    }
     if let Interpolator::Fixed { weight_bits } = c.engine.interpolator {
         if !(4..=30).contains(&weight_bits) {
             return Err(l.error(
@@ -490,11 +634,14 @@ fn validate(l: &Loaded) -> Result<(), InputError> {
         .validate("scene.camera")
         .map_err(|e| l.scene_error("scene.camera", "camera:", e))?;
     let t = &c.scene.model;
-    if !(t.scale.is_finite() && t.scale.abs() > 1e-12) {
+    if !(t.scale.is_finite() && t.scale.abs() > 1e-12 && t.scale.abs() <= 1e12) {
         return Err(l.error(
             "scene.model.scale",
             "scale:",
-            format!("expected a finite non-zero number, found {}", t.scale),
+            format!(
+                "expected a finite number with 1e-12 < abs(scale) <= 1e12, found {}",
+                t.scale
+            ),
         ));
     }
     if t.translate
@@ -506,6 +653,20 @@ fn validate(l: &Loaded) -> Result<(), InputError> {
             "scene.model",
             "model:",
             "expected finite translate and rotate_deg values",
+        ));
+    }
+    if let Some(x) = t
+        .translate
+        .iter()
+        .find(|x| x.abs() > crate::scene::MAX_COORD)
+    {
+        return Err(l.error(
+            "scene.model.translate",
+            "translate:",
+            format!(
+                "coordinate {x:e} is out of range: expected each within ±{:e}",
+                crate::scene::MAX_COORD
+            ),
         ));
     }
     c.scene
@@ -569,5 +730,9 @@ fn validate(l: &Loaded) -> Result<(), InputError> {
             }
         }
     }
-    Ok(())
+    if let Some((field, message)) = non_finite(c) {
+        let needle = format!("{}:", last_name(&field));
+        return Err(l.error(&field, &needle, message));
+    }
+    limits::check_units(l)
 }

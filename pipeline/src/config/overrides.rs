@@ -6,13 +6,26 @@
 //! or by its `name` field (`units.dot`); an enum variant's fields can be reached without naming
 //! the variant (`unit.index_bits` for `unit: PowerTable(index_bits: 8, ...)`). Values are RON,
 //! enum variants included (`filter=Nearest`, `scene.bump=Bricks(rows: 8, ...)`,
-//! `scene.lights=[(kind: Directional(dir: (1, 1, 1)), color: (1, 1, 1))]`).
+//! `scene.lights=[(kind: Directional(dir: (1, 1, 1)), color: (1, 1, 1))]`). A value nests at
+//! most [`MAX_DEPTH`] levels deep (a config needs about ten).
 
 use super::{Config, InputError};
 use serde_json::Value;
 
-/// Apply overrides to a config.
+/// Deepest nesting of values in an override value (a value inside `n` brackets is at level
+/// `n + 1`), the limit RON sets on a config file.
+pub const MAX_DEPTH: usize = 128;
+
+/// Apply overrides to a config. Its numbers must be finite: the overrides go through a JSON
+/// tree, which has no NaN or infinity.
 pub fn apply(config: &Config, sets: &[String]) -> Result<Config, InputError> {
+    if let Some((field, x)) = super::finite::first_non_finite(config) {
+        return Err(InputError::new(
+            "the config",
+            field,
+            format!("expected a finite number, found {x} (before the --set overrides)"),
+        ));
+    }
     let mut tree = serde_json::to_value(config).expect("a config serialises to JSON");
     for set in sets {
         let err = |field: &str, msg: String| InputError::new("--set", field, msg);
@@ -94,18 +107,33 @@ fn split_path(path: &str) -> Vec<String> {
         .collect()
 }
 
+/// An override value for a message: whole if short, otherwise its start and its length.
+fn shown(text: &str) -> String {
+    const SHOWN: usize = 60;
+    if text.len() <= SHOWN {
+        return format!("{text:?}");
+    }
+    let cut = (0..=SHOWN)
+        .rev()
+        .find(|&i| text.is_char_boundary(i))
+        .unwrap_or(0);
+    format!("{:?}... ({} bytes)", &text[..cut], text.len())
+}
+
 fn parse_value(text: &str) -> Result<Value, String> {
     let mut p = RonValue {
         s: text.as_bytes(),
         i: 0,
+        depth: 0,
     };
     let v = p
         .value()
-        .map_err(|m| format!("value {text:?} is not a RON value: {m}"))?;
+        .map_err(|m| format!("value {} is not a RON value: {m}", shown(text)))?;
     p.ws();
     if p.i != p.s.len() {
         return Err(format!(
-            "value {text:?} is not a RON value: unexpected text at byte {}",
+            "value {} is not a RON value: unexpected text at byte {}",
+            shown(text),
             p.i
         ));
     }
@@ -119,6 +147,8 @@ fn parse_value(text: &str) -> Result<Value, String> {
 struct RonValue<'a> {
     s: &'a [u8],
     i: usize,
+    /// Brackets open around the value being read.
+    depth: usize,
 }
 
 impl RonValue<'_> {
@@ -148,7 +178,20 @@ impl RonValue<'_> {
         }
         String::from_utf8_lossy(&self.s[start..self.i]).into_owned()
     }
+    /// A value; each bracket it opens counts toward [`MAX_DEPTH`].
     fn value(&mut self) -> Result<Value, String> {
+        if self.depth >= MAX_DEPTH {
+            return Err(format!(
+                "nested more than {MAX_DEPTH} levels deep at byte {} (expected at most {MAX_DEPTH})",
+                self.i
+            ));
+        }
+        self.depth += 1;
+        let v = self.value_inner();
+        self.depth -= 1;
+        v
+    }
+    fn value_inner(&mut self) -> Result<Value, String> {
         match self.peek().ok_or("unexpected end")? {
             b'"' => {
                 let start = self.i;
@@ -390,6 +433,19 @@ mod tests {
             parse_value("{\"c\": \"g\", \"b\": [1]}").unwrap(),
             serde_json::json!({"c": "g", "b": [1]})
         );
+    }
+
+    #[test]
+    fn values_nest_at_most_max_depth_levels() {
+        let nested = |n: usize| format!("{}1{}", "[".repeat(n), "]".repeat(n));
+        assert!(parse_value(&nested(MAX_DEPTH - 1)).is_ok());
+        let e = parse_value(&nested(MAX_DEPTH)).unwrap_err();
+        assert!(e.contains("nested more than 128 levels"), "{e}");
+        // far deeper than the stack would take without the limit
+        let e = parse_value(&"(".repeat(1_000_000)).unwrap_err();
+        assert!(e.contains("nested more than"), "{e}");
+        // the message shows the start of a long value, not all of it
+        assert!(e.contains("... (1000000 bytes)") && e.len() < 300, "{e}");
     }
 
     #[test]

@@ -9,6 +9,7 @@
 //! earlier signals (swizzles, lane selects, concatenation: [`wire`]). See docs/ARCHITECTURE.md.
 
 pub mod attributes;
+pub mod memory;
 pub mod palette;
 pub mod units;
 pub mod wire;
@@ -16,7 +17,8 @@ pub mod wire;
 use crate::config::{AttributeConfig, InputError, Loaded};
 use crate::raster::packet::{Field, PacketLayout};
 use crate::scene::Scene;
-use bumpsim_hw::{GateBudget, PortSpec, Stage};
+use bumpsim_hw::units::Rop;
+use bumpsim_hw::{GateBudget, PortSpec, Stage, Wire};
 use std::collections::{BTreeMap, BTreeSet};
 use units::BuildCtx;
 
@@ -28,16 +30,27 @@ pub struct Signal {
     pub spec: PortSpec,
 }
 
+/// The engine's output: a signal or a wire expression over signals (`cat(shade.color,
+/// alpha.t)` for RGBA).
+#[derive(Debug, Clone)]
+pub struct Output {
+    pub name: String,
+    pub spec: PortSpec,
+    pub wire: Wire,
+}
+
 /// A wired engine, ready to simulate.
 pub struct Engine {
     pub stages: Vec<Stage>,
     pub signals: Vec<Signal>,
     pub attributes: Vec<AttributeConfig>,
-    /// Slot of the colour written to the frame buffer.
-    pub output: Signal,
+    /// The colour written to the frame buffer.
+    pub output: Output,
     /// Bits per texel of each texture the units hold (unit name, bits).
     pub texels: Vec<(String, u32)>,
     pub gates: Vec<(String, GateBudget)>,
+    /// The raster operations writing the output to the framebuffer.
+    pub rop: Rop,
 }
 
 impl Engine {
@@ -48,6 +61,16 @@ impl Engine {
     /// Whether a unit may kill fragments (then the depth test must follow shading).
     pub fn kills(&self) -> bool {
         self.stages.iter().any(|s| s.unit().can_kill())
+    }
+
+    /// Whether the depth test must wait for the ROP: a unit may kill, the ROP tests alpha, or
+    /// its depth test is not the rasterizer's early LESS with depth writes.
+    pub fn late_depth(&self) -> bool {
+        let p = self.rop.params();
+        self.kills()
+            || p.alpha_test.is_some()
+            || p.depth != bumpsim_hw::units::rop::Compare::Less
+            || !p.depth_write
     }
 
     /// Triangle packet from geometry to rasterizer: per vertex x, y, z and 1/w as 32-bit words
@@ -89,7 +112,7 @@ impl Engine {
 /// tables) and evaluate in either mode, so one engine serves both.
 pub fn build(l: &Loaded, scene: &Scene) -> Result<Engine, InputError> {
     let cfg = &l.config.engine;
-    let ctx = BuildCtx { scene };
+    let memory = memory::TextureMemory::default();
     let mut signals: Vec<Signal> = cfg
         .attributes
         .iter()
@@ -136,6 +159,11 @@ pub fn build(l: &Loaded, scene: &Scene) -> Result<Engine, InputError> {
         let field = format!("engine.units[{i}]");
         let needle = format!("\"{}\"", u.name);
         let err = |f: &str, m: String| l.error(&format!("{field}.{f}"), &needle, m);
+        let ctx = BuildCtx {
+            scene,
+            memory: &memory,
+            unit: &u.name,
+        };
         let names = u.unit.input_names(&ctx);
         for port in u.inputs.keys().chain(u.expect.keys()) {
             if !names.contains(port) {
@@ -202,37 +230,40 @@ pub fn build(l: &Loaded, scene: &Scene) -> Result<Engine, InputError> {
             });
             out_slots.push(slot);
         }
-        if let Some(bits) = unit.texel_bits() {
-            texels.push((u.name.clone(), bits));
+        if let Some(r) = unit.textures().first() {
+            texels.push((u.name.clone(), r.texture.bits_per_texel()));
         }
         gates.push((u.name.clone(), unit.gates(&l.config.cost)));
         stages.push(Stage::new(u.name.clone(), unit, in_wires, out_slots));
     }
-    let output = signals
-        .iter()
-        .find(|s| s.name == cfg.output)
-        .cloned()
-        .ok_or_else(|| {
-            l.error(
-                "engine.output",
-                &format!("\"{}\"", cfg.output),
-                format!(
-                    "no signal {:?}: expected a unit output such as shade.color",
-                    cfg.output
-                ),
-            )
-        })?;
-    if output.spec.lanes != 3 {
+    let output = wire::resolve(&cfg.output, &signals)
+        .map(|r| Output {
+            name: cfg.output.clone(),
+            spec: r.spec,
+            wire: r.wire,
+        })
+        .map_err(|m| l.error("engine.output", &format!("\"{}\"", cfg.output), m))?;
+    let rgba = output.spec.lanes == 4;
+    if output.spec.lanes != 3 && !(rgba && cfg.rop.reads_alpha()) {
         return Err(l.error(
             "engine.output",
             &format!("\"{}\"", cfg.output),
             format!(
-                "signal {:?} has {} lanes: expected an RGB signal of 3",
+                "signal {:?} has {} lanes: expected an RGB signal of 3 (or RGBA of 4 when engine.rop tests or blends with alpha)",
                 cfg.output, output.spec.lanes
             ),
         ));
     }
+    let enc = output.spec.enc;
+    let rop = Rop::new(
+        cfg.rop,
+        enc,
+        rgba.then_some(enc),
+        l.config.raster.depth_bits,
+    )
+    .map_err(|m| l.error("engine.rop", "rop", m))?;
     Ok(Engine {
+        rop,
         stages,
         signals,
         attributes: cfg.attributes.clone(),

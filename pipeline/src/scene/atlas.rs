@@ -120,16 +120,19 @@ pub fn atlas_mesh(
         }
     }
     // Smooth normals per position, before the split.
-    let mut smooth = vec![DVec3::ZERO; positions.len()];
-    if corner_normals.is_none() {
-        for tri in triangles {
-            let [a, b, c] = tri.map(|k| positions[k as usize]);
-            let face = (b - a).cross(c - a); // |face| = 2 * area
-            for &k in tri {
-                smooth[k as usize] += face;
-            }
+    let smooth = match corner_normals {
+        Some(_) => Vec::new(),
+        None => {
+            let faces: Vec<([usize; 3], DVec3)> = triangles
+                .iter()
+                .map(|tri| {
+                    let [a, b, c] = tri.map(|k| positions[k as usize]);
+                    (tri.map(|k| k as usize), (b - a).cross(c - a)) // |face| = 2 * area
+                })
+                .collect();
+            super::obj::smooth_normals(positions.len(), &faces)
         }
-    }
+    };
     let mut mesh = Mesh {
         vertices: Vec::with_capacity(3 * triangles.len()),
         triangles: Vec::with_capacity(triangles.len()),
@@ -144,13 +147,14 @@ pub fn atlas_mesh(
         let pv = (e2 * d1.x - e1 * d2.x) / det;
         let base = mesh.vertices.len() as u32;
         for i in 0..3 {
+            // smooth normals are unit already
             let normal = match corner_normals {
-                Some(normals) => normals[3 * t + i],
+                Some(normals) => normals[3 * t + i].normalize_or_zero(),
                 None => smooth[tri[i] as usize],
             };
             mesh.vertices.push(Vertex {
                 pos: pos[i],
-                normal: normal.normalize_or_zero(),
+                normal,
                 uv: uv[i],
                 pu,
                 pv,
@@ -165,13 +169,14 @@ pub fn atlas_mesh(
 /// every face has them, and lay it out with [`atlas_mesh`]. Texture coordinates are ignored.
 pub fn load_obj(path: &Path, rep: DVec2) -> Result<Mesh, SceneError> {
     let fail = |message: String| SceneError::file(path.display(), message);
-    let models = super::obj::read_obj(path)?;
+    let file = super::obj::read_obj(path)?;
+    let models = &file.models;
     let mut positions: Vec<DVec3> = Vec::new();
     let mut triangles: Vec<[u32; 3]> = Vec::new();
     let mut normals: Vec<DVec3> = Vec::new();
     let mut all_normals = true;
     // tobj gives each object its own positions: smooth normals are shared within an object.
-    for model in &models {
+    for model in models {
         let m = &model.mesh;
         if m.indices.is_empty() {
             continue;
@@ -217,7 +222,34 @@ pub fn load_obj(path: &Path, rep: DVec2) -> Result<Mesh, SceneError> {
     if triangles.is_empty() {
         return Err(fail("expected at least one face, found none".into()));
     }
-    let corner_normals = (all_normals && normals.len() == 3 * triangles.len()).then_some(&normals);
+    let corner_normals = all_normals && normals.len() == 3 * triangles.len();
+    // the faces kept (zero-area faces and repeats of a face dropped, `obj::kept_faces`)
+    let kept = super::obj::kept_faces(
+        &triangles
+            .iter()
+            .map(|t| t.map(|k| positions[k as usize]))
+            .collect::<Vec<_>>(),
+    );
+    let total = triangles.len();
+    let mut i = 0;
+    triangles.retain(|_| {
+        i += 1;
+        kept[i - 1]
+    });
+    if corner_normals {
+        let mut i = 0;
+        normals.retain(|_| {
+            i += 1;
+            kept[(i - 1) / 3]
+        });
+    }
+    if triangles.is_empty() {
+        return Err(fail(format!(
+            "expected at least one face of non-zero area, found none ({total} faces, all of \
+             zero area or duplicates)"
+        )));
+    }
+    let corner_normals = corner_normals.then_some(&normals);
     atlas_mesh(
         &positions,
         &triangles,

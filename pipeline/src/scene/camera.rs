@@ -6,6 +6,9 @@ use serde::{Deserialize, Serialize};
 
 use super::SceneError;
 
+/// Smallest `near` distance (a smaller one loses the depth buffer's precision entirely).
+pub const MIN_NEAR: f64 = 1e-9;
+
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Camera {
@@ -80,6 +83,16 @@ impl Camera {
                     format!("expected finite coordinates, found {v:?}"),
                 ));
             }
+            if let Some(x) = v.iter().find(|x| x.abs() > super::MAX_COORD) {
+                return Err(SceneError::invalid(
+                    format!("{field}.{name}"),
+                    format!(
+                        "coordinate {x:e} is out of range: expected each coordinate within \
+                         ±{:e} (larger values overflow the view transform)",
+                        super::MAX_COORD
+                    ),
+                ));
+            }
         }
         let dir = DVec3::from(self.target) - self.eye();
         if dir.length() <= 1e-12 * self.eye().length().max(1.0) {
@@ -115,10 +128,43 @@ impl Camera {
                 ));
             }
         }
+        if let Some(h) = self.ortho_height {
+            if h > super::MAX_COORD {
+                return Err(SceneError::invalid(
+                    format!("{field}.ortho_height"),
+                    format!(
+                        "expected a height of at most {:e}, found {h:e}",
+                        super::MAX_COORD
+                    ),
+                ));
+            }
+        }
         if !(self.near.is_finite() && self.near > 0.0) {
             return Err(SceneError::invalid(
                 format!("{field}.near"),
                 format!("expected a finite distance > 0, found {}", self.near),
+            ));
+        }
+        if self.near < MIN_NEAR || self.near > super::MAX_COORD {
+            return Err(SceneError::invalid(
+                format!("{field}.near"),
+                format!(
+                    "near {:e} is out of range: expected {MIN_NEAR:e} to {:e}",
+                    self.near,
+                    super::MAX_COORD
+                ),
+            ));
+        }
+        // a larger far (1e308) overflows the projection (2 far near): no pixel is covered
+        if self.far.is_finite() && self.far > super::MAX_COORD {
+            return Err(SceneError::invalid(
+                format!("{field}.far"),
+                format!(
+                    "far {:e} is out of range: expected at most {:e} (larger values overflow \
+                     the projection and cover no pixel)",
+                    self.far,
+                    super::MAX_COORD
+                ),
             ));
         }
         if !(self.far.is_finite() && self.far > self.near) {

@@ -49,6 +49,7 @@ impl Default for Material {
 /// pixel by the float reference with the exact perturbed normal; see
 /// `crate::reference::shade_with_view` for the formulas.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub enum Shading {
     /// Ambient + Lambert + Blinn-Phong specular over every light.
     #[default]
@@ -98,6 +99,7 @@ pub enum Coord {
 
 /// Which material covers a surface point.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub enum RegionRule {
     /// Material 1 where the coordinate is at least `at`, material 0 below (Fig. 8: "most of
     /// the normals pointing up are metal, while most of those pointing down are not").
@@ -237,12 +239,15 @@ pub struct EnvImage {
 impl EnvImage {
     /// Load `path`; errors name the file and what was expected.
     pub fn load(path: &std::path::Path) -> Result<EnvImage, SceneError> {
-        let img = image::open(path)
-            .map_err(|e| {
-                SceneError::file(
-                    path.display(),
-                    format!("cannot read the environment map: {e} (expected an RGB PNG)"),
-                )
+        let img = super::files::read_png(path, super::files::MAX_PNG_SIDE)
+            .map_err(|e| match e {
+                SceneError::File { path, message } => SceneError::File {
+                    path,
+                    message: format!(
+                        "cannot read the environment map: {message} (expected an RGB PNG)"
+                    ),
+                },
+                other => other,
             })?
             .to_rgb8();
         let (width, height) = img.dimensions();

@@ -44,7 +44,7 @@ pub struct Mesh {
 const DEGENERATE_REL: f64 = 1e-12;
 
 /// Whether the triangle `abc` has (near) zero area.
-fn degenerate3(a: DVec3, b: DVec3, c: DVec3) -> bool {
+pub(super) fn degenerate3(a: DVec3, b: DVec3, c: DVec3) -> bool {
     let (e1, e2, e3) = (b - a, c - a, c - b);
     let longest = e1
         .length_squared()

@@ -5,6 +5,7 @@ pub mod atlas;
 pub mod bake;
 pub mod bumpmap;
 pub mod camera;
+pub mod files;
 pub mod lathe;
 pub mod material;
 pub mod mesh;
@@ -22,6 +23,15 @@ pub use material::{Coord, EnvImage, Looks, Material, RegionRule, Regions, Shadin
 pub use mesh::{Mesh, Vertex};
 pub use normals::{NormalMap, NormalMethod};
 pub use shapes::MeshSpec;
+
+/// Largest magnitude of a coordinate in a config (positions, directions, camera, model
+/// translation, clip distances): 1e12, so that squares and products of two coordinates
+/// (normalisation, the view and projection matrices) stay far from the f64 range.
+pub const MAX_COORD: f64 = 1e12;
+
+/// Largest number of lights of a scene (each adds a clock to a light combiner's interval and a
+/// term to every shaded sample).
+pub const MAX_LIGHTS: usize = 16;
 
 /// A reason a scene cannot be built. Each names the field or file and what was expected.
 #[derive(Debug, thiserror::Error)]
@@ -65,6 +75,7 @@ fn yes() -> bool {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub enum LightKind {
     /// A distant light; `dir` points toward the light, in world space.
     Directional { dir: [f64; 3] },
@@ -118,13 +129,7 @@ impl Light {
     pub fn validate(&self, field: &str) -> Result<(), SceneError> {
         match self.kind {
             LightKind::Directional { dir } => {
-                let d = DVec3::from(dir);
-                if !d.is_finite() || d.length() < 1e-12 {
-                    return Err(SceneError::invalid(
-                        format!("{field}.kind.dir"),
-                        format!("expected a finite non-zero direction, found {dir:?}"),
-                    ));
-                }
+                check_dir(field, dir)?;
             }
             LightKind::Point { pos } => check_pos(field, pos)?,
             LightKind::Spot {
@@ -134,13 +139,7 @@ impl Light {
                 exponent,
             } => {
                 check_pos(field, pos)?;
-                let d = DVec3::from(dir);
-                if !d.is_finite() || d.length() < 1e-12 {
-                    return Err(SceneError::invalid(
-                        format!("{field}.kind.dir"),
-                        format!("expected a finite non-zero direction, found {dir:?}"),
-                    ));
-                }
+                check_dir(field, dir)?;
                 if !(cutoff_deg > 0.0 && cutoff_deg <= 90.0) {
                     return Err(SceneError::invalid(
                         format!("{field}.kind.cutoff_deg"),
@@ -180,14 +179,49 @@ pub(crate) fn check_count(field: String, x: u32, lo: u32, hi: u32) -> Result<(),
 }
 
 fn check_pos(field: &str, pos: [f64; 3]) -> Result<(), SceneError> {
-    if DVec3::from(pos).is_finite() {
-        Ok(())
-    } else {
-        Err(SceneError::invalid(
+    if !DVec3::from(pos).is_finite() {
+        return Err(SceneError::invalid(
             format!("{field}.kind.pos"),
             format!("expected a finite position, found {pos:?}"),
-        ))
+        ));
     }
+    check_coords(&format!("{field}.kind.pos"), pos)
+}
+
+/// Every coordinate within ±[`MAX_COORD`].
+fn check_coords(field: &str, v: [f64; 3]) -> Result<(), SceneError> {
+    match v.iter().find(|x| x.abs() > MAX_COORD) {
+        Some(x) => Err(SceneError::invalid(
+            field,
+            format!(
+                "coordinate {x:e} is out of range: expected each coordinate within ±{MAX_COORD:e} \
+                 (larger values overflow when the vector is normalised)"
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
+/// A light direction: finite, each coordinate within ±[`MAX_COORD`], non-zero (length at
+/// least 1e-12), so that normalising it neither overflows (a direction of 1e154 has an
+/// infinite length and normalised to nothing) nor divides by zero.
+fn check_dir(field: &str, dir: [f64; 3]) -> Result<(), SceneError> {
+    let d = DVec3::from(dir);
+    let f = format!("{field}.kind.dir");
+    if !d.is_finite() {
+        return Err(SceneError::invalid(
+            f,
+            format!("expected a finite non-zero direction, found {dir:?}"),
+        ));
+    }
+    check_coords(&f, dir)?;
+    if d.length() < 1e-12 {
+        return Err(SceneError::invalid(
+            f,
+            format!("expected a finite non-zero direction (length at least 1e-12), found {dir:?}"),
+        ));
+    }
+    Ok(())
 }
 
 /// A built scene, ready for the rasterizer, the engines and the float reference.

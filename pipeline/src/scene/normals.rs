@@ -20,6 +20,7 @@ use super::SceneError;
 
 /// How a normal map is derived from heights.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
 pub enum NormalMethod {
     /// The exact gradient of the height field at each texel centre
     /// (`BumpMap::bake_normals`). From sampled heights alone
@@ -318,19 +319,10 @@ pub(crate) fn is_16bit(img: &image::DynamicImage) -> bool {
     )
 }
 
-/// Read and decode a PNG file; errors name the path.
+/// Read and decode a PNG file of at most [`super::files::MAX_PNG_SIDE`] pixels a side (checked
+/// from the header before decoding); errors name the path.
 pub(crate) fn read_png(path: &Path) -> Result<image::DynamicImage, SceneError> {
-    let bytes = std::fs::read(path)
-        .map_err(|e| SceneError::file(path.display(), format!("could not read file: {e}")))?;
-    let img = image::load_from_memory_with_format(&bytes, image::ImageFormat::Png)
-        .map_err(|e| SceneError::file(path.display(), format!("could not decode PNG: {e}")))?;
-    if img.width() == 0 || img.height() == 0 {
-        return Err(SceneError::file(
-            path.display(),
-            "could not decode PNG: image has no pixels",
-        ));
-    }
-    Ok(img)
+    super::files::read_png(path, super::files::MAX_PNG_SIDE)
 }
 
 #[cfg(test)]

@@ -13,6 +13,7 @@ use serde::{Deserialize, Serialize};
 /// A combiner register (NV_register_combiners table .1; the NV2A source codes 0 to 15 in
 /// brackets). `Spare0PlusSecondary` and `EfProduct` exist only as final-combiner inputs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub enum Source {
     /// ZERO (0): reads as 0 in every component.
     Zero,
@@ -77,6 +78,7 @@ pub(crate) const REGISTERS: usize = 12;
 
 /// Input mapping of a general-combiner variable (spec table NV_register_combiners.2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub enum Mapping {
     /// max(0, e)
     UnsignedIdentity,
@@ -112,6 +114,7 @@ impl Mapping {
 /// Component usage of a variable (spec: RGB or ALPHA in an RGB portion, ALPHA or BLUE in an
 /// alpha portion; NV2A's one "alpha" bit per variable selects between the two).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub enum Usage {
     Rgb,
     Alpha,
@@ -120,6 +123,7 @@ pub enum Usage {
 
 /// One variable (A, B, C or D) of a general combiner portion.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Input {
     pub source: Source,
     pub usage: Usage,
@@ -161,6 +165,7 @@ impl Input {
 /// 4 shift left 2, 5 shift left 2 with bias, 6 shift right 1). SCALE_BY_ONE_HALF with
 /// BIAS_BY_NEGATIVE_ONE_HALF is an error in the spec and has no variant.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub enum OutputOp {
     /// x
     Identity,
@@ -206,6 +211,7 @@ impl OutputOp {
 /// `C.D`, and `AB + CD` or the mux; each of the three written, after the output op, to its
 /// register or discarded (`None`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Portion {
     pub a: Input,
     pub b: Input,
@@ -253,6 +259,7 @@ impl Portion {
 /// alpha of the AB (CD) destination, as Direct3D's dp3 replicates into alpha), and the
 /// stage's two constants as the 8-bit codes `NV097_SET_COMBINER_FACTOR0/1` hold (RGBA).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct GeneralStage {
     pub rgb: Portion,
     pub alpha: Portion,
@@ -279,6 +286,7 @@ impl GeneralStage {
 /// One final-combiner variable: its register, component usage and UNSIGNED_INVERT flag
 /// (the final combiner only has UNSIGNED_IDENTITY and UNSIGNED_INVERT).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct FinalInput {
     pub source: Source,
     pub usage: Usage,
@@ -308,6 +316,7 @@ impl FinalInput {
 /// (`NV097_SET_COMBINER_SPECULAR_FOG_CW1`: invert R0, invert V1, clamp), and its own two
 /// constants (`NV097_SET_SPECULAR_FOG_FACTOR`, RGBA codes).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct FinalCombiner {
     pub a: FinalInput,
     pub b: FinalInput,
@@ -349,6 +358,7 @@ impl FinalCombiner {
 
 /// What the mux of a general combiner tests (NV2A `NV097_SET_COMBINER_CONTROL_MUX_SELECT`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
 pub enum MuxSelect {
     /// The least significant bit of spare0's 8-bit alpha code (NV2A's reset value).
     #[default]
@@ -360,6 +370,7 @@ pub enum MuxSelect {
 /// A whole combiner program: 1 to the part's number of general stages, then the final
 /// combiner.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Program {
     pub stages: Vec<GeneralStage>,
     pub final_combiner: FinalCombiner,

@@ -29,7 +29,9 @@ pub struct Dot3Spec {
 impl Spec for Dot3Spec {
     fn input_names(&self, _: &BuildCtx) -> Vec<String> {
         std::iter::once(A.to_string())
-            .chain(seq(B, self.count))
+            // at most 8 (the range checked with the config): a count of 2^31 must not
+            // allocate its port names
+            .chain(seq(B, self.count.min(8)))
             .collect()
     }
 

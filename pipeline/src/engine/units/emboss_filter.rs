@@ -3,10 +3,10 @@
 use super::checks::check_size;
 use super::defaults::{mem_latency, ports};
 use super::ports::input;
-use super::textures::{height_range, heights, normalise_heights};
+use super::textures::{height_range, heights, key, texels, TextureSource};
 use super::{BuildCtx, Spec};
 use bumpsim_hw::units::EmbossFilter;
-use bumpsim_hw::{Encoding, PortSpec, Unit};
+use bumpsim_hw::{Encoding, PortSpec, Texture, Unit};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -49,12 +49,16 @@ impl Spec for EmbossFilterSpec {
         } else {
             1.0
         });
+        // the same texture a TexFetch of BumpHeights at this texel encoding reads
+        let source = TextureSource::BumpHeights { size };
+        let tex = ctx
+            .memory
+            .get_or_build(&key(&source, &self.texel, None), ctx.unit, |name| {
+                Texture::new(name, self.texel, texels(&source, ctx)?)
+            })?;
         Ok(Box::new(EmbossFilter::new(
             input(ins, UV)?.enc,
-            normalise_heights(&raw),
-            size,
-            size,
-            self.texel,
+            tex,
             w,
             self.ports,
             self.mem_latency,

@@ -45,6 +45,7 @@ pub use shade::ShadeSpec;
 pub use tex_fetch::TexFetchSpec;
 pub use textures::TextureSource;
 
+use crate::engine::memory::TextureMemory;
 use crate::scene::Scene;
 use bumpsim_hw::{PortSpec, Unit};
 use serde::de::{Deserialize, Deserializer, EnumAccess, Visitor};
@@ -53,9 +54,12 @@ use std::collections::BTreeMap;
 use std::fmt;
 use struct_variant::{AsVariant, FromVariant};
 
-/// What a unit's build may read of the scene.
+/// What a unit's build may read: the scene, the engine's texture memory, and the name of the
+/// unit being built (textures are named after their first reader).
 pub struct BuildCtx<'a> {
     pub scene: &'a Scene,
+    pub memory: &'a TextureMemory,
+    pub unit: &'a str,
 }
 
 impl BuildCtx<'_> {

@@ -168,6 +168,7 @@ impl QuantizedNormalsSpec {
         let table = pal.entries.iter().map(|n| n.to_array()).collect();
         let builder = PaletteBuilder::new(table, materials, formats, self.entries_per_clock)?;
         let unit = QuantizedFetch::new(
+            ctx.unit,
             uv,
             size,
             size,

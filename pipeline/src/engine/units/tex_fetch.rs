@@ -2,11 +2,12 @@
 
 use super::defaults::{mem_latency, ports};
 use super::ports::input;
-use super::textures::{texels, TextureSource};
+use super::textures::{key, texels, TextureSource};
 use super::{BuildCtx, Spec};
 use crate::engine::palette;
 use bumpsim_hw::units::{Address, Filter, TexFetch};
 use bumpsim_hw::{Encoding, PortSpec, Unit};
+use bumpsim_hw::{Sampler, Texture};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -58,31 +59,29 @@ impl Spec for TexFetchSpec {
         ctx: &BuildCtx,
     ) -> Result<Box<dyn Unit>, String> {
         let uv = input(ins, UV)?.enc;
-        let mut tex = texels(&self.source, ctx)?;
         if let Some(n) = self.palette {
             if !(2..=65536).contains(&n) {
                 return Err(format!("palette {n}: expected 2 to 65536 entries"));
             }
-            let entries = match self.source {
-                TextureSource::BumpNormals { .. } => palette::hemisphere(n as usize),
-                _ => return Err("palette: expected source BumpNormals (palettes of other textures are not modelled yet)".into()),
-            };
-            palette::quantize(&mut tex.values, &entries);
+            if !matches!(self.source, TextureSource::BumpNormals { .. }) {
+                return Err("palette: expected source BumpNormals (palettes of other textures are not modelled yet)".into());
+            }
         }
-        let unit = TexFetch::new(
-            uv,
-            tex,
-            self.texel,
-            self.filter,
-            self.weight_bits,
-            self.ports,
-            self.mem_latency,
-            self.out,
-        )?
-        .with_address(self.address, self.address);
-        Ok(Box::new(match self.palette {
-            Some(n) => unit.with_palette(n),
-            None => unit,
-        }))
+        let key = key(&self.source, &self.texel, self.palette);
+        let tex = ctx.memory.get_or_build(&key, ctx.unit, |name| {
+            let mut tex = texels(&self.source, ctx)?;
+            if let Some(n) = self.palette {
+                palette::quantize(&mut tex.values, &palette::hemisphere(n as usize));
+            }
+            let t = Texture::new(name, self.texel, tex)?;
+            Ok(match self.palette {
+                Some(n) => t.with_palette(n),
+                None => t,
+            })
+        })?;
+        let sampler =
+            Sampler::new(self.filter, self.weight_bits)?.with_address(self.address, self.address);
+        let unit = TexFetch::new(uv, tex, sampler, self.ports, self.mem_latency, self.out)?;
+        Ok(Box::new(unit))
     }
 }

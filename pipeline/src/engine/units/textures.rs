@@ -5,10 +5,12 @@ use super::checks::check_size;
 use super::BuildCtx;
 use crate::scene::NormalMethod;
 use bumpsim_hw::units::Texels;
+use bumpsim_hw::Encoding;
 use serde::{Deserialize, Serialize};
 
 /// What a texel fetch unit reads.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub enum TextureSource {
     /// The scene's bump map as a tangent-space normal map of `size` x `size` texels, baked by
     /// `method` (from heights) or resampled (from a normal PNG).
@@ -107,6 +109,12 @@ pub(super) fn texels(source: &TextureSource, ctx: &BuildCtx) -> Result<Texels, S
             })
         }
     }
+}
+
+/// The texture memory's key of the texture of `source` stored in `texel` words (as indices
+/// into a palette of `palette` entries): units asking for one key share one texture.
+pub(super) fn key(source: &TextureSource, texel: &Encoding, palette: Option<u32>) -> String {
+    format!("{source:?} {texel:?} palette {palette:?}")
 }
 
 /// A `size` x `size` texture of `lanes` lanes.

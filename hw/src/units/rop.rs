@@ -1,0 +1,563 @@
+//! The raster operations unit (ROP): depth test, alpha test, framebuffer blending and the
+//! colour write in the framebuffer's format, for the fragments that leave the pipe.
+//!
+//! Unlike the other units the ROP has state, the framebuffer, and its result depends on the
+//! order of the fragments, so it is not a [`crate::unit::Unit`] (whose evaluation is a pure
+//! function of one fragment's inputs): the simulator drives [`Rop::write`] in the order the
+//! fragments leave the last stage (which is their rasterization order: the pipe is in order).
+//! The operations and their order are OpenGL 1.2's per-fragment operations (§4.1: alpha test,
+//! depth test, blending) and Direct3D's, which NV20-class parts implement:
+//!
+//! 1. **Alpha test** (`alpha_test: (func, reference)`): the fragment's alpha rounded to 8 bits
+//!    (as NV2A does: `../shared/nv2a/README.md`) compared with an 8-bit reference; a fragment
+//!    that fails is dropped before the depth test.
+//! 2. **Depth test** (`depth`): the fragment's window depth code against the buffer's; a pass
+//!    writes depth (unless `depth_write` is off).
+//! 3. **Blending** (`blend: (src, dst)`): `c = src_factor * src + dst_factor * dst`, clamped to 1.
+//! 4. **Colour write** in the framebuffer format, unsigned `color_bits` per channel
+//!    (`c / (2^bits - 1)`).
+//!
+//! Bit-accurate mode converts the incoming colour into framebuffer codes by rounding the exact
+//! value half up (`floor(x (2^b - 1) + 1/2)`, clamped), blends on the codes (8-bit factor
+//! codes, products exact, one rounding to nearest of the sum divided by `2^b - 1`) and stores
+//! codes. Exact mode keeps f64 colours without rounding. In both modes the unit also keeps the
+//! colour value that reached it (clamped to [0, 1], blended in f64): the measure of the
+//! engine's error before the framebuffer's rounding.
+
+use crate::format::{Codec, Encoding};
+use crate::gates::{CostTable, GateBudget};
+use crate::unit::{Mode, Word};
+use serde::{Deserialize, Serialize};
+
+/// A comparison of the alpha and depth tests: `incoming FUNC stored` (GL's names).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum Compare {
+    Never,
+    #[default]
+    Less,
+    Equal,
+    LEqual,
+    Greater,
+    NotEqual,
+    GEqual,
+    Always,
+}
+
+impl Compare {
+    #[inline]
+    pub fn test<T: PartialOrd>(self, a: T, b: T) -> bool {
+        match self {
+            Compare::Never => false,
+            Compare::Less => a < b,
+            Compare::Equal => a == b,
+            Compare::LEqual => a <= b,
+            Compare::Greater => a > b,
+            Compare::NotEqual => a != b,
+            Compare::GEqual => a >= b,
+            Compare::Always => true,
+        }
+    }
+}
+
+/// A blend factor (GL 1.2 table 4.1 without the destination alpha ones: the framebuffer holds
+/// RGB).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Factor {
+    Zero,
+    One,
+    SrcColor,
+    OneMinusSrcColor,
+    DstColor,
+    OneMinusDstColor,
+    SrcAlpha,
+    OneMinusSrcAlpha,
+}
+
+impl Factor {
+    /// The factor for channel values `s`, `d` and source alpha `a`, all in [0, `one`].
+    #[inline]
+    fn of<T: Copy + std::ops::Sub<Output = T>>(self, s: T, d: T, a: T, zero: T, one: T) -> T {
+        match self {
+            Factor::Zero => zero,
+            Factor::One => one,
+            Factor::SrcColor => s,
+            Factor::OneMinusSrcColor => one - s,
+            Factor::DstColor => d,
+            Factor::OneMinusDstColor => one - d,
+            Factor::SrcAlpha => a,
+            Factor::OneMinusSrcAlpha => one - a,
+        }
+    }
+    fn reads_alpha(self) -> bool {
+        matches!(self, Factor::SrcAlpha | Factor::OneMinusSrcAlpha)
+    }
+}
+
+/// The ROP's configuration.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RopParams {
+    /// Depth test (default `Less`; `Always` turns it off).
+    #[serde(default)]
+    pub depth: Compare,
+    /// Whether a fragment that passes writes its depth (default yes).
+    #[serde(default = "yes")]
+    pub depth_write: bool,
+    /// Alpha test: the function and the 8-bit reference (default none).
+    #[serde(default)]
+    pub alpha_test: Option<(Compare, u8)>,
+    /// Blending: the source and destination factors (default none: replace).
+    #[serde(default)]
+    pub blend: Option<(Factor, Factor)>,
+    /// Bits per framebuffer channel, 1 to 16 (default 8).
+    #[serde(default = "eight")]
+    pub color_bits: u32,
+}
+
+fn yes() -> bool {
+    true
+}
+fn eight() -> u32 {
+    8
+}
+
+impl Default for RopParams {
+    fn default() -> Self {
+        RopParams {
+            depth: Compare::Less,
+            depth_write: true,
+            alpha_test: None,
+            blend: None,
+            color_bits: 8,
+        }
+    }
+}
+
+impl RopParams {
+    /// Whether the defaults are in use (an engine without a `rop` field).
+    pub fn is_default(&self) -> bool {
+        *self == RopParams::default()
+    }
+    /// Whether the unit reads the fragment's alpha.
+    pub fn reads_alpha(&self) -> bool {
+        self.alpha_test.is_some()
+            || self
+                .blend
+                .is_some_and(|(s, d)| s.reads_alpha() || d.reads_alpha())
+    }
+}
+
+/// One framebuffer pixel: the stored codes, and the colour value that reached it (see the
+/// module documentation).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Pixel {
+    pub code: [i64; 3],
+    pub x: [f64; 3],
+}
+
+/// The framebuffer: colour and depth per pixel.
+#[derive(Debug, Clone)]
+pub struct Framebuffer {
+    pub width: u32,
+    pub height: u32,
+    pub color: Vec<Pixel>,
+    pub depth: Vec<u32>,
+    /// Pixels written at least once.
+    pub written: Vec<bool>,
+}
+
+/// What happened to one fragment at the ROP.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Outcome {
+    /// Dropped by the alpha test (reads no depth).
+    AlphaFailed,
+    /// Failed the depth test (read depth).
+    DepthFailed,
+    /// Written (read depth, wrote colour and depth; read colour if blending).
+    Written,
+}
+
+/// The ROP. See the module documentation.
+#[derive(Debug, Clone)]
+pub struct Rop {
+    params: RopParams,
+    color: Encoding,
+    alpha: Option<Encoding>,
+    depth_bits: u32,
+}
+
+/// `floor(num / den + 1/2)` for `den > 0`, as the hardware's round-half-up.
+#[inline]
+fn div_round(num: i128, den: i128) -> i128 {
+    (2 * num + den).div_euclid(2 * den)
+}
+
+/// The exact rational value of a raw word: `(numerator, denominator)`.
+#[inline]
+fn rational(enc: &Encoding, raw: i64) -> (i128, i128) {
+    let n = enc.format.width as u32;
+    let r = raw as i128;
+    match enc.codec {
+        Codec::Fixed => (r, 1i128 << enc.format.frac),
+        Codec::UnitUnsigned => (r, (1i128 << n) - 1),
+        Codec::UnitSigned => (r, 1i128 << (n - 1)),
+        Codec::UnitSymmetric => (2 * r + 1, (1i128 << n) - 1),
+    }
+}
+
+impl Rop {
+    /// A ROP for colours of encoding `color`, alpha of encoding `alpha` (if the engine gives
+    /// one) and a `depth_bits`-bit depth buffer. Errors name the field.
+    pub fn new(
+        params: RopParams,
+        color: Encoding,
+        alpha: Option<Encoding>,
+        depth_bits: u32,
+    ) -> Result<Self, String> {
+        if !(1..=16).contains(&params.color_bits) {
+            return Err(format!(
+                "rop.color_bits {}: expected 1 to 16",
+                params.color_bits
+            ));
+        }
+        if params.reads_alpha() && alpha.is_none() {
+            return Err("rop: the alpha test or an alpha blend factor reads alpha: expected an engine output of 4 lanes (RGBA)".into());
+        }
+        Ok(Rop {
+            params,
+            color,
+            alpha,
+            depth_bits: depth_bits.clamp(1, 32),
+        })
+    }
+
+    pub fn params(&self) -> &RopParams {
+        &self.params
+    }
+
+    /// The largest framebuffer code.
+    fn one(&self) -> i64 {
+        (1i64 << self.params.color_bits) - 1
+    }
+
+    /// A cleared framebuffer: colour 0, depth the largest code.
+    pub fn clear(&self, width: u32, height: u32) -> Framebuffer {
+        let n = (width as usize) * (height as usize);
+        Framebuffer {
+            width,
+            height,
+            color: vec![Pixel::default(); n],
+            depth: vec![(u64::MAX >> (64 - self.depth_bits)) as u32; n],
+            written: vec![false; n],
+        }
+    }
+
+    /// The framebuffer code of lane `l` of `w` (rounded half up, clamped).
+    #[inline]
+    fn code_of(&self, enc: &Encoding, w: &Word, l: usize) -> i64 {
+        let (num, den) = rational(enc, w.lanes[l].raw);
+        div_round(num * self.one() as i128, den).clamp(0, self.one() as i128) as i64
+    }
+
+    /// The 8-bit alpha code of the fragment.
+    #[inline]
+    fn alpha_code(&self, w: &Word, mode: Mode) -> i64 {
+        let enc = self.alpha.expect("checked in new");
+        match mode {
+            Mode::BitAccurate => {
+                let (num, den) = rational(&enc, w.lanes[3].raw);
+                div_round(num * 255, den).clamp(0, 255) as i64
+            }
+            Mode::Exact => (w.lanes[3].x.clamp(0.0, 1.0) * 255.0 + 0.5).floor() as i64,
+        }
+    }
+
+    /// Write one fragment of colour `c` (3 or 4 lanes of the colour encoding; lane 3 alpha)
+    /// at pixel index `i` with depth code `depth`, in `mode`.
+    pub fn write(
+        &self,
+        fb: &mut Framebuffer,
+        mode: Mode,
+        i: usize,
+        depth: u32,
+        c: &Word,
+    ) -> Outcome {
+        if let Some((func, reference)) = self.params.alpha_test {
+            if !func.test(self.alpha_code(c, mode), i64::from(reference)) {
+                return Outcome::AlphaFailed;
+            }
+        }
+        if !self.params.depth.test(depth, fb.depth[i]) {
+            return Outcome::DepthFailed;
+        }
+        if self.params.depth_write {
+            fb.depth[i] = depth;
+        }
+        let dst = fb.color[i];
+        let x: [f64; 3] = std::array::from_fn(|l| c.lanes[l].x.clamp(0.0, 1.0));
+        let (mut px, one) = (Pixel::default(), self.one());
+        match self.params.blend {
+            None => {
+                px.x = x;
+                px.code = match mode {
+                    Mode::BitAccurate => std::array::from_fn(|l| self.code_of(&self.color, c, l)),
+                    Mode::Exact => x.map(|v| (v * one as f64 + 0.5).floor() as i64),
+                };
+            }
+            Some((fs, fd)) => {
+                let a = if self.alpha.is_some() {
+                    c.lanes[3].x.clamp(0.0, 1.0)
+                } else {
+                    1.0
+                };
+                px.x = std::array::from_fn(|l| {
+                    let (s, d) = (x[l], dst.x[l]);
+                    (fs.of(s, d, a, 0.0, 1.0) * s + fd.of(s, d, a, 0.0, 1.0) * d).min(1.0)
+                });
+                match mode {
+                    Mode::Exact => px.code = px.x.map(|v| (v * one as f64 + 0.5).floor() as i64),
+                    Mode::BitAccurate => {
+                        // the source in framebuffer codes, alpha in 8 bits scaled to them
+                        let a = if self.alpha.is_some() {
+                            let a8 = self.alpha_code(c, mode) as i128;
+                            div_round(a8 * one as i128, 255) as i64
+                        } else {
+                            one
+                        };
+                        for l in 0..3 {
+                            let (s, d) = (self.code_of(&self.color, c, l), dst.code[l]);
+                            let sum = fs.of(s, d, a, 0, one) as i128 * s as i128
+                                + fd.of(s, d, a, 0, one) as i128 * d as i128;
+                            px.code[l] = div_round(sum, one as i128).min(one as i128) as i64;
+                        }
+                    }
+                }
+            }
+        }
+        fb.color[i] = px;
+        fb.written[i] = true;
+        Outcome::Written
+    }
+
+    /// Gate estimate: the colour conversion per channel (`x (2^b - 1)` is a shift and a
+    /// subtract, plus the rounding adder and the clamp), the depth comparator and the depth
+    /// read/write registers, the alpha conversion and comparator, and the blender (two
+    /// `b x b` multipliers per channel, the adder, the divide by `2^b - 1` as an add of the
+    /// sum shifted right by `b` and a rounding adder, the clamp, the factor muxes).
+    pub fn gates(&self, t: &CostTable) -> GateBudget {
+        let b = self.params.color_bits;
+        let wc = self.color.width();
+        let zb = self.depth_bits;
+        let mut g = GateBudget::new();
+        g.add(
+            format!("colour conversion {wc} -> {b}"),
+            3,
+            2.0 * t.adder(wc + b) + t.clamp(b),
+        );
+        if self.params.depth != Compare::Always && self.params.depth != Compare::Never {
+            g.add(format!("depth comparator {zb}"), 1, t.adder(zb));
+            g.add(format!("depth read register {zb}"), 1, t.register(zb));
+        }
+        if let Some(a) = self.alpha.filter(|_| self.params.reads_alpha()) {
+            g.add(
+                format!("alpha conversion {} -> 8", a.width()),
+                1,
+                2.0 * t.adder(a.width() + 8),
+            );
+        }
+        if self.params.alpha_test.is_some() {
+            g.add("alpha comparator 8", 1, t.adder(8));
+        }
+        if self.params.blend.is_some() {
+            g.add(format!("blend multiplier {b}x{b}"), 6, t.multiplier(b, b));
+            g.add(format!("blend adder {}", 2 * b + 1), 3, t.adder(2 * b + 1));
+            g.add(
+                format!("divide by {} {}", (1u64 << b) - 1, 2 * b + 1),
+                3,
+                2.0 * t.adder(2 * b + 1) + t.clamp(b),
+            );
+            g.add(format!("factor select {b}"), 6, t.mux(b, 8));
+            g.add(
+                format!("destination read register {}", 3 * b),
+                1,
+                t.register(3 * b),
+            );
+        }
+        g.add(
+            format!("colour write register {}", 3 * b),
+            1,
+            t.register(3 * b),
+        );
+        g
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::format::Format;
+
+    fn word(enc: &Encoding, mode: Mode, xs: &[f64]) -> Word {
+        Word::for_mode(mode, enc, xs)
+    }
+
+    #[test]
+    fn the_colour_write_rounds_half_up_like_the_png_writer_for_every_10_bit_code() {
+        let enc = Encoding::fixed(Format::u(10, 9)); // [0, 2)
+        let rop = Rop::new(RopParams::default(), enc, None, 16).unwrap();
+        let mut fb = rop.clear(1, 1);
+        for raw in 0..1024 {
+            let w = Word::from_raw(&enc, &[raw, raw, raw]);
+            fb.depth[0] = u32::MAX;
+            assert_eq!(
+                rop.write(&mut fb, Mode::BitAccurate, 0, 5, &w),
+                Outcome::Written
+            );
+            let x = enc.decode(raw).clamp(0.0, 1.0);
+            assert_eq!(
+                fb.color[0].code[0],
+                (x * 255.0 + 0.5).floor() as i64,
+                "raw {raw}"
+            );
+            assert_eq!(fb.color[0].x[0], x);
+        }
+    }
+
+    #[test]
+    fn every_test_function_at_every_8_bit_reference_and_alpha() {
+        let enc = Encoding::texel(Codec::UnitUnsigned, false, 8);
+        for func in [
+            Compare::Never,
+            Compare::Less,
+            Compare::Equal,
+            Compare::LEqual,
+            Compare::Greater,
+            Compare::NotEqual,
+            Compare::GEqual,
+            Compare::Always,
+        ] {
+            for reference in 0..=255u8 {
+                let params = RopParams {
+                    alpha_test: Some((func, reference)),
+                    depth: Compare::Always,
+                    ..RopParams::default()
+                };
+                let rop = Rop::new(params, enc, Some(enc), 16).unwrap();
+                let mut fb = rop.clear(1, 1);
+                for a in 0..=255i64 {
+                    for mode in [Mode::BitAccurate, Mode::Exact] {
+                        let w = match mode {
+                            Mode::BitAccurate => Word::from_raw(&enc, &[0, 0, 0, a]),
+                            Mode::Exact => {
+                                Word::from_exact(&enc, &[0.0, 0.0, 0.0, a as f64 / 255.0])
+                            }
+                        };
+                        let pass = rop.write(&mut fb, mode, 0, 0, &w) == Outcome::Written;
+                        assert_eq!(
+                            pass,
+                            func.test(a, i64::from(reference)),
+                            "{func:?} {reference} {a}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn depth_functions_and_depth_write() {
+        let enc = Encoding::texel(Codec::UnitUnsigned, false, 8);
+        let w = Word::from_raw(&enc, &[10, 20, 30]);
+        let rop = Rop::new(RopParams::default(), enc, None, 8).unwrap();
+        let mut fb = rop.clear(1, 1);
+        assert_eq!(fb.depth[0], 255);
+        assert_eq!(
+            rop.write(&mut fb, Mode::BitAccurate, 0, 100, &w),
+            Outcome::Written
+        );
+        assert_eq!(
+            rop.write(&mut fb, Mode::BitAccurate, 0, 100, &w),
+            Outcome::DepthFailed
+        );
+        assert_eq!(
+            rop.write(&mut fb, Mode::BitAccurate, 0, 99, &w),
+            Outcome::Written
+        );
+        assert_eq!((fb.depth[0], fb.color[0].code), (99, [10, 20, 30]));
+        let keep = RopParams {
+            depth: Compare::LEqual,
+            depth_write: false,
+            ..RopParams::default()
+        };
+        let rop = Rop::new(keep, enc, None, 8).unwrap();
+        let mut fb = rop.clear(1, 1);
+        assert_eq!(
+            rop.write(&mut fb, Mode::BitAccurate, 0, 255, &w),
+            Outcome::Written
+        );
+        assert_eq!(fb.depth[0], 255);
+    }
+
+    #[test]
+    fn src_alpha_blending_rounds_to_nearest_on_8_bit_codes() {
+        let enc = Encoding::texel(Codec::UnitUnsigned, false, 8);
+        let params = RopParams {
+            depth: Compare::Always,
+            blend: Some((Factor::SrcAlpha, Factor::OneMinusSrcAlpha)),
+            ..RopParams::default()
+        };
+        let rop = Rop::new(params, enc, Some(enc), 16).unwrap();
+        // every source, destination and alpha code of a coarse grid against the exact rational
+        for s in (0..=255i64).step_by(5) {
+            for d in (0..=255i64).step_by(7) {
+                for a in (0..=255i64).step_by(3) {
+                    let mut fb = rop.clear(1, 1);
+                    fb.color[0].code = [d; 3];
+                    let w = Word::from_raw(&enc, &[s, s, s, a]);
+                    rop.write(&mut fb, Mode::BitAccurate, 0, 0, &w);
+                    let want = ((s * a + d * (255 - a)) as f64 / 255.0 + 0.5).floor() as i64;
+                    assert_eq!(fb.color[0].code[0], want, "s {s} d {d} a {a}");
+                }
+            }
+        }
+        // additive blending saturates
+        let add = RopParams {
+            blend: Some((Factor::One, Factor::One)),
+            depth: Compare::Always,
+            ..RopParams::default()
+        };
+        let rop = Rop::new(add, enc, None, 16).unwrap();
+        let mut fb = rop.clear(1, 1);
+        for mode in [Mode::BitAccurate, Mode::Exact] {
+            fb.color[0] = Pixel::default();
+            for _ in 0..3 {
+                rop.write(&mut fb, mode, 0, 0, &word(&enc, mode, &[0.4, 0.2, 0.0]));
+            }
+            assert_eq!(fb.color[0].code, [255, 153, 0], "{mode:?}");
+            assert!((fb.color[0].x[1] - 0.6).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn bad_parameters_are_rejected() {
+        let enc = Encoding::texel(Codec::UnitUnsigned, false, 8);
+        let alpha = RopParams {
+            alpha_test: Some((Compare::Greater, 0)),
+            ..RopParams::default()
+        };
+        assert!(Rop::new(alpha, enc, None, 16)
+            .unwrap_err()
+            .contains("4 lanes"));
+        let bits = RopParams {
+            color_bits: 0,
+            ..RopParams::default()
+        };
+        assert!(Rop::new(bits, enc, None, 16)
+            .unwrap_err()
+            .contains("color_bits"));
+        let g = Rop::new(RopParams::default(), enc, None, 24)
+            .unwrap()
+            .gates(&CostTable::default());
+        assert!(g.total() > 0.0);
+    }
+}

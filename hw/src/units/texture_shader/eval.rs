@@ -1,0 +1,368 @@
+//! One fragment through the stages, written once over the arithmetic of a mode ([`Arith`]):
+//! [`ExactArith`] (f64, no quantization) and [`FixedArith`] (integers: the hardware).
+//!
+//! Bit-accurate number formats (see the module documentation of the unit):
+//! * texture coordinates, dot products, offset and reflected coordinates: raw words of the
+//!   coordinate encoding (`f` fraction bits); every result is computed exactly and rounded
+//!   once into it (halves up, saturated);
+//! * the mapped vector N: `dot_frac` fraction bits ([`super::mapping`]);
+//! * the offset matrix, the luminance scale and bias: `offset_frac` fraction bits;
+//! * texels: the texture's own codes; filtering and the cube-face projection are the
+//!   sampler's ([`crate::sampler`]).
+
+use super::mapping::{div_round, vector_bits, vector_exact};
+use super::program::Program;
+use super::{Compiled, TextureShader};
+use crate::arith::Acc;
+use crate::format::Encoding;
+use crate::sampler::{cube_face, cube_face_bits};
+use crate::unit::{Sample, Word, MAX_LANES};
+
+/// The arithmetic of one mode. `V` is a coordinate-like scalar.
+pub(crate) trait Arith {
+    type V: Copy;
+    fn coord(&self, s: &Sample) -> Self::V;
+    fn zero(&self) -> Self::V;
+    fn nonneg(&self, v: Self::V) -> bool;
+    /// `a / b` (0 when b is 0).
+    fn div(&self, a: Self::V, b: Self::V) -> Self::V;
+    /// (s, t, r) . N of the previous texel, mapped.
+    fn dot(&self, c: [Self::V; 3], prev: &Word, st: &Compiled, prev_st: &Compiled) -> Self::V;
+    /// R = 2 N (N.E) / (N.N) - E.
+    fn reflect(&self, n: [Self::V; 3], e: [Self::V; 3]) -> [Self::V; 3];
+    /// A constant (the eye vector), as the stage holds it.
+    fn konst(&self, x: f64) -> Self::V;
+    /// Lane `lane` of the previous texel as a coordinate (DEPENDENT_AR / _GB).
+    fn texel_coord(&self, prev: &Word, enc: &Encoding, lane: usize) -> Self::V;
+    /// (s, t) offset by the matrix times (ds, dt) of the previous texel.
+    fn offset(
+        &self,
+        s: Self::V,
+        t: Self::V,
+        prev: &Word,
+        st: &Compiled,
+        prev_st: &Compiled,
+    ) -> (Self::V, Self::V);
+    /// RGB of `texel` scaled by clamp(scale mag + bias, 0, 1).
+    fn scale(&self, texel: &mut Word, prev: &Word, st: &Compiled, prev_st: &Compiled);
+    fn sample2d(&self, st: &Compiled, s: Self::V, t: Self::V) -> Word;
+    fn sample_cube(&self, st: &Compiled, d: [Self::V; 3]) -> Word;
+    /// PASS_THROUGH: clamp to [0, 1] into the pass-through encoding.
+    fn pass(&self, c: [Self::V; 4], enc: &Encoding) -> Word;
+}
+
+/// The lanes a texel has beyond the texture's: RGB 0, alpha 1.
+fn fill_missing(w: &mut Word, lanes: u8, enc: &Encoding, exact: bool) {
+    for l in lanes as usize..MAX_LANES {
+        let x = if l == 3 { 1.0 } else { 0.0 };
+        let raw = enc.encode(x);
+        w.lanes[l] = Sample {
+            x: if exact { x } else { enc.decode(raw) },
+            raw,
+        };
+    }
+}
+
+pub(crate) struct ExactArith;
+
+impl Arith for ExactArith {
+    type V = f64;
+    fn coord(&self, s: &Sample) -> f64 {
+        s.x
+    }
+    fn zero(&self) -> f64 {
+        0.0
+    }
+    fn nonneg(&self, v: f64) -> bool {
+        v >= 0.0
+    }
+    fn div(&self, a: f64, b: f64) -> f64 {
+        if b == 0.0 {
+            0.0
+        } else {
+            a / b
+        }
+    }
+    fn dot(&self, c: [f64; 3], prev: &Word, st: &Compiled, prev_st: &Compiled) -> f64 {
+        let m = st.spec.program.mapping().unwrap_or_default();
+        let n = vector_exact(m, &prev.xs::<4>(), &prev_st.out_enc, prev_st.lanes);
+        c[0] * n[0] + c[1] * n[1] + c[2] * n[2]
+    }
+    fn reflect(&self, n: [f64; 3], e: [f64; 3]) -> [f64; 3] {
+        let nn: f64 = n.iter().map(|v| v * v).sum();
+        let ne: f64 = n.iter().zip(&e).map(|(a, b)| a * b).sum();
+        if nn == 0.0 {
+            return e.map(|v| -v);
+        }
+        std::array::from_fn(|k| 2.0 * n[k] * ne / nn - e[k])
+    }
+    fn konst(&self, x: f64) -> f64 {
+        x
+    }
+    fn texel_coord(&self, prev: &Word, _: &Encoding, lane: usize) -> f64 {
+        prev.lanes[lane].x
+    }
+    fn offset(&self, s: f64, t: f64, prev: &Word, st: &Compiled, _: &Compiled) -> (f64, f64) {
+        let o = &st.offset;
+        let (ds, dt) = (prev.lanes[o.lanes[0]].x, prev.lanes[o.lanes[1]].x);
+        let m = o.matrix;
+        (s + m[0] * ds + m[2] * dt, t + m[1] * ds + m[3] * dt)
+    }
+    fn scale(&self, texel: &mut Word, prev: &Word, st: &Compiled, _: &Compiled) {
+        let o = &st.offset;
+        let l = (o.scale * prev.lanes[o.lanes[2]].x + o.bias).clamp(0.0, 1.0);
+        for s in texel.lanes.iter_mut().take(3) {
+            s.x *= l;
+            s.raw = st.out_enc.encode(s.x);
+        }
+    }
+    fn sample2d(&self, st: &Compiled, s: f64, t: f64) -> Word {
+        let tex = st.spec.texture.as_ref().expect("checked: a 2D texture");
+        let v = st.spec.sampler.sample_exact(tex, 0, 0, s, t);
+        let mut w = Word::from_exact(&st.out_enc, &v[..st.lanes as usize]);
+        fill_missing(&mut w, st.lanes, &st.out_enc, true);
+        w
+    }
+    fn sample_cube(&self, st: &Compiled, d: [f64; 3]) -> Word {
+        let tex = st.spec.texture.as_ref().expect("checked: a cube map");
+        let (f, s, t) = cube_face(d);
+        let v = st.spec.sampler.sample_exact(tex, 0, f, s, t);
+        let mut w = Word::from_exact(&st.out_enc, &v[..st.lanes as usize]);
+        fill_missing(&mut w, st.lanes, &st.out_enc, true);
+        w
+    }
+    fn pass(&self, c: [f64; 4], enc: &Encoding) -> Word {
+        Word::from_exact(enc, &c.map(|v| v.clamp(0.0, 1.0)))
+    }
+}
+
+/// Bit-accurate arithmetic: raw coordinate words with `f` fraction bits.
+pub(crate) struct FixedArith {
+    pub coord: Encoding,
+    pub dot_frac: u32,
+    pub offset_frac: u32,
+}
+
+impl FixedArith {
+    fn f(&self) -> u32 {
+        self.coord.format.frac as u32
+    }
+    /// An exact intermediate rounded into the coordinate format.
+    fn cast(&self, a: Acc) -> i64 {
+        a.to_code(&self.coord)
+    }
+}
+
+impl Arith for FixedArith {
+    type V = i64;
+    fn coord(&self, s: &Sample) -> i64 {
+        s.raw
+    }
+    fn zero(&self) -> i64 {
+        0
+    }
+    fn nonneg(&self, v: i64) -> bool {
+        v >= 0
+    }
+    fn div(&self, a: i64, b: i64) -> i64 {
+        if b == 0 {
+            return 0;
+        }
+        let (mut p, mut d) = ((a as i128) << self.f(), b as i128);
+        if d < 0 {
+            p = -p;
+            d = -d;
+        }
+        let q = div_round(p, d);
+        self.coord.format.overflow(q, self.coord.overflow)
+    }
+    fn dot(&self, c: [i64; 3], prev: &Word, st: &Compiled, prev_st: &Compiled) -> i64 {
+        let m = st.spec.program.mapping().unwrap_or_default();
+        let n = vector_bits(
+            m,
+            &prev.raws::<4>(),
+            &prev_st.out_enc,
+            prev_st.lanes,
+            self.dot_frac,
+        );
+        let p: i128 = (0..3).map(|k| c[k] as i128 * n[k] as i128).sum();
+        self.cast(Acc::new(p, self.f() + self.dot_frac))
+    }
+    fn reflect(&self, n: [i64; 3], e: [i64; 3]) -> [i64; 3] {
+        let f = self.f();
+        let nn: i128 = n.iter().map(|&v| (v as i128).pow(2)).sum();
+        let ne: i128 = n.iter().zip(&e).map(|(&a, &b)| a as i128 * b as i128).sum();
+        if nn == 0 {
+            return e.map(|v| self.cast(Acc::new(-(v as i128), f)));
+        }
+        std::array::from_fn(|k| {
+            // 2 N_k (N.E) / (N.N): 3f fraction bits over 2f -> f, rounded once with - E
+            let num = 2 * n[k] as i128 * ne - e[k] as i128 * nn;
+            let q = div_round(num, nn);
+            self.coord.format.overflow(q, self.coord.overflow)
+        })
+    }
+    fn konst(&self, x: f64) -> i64 {
+        self.coord.encode(x)
+    }
+    fn texel_coord(&self, prev: &Word, enc: &Encoding, lane: usize) -> i64 {
+        self.cast(Acc::from_code(prev.lanes[lane].raw, enc))
+    }
+    fn offset(&self, s: i64, t: i64, prev: &Word, st: &Compiled, p: &Compiled) -> (i64, i64) {
+        let o = &st.offset;
+        let ds = Acc::from_code(prev.lanes[o.lanes[0]].raw, &p.out_enc);
+        let dt = Acc::from_code(prev.lanes[o.lanes[1]].raw, &p.out_enc);
+        let m = st.matrix_raw.map(|r| Acc::new(r as i128, self.offset_frac));
+        let f = self.f();
+        let s2 = Acc::new(s as i128, f).add(m[0].mul(ds)).add(m[2].mul(dt));
+        let t2 = Acc::new(t as i128, f).add(m[1].mul(ds)).add(m[3].mul(dt));
+        (self.cast(s2), self.cast(t2))
+    }
+    fn scale(&self, texel: &mut Word, prev: &Word, st: &Compiled, p: &Compiled) {
+        let mag = Acc::from_code(prev.lanes[st.offset.lanes[2]].raw, &p.out_enc);
+        let of = self.offset_frac;
+        let l = Acc::new(st.scale_raw[0] as i128, of)
+            .mul(mag)
+            .add(Acc::new(st.scale_raw[1] as i128, of))
+            .clamp(Acc::ZERO, Acc::new(1, 0));
+        for s in texel.lanes.iter_mut().take(3) {
+            s.raw = Acc::from_code(s.raw, &st.out_enc)
+                .mul(l)
+                .to_code(&st.out_enc);
+            s.x = st.out_enc.decode(s.raw);
+        }
+    }
+    fn sample2d(&self, st: &Compiled, s: i64, t: i64) -> Word {
+        let tex = st.spec.texture.as_ref().expect("checked: a 2D texture");
+        let r = st
+            .spec
+            .sampler
+            .sample_bits(tex, 0, 0, s, t, self.f(), &st.out_enc);
+        let mut w = Word::from_raw(&st.out_enc, &r[..st.lanes as usize]);
+        fill_missing(&mut w, st.lanes, &st.out_enc, false);
+        w
+    }
+    fn sample_cube(&self, st: &Compiled, d: [i64; 3]) -> Word {
+        let tex = st.spec.texture.as_ref().expect("checked: a cube map");
+        let f = self.f();
+        let (face, s, t) = cube_face_bits(d, f);
+        let r = st
+            .spec
+            .sampler
+            .sample_bits(tex, 0, face, s, t, f, &st.out_enc);
+        let mut w = Word::from_raw(&st.out_enc, &r[..st.lanes as usize]);
+        fill_missing(&mut w, st.lanes, &st.out_enc, false);
+        w
+    }
+    fn pass(&self, c: [i64; 4], enc: &Encoding) -> Word {
+        let f = self.f();
+        let r = c.map(|v| {
+            Acc::new(v as i128, f)
+                .clamp(Acc::ZERO, Acc::new(1, 0))
+                .to_code(enc)
+        });
+        Word::from_raw(enc, &r)
+    }
+}
+
+/// Per-fragment state: each stage's coordinates, dot product and result.
+pub(crate) struct Fragment<V> {
+    pub results: Vec<Word>,
+    pub live: bool,
+    pub depth: Option<V>,
+}
+
+/// Run every stage on one fragment: `ins[i]` are stage i's (s, t, r, q).
+pub(crate) fn run<A: Arith>(a: &A, u: &TextureShader, ins: &[Word]) -> Fragment<A::V> {
+    let n = u.stages.len();
+    let coords: Vec<[A::V; 4]> = (0..n)
+        .map(|i| std::array::from_fn(|k| a.coord(&ins[i].lanes[k])))
+        .collect();
+    let mut dots: Vec<A::V> = vec![a.zero(); n];
+    let mut results: Vec<Word> = Vec::with_capacity(n);
+    let mut live = true;
+    let mut depth = None;
+    // a DIFFUSE_CUBE_MAP stage's lookup needs the dot of the stage after it: deferred
+    let mut diffuse: Option<usize> = None;
+    for i in 0..n {
+        let st = &u.stages[i];
+        let c = coords[i];
+        let zero = Word::from_raw(&st.out_enc, &[0; 4]);
+        let prog = if st.broken.is_some() {
+            Program::None
+        } else {
+            st.spec.program
+        };
+        let prev = prog.prev().map(|p| (&results[p], &u.stages[p]));
+        if prog.is_dot() {
+            let (pw, ps) = prev.expect("checked: a dot product reads an earlier stage");
+            dots[i] = a.dot([c[0], c[1], c[2]], pw, st, ps);
+        }
+        let out = match prog {
+            Program::None | Program::DotProduct { .. } => zero,
+            Program::Texture2d => a.sample2d(st, a.div(c[0], c[3]), a.div(c[1], c[3])),
+            Program::TextureCube => a.sample_cube(st, [c[0], c[1], c[2]]),
+            Program::PassThrough => a.pass(c, &st.out_enc),
+            Program::CullFragment { gequal } => {
+                for k in 0..4 {
+                    if a.nonneg(c[k]) != gequal[k] {
+                        live = false;
+                    }
+                }
+                zero
+            }
+            Program::OffsetTexture2d { .. } | Program::OffsetTexture2dScale { .. } => {
+                let (pw, ps) = prev.expect("checked");
+                let (s, t) = a.offset(c[0], c[1], pw, st, ps);
+                let mut w = a.sample2d(st, s, t);
+                if matches!(prog, Program::OffsetTexture2dScale { .. }) {
+                    a.scale(&mut w, pw, st, ps);
+                }
+                w
+            }
+            Program::DependentAr { .. } | Program::DependentGb { .. } => {
+                let (pw, ps) = prev.expect("checked");
+                let (ls, lt) = if matches!(prog, Program::DependentAr { .. }) {
+                    (3, 0)
+                } else {
+                    (1, 2)
+                };
+                let s = a.texel_coord(pw, &ps.out_enc, ls);
+                let t = a.texel_coord(pw, &ps.out_enc, lt);
+                a.sample2d(st, s, t)
+            }
+            Program::DotProductTexture2d { .. } => a.sample2d(st, dots[i - 1], dots[i]),
+            Program::DotProductTextureCube { .. } => {
+                a.sample_cube(st, [dots[i - 2], dots[i - 1], dots[i]])
+            }
+            Program::DotProductDiffuseCube { .. } => {
+                diffuse = Some(i);
+                zero
+            }
+            Program::DotProductReflectCube { .. }
+            | Program::DotProductConstEyeReflectCube { .. } => {
+                let nv = [dots[i - 2], dots[i - 1], dots[i]];
+                let e = match prog {
+                    Program::DotProductConstEyeReflectCube { eye, .. } => eye.map(|x| a.konst(x)),
+                    _ => [coords[i - 2][3], coords[i - 1][3], c[3]],
+                };
+                if let Some(d) = diffuse.take() {
+                    if d == i - 1 {
+                        results[d] = a.sample_cube(&u.stages[d], nv);
+                    }
+                }
+                a.sample_cube(st, a.reflect(nv, e))
+            }
+            Program::DotProductDepthReplace { .. } => {
+                depth = Some(a.div(dots[i - 1], dots[i]));
+                zero
+            }
+        };
+        results.push(out);
+    }
+    Fragment {
+        results,
+        live,
+        depth,
+    }
+}

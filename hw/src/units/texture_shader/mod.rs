@@ -1,0 +1,475 @@
+//! NV20 / NV2A texture shaders (NV_texture_shader, section 3.8.13 "Texture Shaders"; NV2A
+//! registers `NV097_SET_SHADER_STAGE_PROGRAM`, `_SHADER_OTHER_STAGE_INPUT`,
+//! `_DOT_RGBMAPPING`, `_SHADER_CLIP_PLANE_MODE`, `_TEXTURE_SET_BUMP_ENV_*`): one program per
+//! stage, 4 stages by default (the GeForce3 / NV2A count; the count is a parameter).
+//!
+//! Programs (`program.rs`): NONE, TEXTURE_2D (projective: s/q, t/q), TEXTURE_CUBE_MAP,
+//! PASS_THROUGH, CULL_FRAGMENT, OFFSET_TEXTURE_2D and _SCALE (the D3D6 BUMPENVMAP and
+//! BUMPENVMAPLUMINANCE), DEPENDENT_AR / _GB, DOT_PRODUCT, DOT_PRODUCT_TEXTURE_2D,
+//! DOT_PRODUCT_TEXTURE_CUBE_MAP, DOT_PRODUCT_REFLECT_CUBE_MAP, DOT_PRODUCT_CONST_EYE_REFLECT_
+//! CUBE_MAP, DOT_PRODUCT_DIFFUSE_CUBE_MAP and DOT_PRODUCT_DEPTH_REPLACE. The stage rules
+//! (`rules.rs`, spec "Texture Shader Consistency") are checked at construction: a broken rule
+//! is an error naming the stage and the rule, or, with [`OnBroken::AsNone`], the stage runs
+//! NONE as the hardware does and [`TextureShader::broken`] reports it. Dot-product mappings
+//! (`mapping.rs`): the NV2A's eight (ZERO_TO_ONE, MINUS1_TO_1_D3D, _GL, two's complement,
+//! HILO_1 and the three HILO hemispheres).
+//!
+//! Textures are the engine's shared [`Texture`]s behind `Arc`, read only through each
+//! stage's [`Sampler`]; a stage's result is its texel in the texture's own encoding (missing
+//! lanes: RGB 0, alpha 1), so a combiner reads 8-bit codes exactly.
+//!
+//! **Bit-accurate mode.** Texture coordinates are raw words of the coordinate encoding
+//! ([`ShaderParams::coord`], default s16.16); the projective divide, the dot products (the
+//! mapped N has [`ShaderParams::dot_frac`] fraction bits, default 16), the offset (matrix,
+//! scale and bias with [`ShaderParams::offset_frac`] fraction bits, default 8), the reflection
+//! and the depth divide are computed exactly and rounded once into the coordinate format
+//! (halves up, saturated). PASS_THROUGH writes [`ShaderParams::pass_through`] (default 8-bit
+//! unsigned, truncated: the `Passthru` frame). **Exact mode**: the same programs in f64 (the
+//! matrix and the eye unquantized).
+//!
+//! Ports: in `coord0`..`coord{n-1}` (s, t, r, q per stage); out `tex0`..`tex{n-1}` (4 lanes,
+//! each in its stage's result encoding, [`TextureShader::result_encoding`]) and `depth` (1
+//! lane, coordinate encoding: DOT_PRODUCT_DEPTH_REPLACE's z, else 0). CULL_FRAGMENT kills
+//! through [`Unit::live`]. Latency: one clock per stage plus 3 (texel fetch and filter);
+//! interval 1.
+
+mod eval;
+pub mod mapping;
+mod program;
+mod rules;
+#[cfg(test)]
+mod tests;
+
+pub use program::{DotMapping, Offset, Program};
+
+use crate::format::{Codec, Encoding, Format, Quant};
+use crate::gates::{CostTable, GateBudget};
+use crate::sampler::{Filter, Sampler};
+use crate::texture::Texture;
+use crate::unit::{Mode, PortSpec, TextureRead, Unit, Word};
+use eval::{run, ExactArith, FixedArith};
+use std::sync::Arc;
+
+/// Stages of the GeForce3 / NV2A.
+pub const NV2A_STAGES: usize = 4;
+/// Largest number of stages a part may have.
+pub const MAX_STAGES: usize = 8;
+
+/// What a broken stage rule does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum OnBroken {
+    /// Construction fails, naming the stage and the rule.
+    #[default]
+    Reject,
+    /// The stage runs NONE (the hardware's behaviour) and is listed by
+    /// [`TextureShader::broken`].
+    AsNone,
+}
+
+/// The part: stage count and number formats.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShaderParams {
+    /// Stages of the part (1 to 8; 4 on the NV2A).
+    pub stages: usize,
+    /// Encoding of the texture coordinates (fixed point, signed, 8 to 32 bits).
+    pub coord: Encoding,
+    /// Fraction bits of the mapped dot-product vector N (1 to 24).
+    pub dot_frac: u32,
+    /// Fraction bits of the offset matrix and of the luminance scale and bias (1 to 16).
+    pub offset_frac: u32,
+    /// Encoding of the PASS_THROUGH colour.
+    pub pass_through: Encoding,
+    pub on_broken: OnBroken,
+}
+
+impl Default for ShaderParams {
+    fn default() -> Self {
+        ShaderParams {
+            stages: NV2A_STAGES,
+            coord: Encoding::fixed(Format::s(32, 16)),
+            dot_frac: 16,
+            offset_frac: 8,
+            pass_through: Encoding {
+                quant: Quant::Trn,
+                ..Encoding::texel(Codec::UnitUnsigned, false, 8)
+            },
+            on_broken: OnBroken::Reject,
+        }
+    }
+}
+
+/// One stage: its program, its texture (shared memory) and its sampler.
+#[derive(Debug, Clone)]
+pub struct StageSpec {
+    pub program: Program,
+    pub texture: Option<Arc<Texture>>,
+    pub sampler: Sampler,
+}
+
+impl StageSpec {
+    /// A stage running `program` on `texture` (bilinear, 8-bit weights, wrap).
+    pub fn new(program: Program, texture: Option<Arc<Texture>>) -> StageSpec {
+        StageSpec {
+            program,
+            texture,
+            sampler: Sampler::new(Filter::Bilinear, 8).expect("8 weight bits are valid"),
+        }
+    }
+    pub fn none() -> StageSpec {
+        StageSpec::new(Program::None, None)
+    }
+    pub fn with_sampler(mut self, s: Sampler) -> StageSpec {
+        self.sampler = s;
+        self
+    }
+}
+
+/// A stage as built: the spec, its result encoding and lanes, quantized constants, the
+/// broken rule if any.
+#[derive(Debug, Clone)]
+pub(crate) struct Compiled {
+    pub spec: StageSpec,
+    pub out_enc: Encoding,
+    pub lanes: u8,
+    pub offset: Offset,
+    pub matrix_raw: [i64; 4],
+    pub scale_raw: [i64; 2],
+    pub broken: Option<String>,
+}
+
+/// The texture-shader unit. See the module documentation.
+pub struct TextureShader {
+    params: ShaderParams,
+    pub(crate) stages: Vec<Compiled>,
+    inputs: Vec<PortSpec>,
+    outputs: Vec<PortSpec>,
+}
+
+fn u8_enc() -> Encoding {
+    Encoding::texel(Codec::UnitUnsigned, false, 8)
+}
+
+impl TextureShader {
+    /// A part running `stages` (at most `params.stages`; the rest run NONE). Every field is
+    /// checked; errors name it and say what was expected.
+    pub fn new(params: ShaderParams, stages: Vec<StageSpec>) -> Result<TextureShader, String> {
+        if !(1..=MAX_STAGES).contains(&params.stages) {
+            return Err(format!(
+                "stages: {} given: expected 1 to {MAX_STAGES} texture-shader stages",
+                params.stages
+            ));
+        }
+        if stages.len() > params.stages {
+            return Err(format!(
+                "programs: {} stages given: the part has {}",
+                stages.len(),
+                params.stages
+            ));
+        }
+        let c = params.coord;
+        c.validate().map_err(|m| format!("coord: {m}"))?;
+        if c.codec != Codec::Fixed || !c.format.signed || c.width() < 8 {
+            return Err(format!(
+                "coord: {c}: expected a signed fixed-point encoding of 8 to 32 bits"
+            ));
+        }
+        if !(1..=24).contains(&params.dot_frac) {
+            return Err(format!(
+                "dot_frac: {} given: expected 1 to 24 fraction bits",
+                params.dot_frac
+            ));
+        }
+        if !(1..=16).contains(&params.offset_frac) {
+            return Err(format!(
+                "offset_frac: {} given: expected 1 to 16 fraction bits",
+                params.offset_frac
+            ));
+        }
+        params
+            .pass_through
+            .validate()
+            .map_err(|m| format!("pass_through: {m}"))?;
+        let mut specs = stages;
+        specs.resize_with(params.stages, StageSpec::none);
+        let broken = rules::check(&specs);
+        if params.on_broken == OnBroken::Reject {
+            if let Some((i, m)) = broken
+                .iter()
+                .enumerate()
+                .find_map(|(i, b)| b.as_ref().map(|m| (i, m)))
+            {
+                return Err(format!("stage {i}: {m}"));
+            }
+        }
+        let of = params.offset_frac;
+        let mut compiled = Vec::with_capacity(specs.len());
+        for (i, (spec, broken)) in specs.into_iter().zip(broken).enumerate() {
+            if let Some(t) = &spec.texture {
+                spec.sampler
+                    .check(t, &c)
+                    .map_err(|m| format!("stage {i}: {m}"))?;
+            }
+            let (out_enc, lanes) = match (&spec.program, &spec.texture) {
+                (Program::PassThrough, _) => (params.pass_through, 4),
+                (p, Some(t)) if p.texture_kind().is_some() => (*t.texel(), t.lanes()),
+                _ => (u8_enc(), 4),
+            };
+            let offset = match spec.program {
+                Program::OffsetTexture2d { offset, .. }
+                | Program::OffsetTexture2dScale { offset, .. } => offset,
+                _ => Offset::default(),
+            };
+            let q = |what: String, x: f64| -> Result<i64, String> {
+                if !x.is_finite() || x.abs() > 1024.0 {
+                    return Err(format!(
+                        "stage {i}: {what} = {x}: expected a finite value in [-1024, 1024]"
+                    ));
+                }
+                Ok((x * (1u64 << of) as f64).round() as i64)
+            };
+            let mut matrix_raw = [0; 4];
+            for (k, m) in matrix_raw.iter_mut().enumerate() {
+                *m = q(format!("offset.matrix[{k}]"), offset.matrix[k])?;
+            }
+            let scale_raw = [
+                q("offset.scale".into(), offset.scale)?,
+                q("offset.bias".into(), offset.bias)?,
+            ];
+            if let Program::DotProductConstEyeReflectCube { eye, .. } = spec.program {
+                if eye.iter().any(|e| !e.is_finite()) {
+                    return Err(format!("stage {i}: eye {eye:?}: expected finite values"));
+                }
+            }
+            compiled.push(Compiled {
+                spec,
+                out_enc,
+                lanes,
+                offset,
+                matrix_raw,
+                scale_raw,
+                broken,
+            });
+        }
+        let n = compiled.len();
+        let inputs = (0..n)
+            .map(|i| PortSpec::new(&format!("coord{i}"), 4, c))
+            .collect();
+        let mut outputs: Vec<PortSpec> = compiled
+            .iter()
+            .enumerate()
+            .map(|(i, s)| PortSpec::new(&format!("tex{i}"), 4, s.out_enc))
+            .collect();
+        outputs.push(PortSpec::new("depth", 1, c));
+        Ok(TextureShader {
+            params,
+            stages: compiled,
+            inputs,
+            outputs,
+        })
+    }
+
+    pub fn params(&self) -> &ShaderParams {
+        &self.params
+    }
+    /// The stages whose rule is broken (they run NONE): (stage, the rule).
+    pub fn broken(&self) -> Vec<(usize, String)> {
+        self.stages
+            .iter()
+            .enumerate()
+            .filter_map(|(i, s)| s.broken.clone().map(|m| (i, m)))
+            .collect()
+    }
+    /// The encoding of stage `i`'s result port.
+    pub fn result_encoding(&self, i: usize) -> Option<Encoding> {
+        self.stages.get(i).map(|s| s.out_enc)
+    }
+    /// Whether a program kills fragments.
+    fn culls(&self) -> bool {
+        self.stages
+            .iter()
+            .any(|s| s.broken.is_none() && matches!(s.spec.program, Program::CullFragment { .. }))
+    }
+    fn eval_any(&self, mode: Mode, ins: &[Word], outs: &mut [Word]) -> bool {
+        let c = &self.params.coord;
+        let n = self.stages.len();
+        let (results, live, depth) = match mode {
+            Mode::Exact => {
+                let f = run(&ExactArith, self, ins);
+                let d = Word::from_exact(c, &[f.depth.unwrap_or(0.0)]);
+                (f.results, f.live, d)
+            }
+            Mode::BitAccurate => {
+                let a = FixedArith {
+                    coord: *c,
+                    dot_frac: self.params.dot_frac,
+                    offset_frac: self.params.offset_frac,
+                };
+                let f = run(&a, self, ins);
+                (
+                    f.results,
+                    f.live,
+                    Word::from_raw(c, &[f.depth.unwrap_or(0)]),
+                )
+            }
+        };
+        if outs.len() > n {
+            outs[..n].copy_from_slice(&results);
+            outs[n] = depth;
+        }
+        live
+    }
+}
+
+impl Unit for TextureShader {
+    fn kind(&self) -> &'static str {
+        "texture_shader"
+    }
+    fn inputs(&self) -> &[PortSpec] {
+        &self.inputs
+    }
+    fn outputs(&self) -> &[PortSpec] {
+        &self.outputs
+    }
+    fn latency(&self) -> u32 {
+        self.stages.len() as u32 + 3
+    }
+    fn interval(&self) -> u32 {
+        1
+    }
+    fn textures(&self) -> Vec<TextureRead> {
+        self.stages
+            .iter()
+            .filter(|s| s.spec.program.texture_kind().is_some())
+            .filter_map(|s| {
+                s.spec.texture.clone().map(|texture| TextureRead {
+                    texture,
+                    taps: s.spec.sampler.taps(),
+                })
+            })
+            .collect()
+    }
+    fn can_kill(&self) -> bool {
+        self.culls()
+    }
+    fn live(&self, mode: Mode, ins: &[Word], _outs: &[Word]) -> bool {
+        if !self.culls() {
+            return true;
+        }
+        let mut scratch = vec![Word::default(); self.outputs.len()];
+        self.eval_any(mode, ins, &mut scratch)
+    }
+    fn gates(&self, t: &CostTable) -> GateBudget {
+        gates(self, t)
+    }
+    fn eval(&self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
+        self.eval_any(mode, ins, outs);
+    }
+}
+
+/// The gate budget: every stage has the full datapath (any stage may run any program).
+fn gates(u: &TextureShader, t: &CostTable) -> GateBudget {
+    let p = &u.params;
+    let n = u.stages.len() as u32;
+    let w = p.coord.width();
+    let df = p.dot_frac;
+    let of = p.offset_frac;
+    let mut g = GateBudget::new();
+    g.add(
+        format!("coordinate registers 4 x {w} x{n} stages"),
+        n,
+        t.register(4 * w),
+    );
+    g.add(
+        format!(
+            "projective divider s/q, t/q ({w}-bit, 2 per stage as {w}x{w} multiply-iterate) x{n}"
+        ),
+        2 * n,
+        t.multiplier(w, w) + t.adder(2 * w),
+    );
+    g.add(
+        format!(
+            "dot mapping: 16-bit code x constant, rounding adder {} x3 x{n}",
+            df + 18
+        ),
+        3 * n,
+        t.multiplier(17, df + 1) + t.adder(df + 18) + t.mux(df + 2, 8),
+    );
+    g.add(
+        format!(
+            "HILO hemisphere z: squarers {} x2, isqrt {df} bits (one per stage)",
+            df + 1
+        ),
+        n,
+        2.0 * t.squarer(df + 1) + t.adder(2 * df + 2) * df as f64 / 2.0,
+    );
+    g.add(
+        format!("dot-product multipliers {w}x{} x3 x{n}", df + 2),
+        3 * n,
+        t.multiplier(w, df + 2),
+    );
+    g.add(
+        format!("dot-product adder tree {} x2 and rounding x{n}", w + df + 3),
+        3 * n,
+        t.adder(w + df + 3),
+    );
+    g.add(
+        format!(
+            "offset matrix multipliers 8 x {} (DS, DT x 2x2) x{n}",
+            of + 2
+        ),
+        4 * n,
+        t.multiplier(9, of + 2) + t.adder(w + of),
+    );
+    g.add(
+        format!(
+            "luminance scale / bias multiplier, clamp and RGB multiply 3 x 8x{} x{n}",
+            of + 1
+        ),
+        n,
+        t.multiplier(9, of + 2) + t.clamp(of + 2) + 3.0 * t.multiplier(8, of + 1),
+    );
+    g.add(
+        format!("cube-face select (3 comparators {w}) and projection divider x{n}"),
+        n,
+        3.0 * t.comparator(w) + 2.0 * (t.multiplier(w, w) + t.adder(2 * w)),
+    );
+    g.add(
+        format!(
+            "reflection: N.N, N.E ({w}x{w} x6), 2 N (N.E) ({w}x{} x3), divider (one per unit)",
+            2 * w
+        ),
+        1,
+        6.0 * t.multiplier(w, w)
+            + 3.0 * t.multiplier(w, 2 * w)
+            + 3.0 * (t.multiplier(w, w) + t.adder(3 * w)),
+    );
+    g.add(
+        format!("texel address: 2 x shift / wrap {w} and weight extract x{n}"),
+        2 * n,
+        t.adder(w) + t.mux(w, 3),
+    );
+    g.add(
+        format!("bilinear filter: 3 lerps x 4 lanes x (16x9 multiplier, adder 25) x{n}"),
+        12 * n,
+        t.multiplier(16, 9) + t.adder(25),
+    );
+    g.add(
+        format!(
+            "program / input select muxes (16 programs, {} lanes) x{n}",
+            4 * w
+        ),
+        n,
+        t.mux(4 * w, 16),
+    );
+    g.add(
+        format!("stage state: program, mapping, cull modes, matrix 4 x {}, scale, bias, eye 3 x {w} = {} bits x{n}", of + 2, 16 + 6 * (of + 2) + 3 * w),
+        n,
+        t.register(16 + 6 * (of + 2) + 3 * w),
+    );
+    g.add(
+        format!("result registers 4 x 16 + dot {w} x{n} (pipeline)"),
+        n,
+        t.register(64 + w),
+    );
+    g
+}

@@ -1,0 +1,93 @@
+//! The engine's texture memory: every texture the units read, built once and shared.
+//!
+//! A unit spec asks the memory for a texture by a key naming what the texture holds (its
+//! source in the scene, texel encoding and storage); the first request builds it, later ones
+//! with the same key get the same [`Texture`], so two units reading one normal map read one
+//! memory, the bake runs once, and the report counts its bits once and its traffic per reader
+//! ([`TextureStats`]). Textures are named after the first unit that reads them.
+
+use bumpsim_hw::{Stage, Texture};
+use serde::Serialize;
+use std::cell::RefCell;
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+/// The textures built so far, by key.
+#[derive(Default)]
+pub struct TextureMemory {
+    textures: RefCell<BTreeMap<String, Arc<Texture>>>,
+}
+
+impl TextureMemory {
+    /// The texture of `key`, built by `build(name)` on the first request.
+    pub fn get_or_build(
+        &self,
+        key: &str,
+        name: &str,
+        build: impl FnOnce(&str) -> Result<Texture, String>,
+    ) -> Result<Arc<Texture>, String> {
+        if let Some(t) = self.textures.borrow().get(key) {
+            return Ok(t.clone());
+        }
+        let t = Arc::new(build(name)?);
+        self.textures
+            .borrow_mut()
+            .insert(key.to_string(), t.clone());
+        Ok(t)
+    }
+}
+
+/// One texture of the memory in the report.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TextureStats {
+    /// Units that read it, in pipeline order.
+    pub readers: Vec<String>,
+    /// "2d" or "cube".
+    pub shape: &'static str,
+    /// Width and height of level 0.
+    pub size: [u32; 2],
+    pub levels: usize,
+    /// Stored bits per texel (palette indices count their index bits).
+    pub bits_per_texel: u32,
+    /// Bits of memory over every level and face.
+    pub stored_bits: u64,
+    /// Texels read per fragment, summed over the readers.
+    pub texels_per_fragment: u32,
+    /// Texel bits read per frame: fragments x texels per fragment x bits per texel.
+    pub bits_per_frame: u64,
+}
+
+/// The textures the stages read, keyed by texture name, with `fragments` fragments per frame
+/// through every stage.
+pub fn stats(stages: &[Stage], fragments: u64) -> BTreeMap<String, TextureStats> {
+    let mut out: BTreeMap<String, (Arc<Texture>, TextureStats)> = BTreeMap::new();
+    for s in stages {
+        for r in s.unit().textures() {
+            let t = &r.texture;
+            let e = out.entry(t.name().to_string()).or_insert_with(|| {
+                let l = t.level_at(0);
+                let stats = TextureStats {
+                    readers: Vec::new(),
+                    shape: match t.shape() {
+                        bumpsim_hw::texture::Shape::Flat => "2d",
+                        bumpsim_hw::texture::Shape::Cube => "cube",
+                    },
+                    size: [l.width(), l.height()],
+                    levels: t.levels(),
+                    bits_per_texel: t.bits_per_texel(),
+                    stored_bits: t.stored_bits(),
+                    texels_per_fragment: 0,
+                    bits_per_frame: 0,
+                };
+                (t.clone(), stats)
+            });
+            debug_assert!(Arc::ptr_eq(&e.0, t), "texture names are unique");
+            if !e.1.readers.contains(&s.name) {
+                e.1.readers.push(s.name.clone());
+            }
+            e.1.texels_per_fragment += r.taps;
+            e.1.bits_per_frame += fragments * u64::from(r.taps) * u64::from(t.bits_per_texel());
+        }
+    }
+    out.into_iter().map(|(k, (_, v))| (k, v)).collect()
+}
