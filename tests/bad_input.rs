@@ -1317,3 +1317,32 @@ fn trace_cycle_window_beyond_a_million_says_so() {
     );
     assert!(listing(&scratch.path).is_empty());
 }
+
+// Found by tests/config_mutation.rs (docs/fuzzing.md): an override without a path or without
+// a value names the `--set` argument and what was expected.
+#[test]
+fn set_without_a_path_or_a_value() {
+    set_fails(
+        "set-empty-path",
+        "=1",
+        &["empty path", "expected path.to.field=value"],
+    );
+    set_fails(
+        "set-no-value",
+        "scene.width",
+        &["\"scene.width\"", "expected path.to.field=value"],
+    );
+}
+
+// Found by tests/config_mutation.rs: a finite but huge `uv_repeat` (1e39) is accepted by the
+// mesh range (finite > 0) and refused by the estimate, which names the field, before any bake.
+#[test]
+fn huge_uv_repeat_is_refused_by_the_estimate() {
+    let b = bad(
+        "huge-uv-repeat",
+        "quantized-plane-mipmap",
+        &[("uv_repeat: (1.0, 1.0)", "uv_repeat: (1e39, 1.0)")],
+        &[],
+    );
+    fails(&b, &[], &["uv_repeat", "over the budget", "--force"]);
+}
