@@ -131,3 +131,36 @@ fn a_fixed_point_interpolator_converges_on_the_exact_one_and_is_costed() {
     let (c, f) = (interp(&g_coarse).unwrap(), interp(&g_fine).unwrap());
     assert!(c > 1_000.0 && f > c, "{c} {f}");
 }
+
+#[test]
+fn register_combiners_shade_the_bump_map_in_9_bit_registers() {
+    let r = render(&load("nv20-combiner-bump", &[]));
+    let e = &r.report.error;
+    // the combiners' 9-bit registers and 8-bit constants against their own f64 program: less
+    // than a third of an LSB on average; the program (power by squaring, no specular cut)
+    // against the float Blinn reference: above 33 dB
+    assert!(e.quantization.mean_abs_lsb < 0.35, "{:?}", e.quantization);
+    assert!(e.quantization.psnr_db > 47.0, "{:?}", e.quantization);
+    assert!(e.algorithm.psnr_db > 33.0, "{:?}", e.algorithm);
+    let g = &r.report.gates.per_unit["rc"];
+    assert_eq!(g.kind, "register_combiners");
+    assert!(g.total > 150_000.0, "{}", g.total);
+    // a killed-free engine writes every fragment the early depth test lets through
+    assert_eq!(r.report.cycles.killed, 0);
+}
+
+#[test]
+fn combiner_ports_and_programs_are_checked() {
+    let cfg = config("nv20-combiner-bump");
+    expect_rejected(
+        &cfg,
+        "engine.units.rc.unit.ports=[\"primary\", \"secondary\", \"tex9\"]",
+        &["engine.units[1]", "tex9"],
+    );
+    expect_rejected(
+        &cfg,
+        "engine.units.rc.unit.stages=4",
+        &["engine.units[1]", "stages"],
+    );
+    expect_rejected(&cfg, "engine.units.rc.unit.width=8", &["width", "expected 9 to 24"]);
+}

@@ -101,6 +101,9 @@ pub struct Combiner {
     program: Program,
     inputs: Vec<PortSpec>,
     outputs: Vec<PortSpec>,
+    /// For each of [`INPUT_PORTS`], its index among the unit's inputs (`None`: not a port of
+    /// this unit; the register reads 0).
+    port_of: [Option<usize>; 7],
 }
 
 impl Combiner {
@@ -135,7 +138,35 @@ impl Combiner {
             program,
             inputs,
             outputs,
+            port_of: std::array::from_fn(Some),
         })
+    }
+
+    /// Keep only the input ports `ports` (name and lanes, 1 to 4, in any order), as an engine
+    /// wires them: a register without a port reads 0, and the lanes a port lacks read 0 (a
+    /// 3-lane vector in `primary` gives primary alpha 0). Errors name the port.
+    pub fn with_ports(mut self, ports: &[(&str, u8)]) -> Result<Combiner, String> {
+        let mut inputs = Vec::new();
+        let mut port_of = [None; 7];
+        for &(name, lanes) in ports {
+            let k = INPUT_PORTS.iter().position(|p| *p == name).ok_or_else(|| {
+                format!(
+                    "input {name:?}: expected one of {}",
+                    INPUT_PORTS.join(", ")
+                )
+            })?;
+            if !(1..=4).contains(&lanes) {
+                return Err(format!("input {name}: {lanes} lanes: expected 1 to 4"));
+            }
+            if port_of[k].is_some() {
+                return Err(format!("input {name}: given twice"));
+            }
+            port_of[k] = Some(inputs.len());
+            inputs.push(PortSpec::new(name, lanes, self.params.inputs[k]));
+        }
+        self.inputs = inputs;
+        self.port_of = port_of;
+        Ok(self)
     }
 
     /// The encoding of the `rgba` output: 8-bit unsigned, 255 = 1.0.
@@ -178,7 +209,10 @@ impl Combiner {
         std::array::from_fn(|k| {
             let port = PORT_OF[k];
             let enc = &self.params.inputs[port];
-            let w = ins.map(|w| w[port]).unwrap_or_default();
+            let w = match (ins, self.port_of[port]) {
+                (Some(w), Some(i)) => w[i],
+                _ => Word::default(),
+            };
             std::array::from_fn(|l| p.port(&w.lanes[l], enc))
         })
     }

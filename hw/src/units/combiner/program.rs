@@ -12,10 +12,11 @@ use serde::{Deserialize, Serialize};
 
 /// A combiner register (NV_register_combiners table .1; the NV2A source codes 0 to 15 in
 /// brackets). `Spare0PlusSecondary` and `EfProduct` exist only as final-combiner inputs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 pub enum Source {
     /// ZERO (0): reads as 0 in every component.
+    #[default]
     Zero,
     /// CONSTANT_COLOR0 (1): the stage's (or the final combiner's) constant 0.
     Constant0,
@@ -77,10 +78,11 @@ impl Source {
 pub(crate) const REGISTERS: usize = 12;
 
 /// Input mapping of a general-combiner variable (spec table NV_register_combiners.2).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 pub enum Mapping {
     /// max(0, e)
+    #[default]
     UnsignedIdentity,
     /// 1 - min(max(e, 0), 1)
     UnsignedInvert,
@@ -113,17 +115,21 @@ impl Mapping {
 
 /// Component usage of a variable (spec: RGB or ALPHA in an RGB portion, ALPHA or BLUE in an
 /// alpha portion; NV2A's one "alpha" bit per variable selects between the two).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 pub enum Usage {
     Rgb,
+    #[default]
     Alpha,
     Blue,
 }
 
-/// One variable (A, B, C or D) of a general combiner portion.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+/// One variable (A, B, C or D) of a general combiner portion. In a config every field may be
+/// left out: an omitted variable reads ZERO (usage ALPHA, UNSIGNED_IDENTITY), valid in both
+/// portions; the same holds for omitted portions, stages' flags and constants (0) and
+/// final-combiner inputs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields, default)]
 pub struct Input {
     pub source: Source,
     pub usage: Usage,
@@ -164,10 +170,11 @@ impl Input {
 /// NV2A OCW bits 15-17: 0 identity, 1 bias, 2 shift left 1, 3 shift left 1 with bias,
 /// 4 shift left 2, 5 shift left 2 with bias, 6 shift right 1). SCALE_BY_ONE_HALF with
 /// BIAS_BY_NEGATIVE_ONE_HALF is an error in the spec and has no variant.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 pub enum OutputOp {
     /// x
+    #[default]
     Identity,
     /// x - 1/2
     Bias,
@@ -210,8 +217,8 @@ impl OutputOp {
 /// One portion (RGB or alpha) of a general combiner: `AB = A*B` or `A.B`, `CD = C*D` or
 /// `C.D`, and `AB + CD` or the mux; each of the three written, after the output op, to its
 /// register or discarded (`None`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields, default)]
 pub struct Portion {
     pub a: Input,
     pub b: Input,
@@ -258,8 +265,8 @@ impl Portion {
 /// (OCW bits 19 and 18: the blue of the RGB portion's AB (CD) output is also written to the
 /// alpha of the AB (CD) destination, as Direct3D's dp3 replicates into alpha), and the
 /// stage's two constants as the 8-bit codes `NV097_SET_COMBINER_FACTOR0/1` hold (RGBA).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields, default)]
 pub struct GeneralStage {
     pub rgb: Portion,
     pub alpha: Portion,
@@ -285,8 +292,8 @@ impl GeneralStage {
 
 /// One final-combiner variable: its register, component usage and UNSIGNED_INVERT flag
 /// (the final combiner only has UNSIGNED_IDENTITY and UNSIGNED_INVERT).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields, default)]
 pub struct FinalInput {
     pub source: Source,
     pub usage: Usage,
@@ -315,8 +322,8 @@ impl FinalInput {
 /// `spare0 + secondary` as extra inputs of A to D, and NV2A's flags on that sum
 /// (`NV097_SET_COMBINER_SPECULAR_FOG_CW1`: invert R0, invert V1, clamp), and its own two
 /// constants (`NV097_SET_SPECULAR_FOG_FACTOR`, RGBA codes).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields, default)]
 pub struct FinalCombiner {
     pub a: FinalInput,
     pub b: FinalInput,
@@ -373,7 +380,9 @@ pub enum MuxSelect {
 #[serde(deny_unknown_fields)]
 pub struct Program {
     pub stages: Vec<GeneralStage>,
+    #[serde(default)]
     pub final_combiner: FinalCombiner,
+    #[serde(default)]
     pub mux_select: MuxSelect,
 }
 

@@ -27,6 +27,7 @@ mod palette_lighting;
 mod ports;
 mod power_table;
 mod quantized_normals;
+mod register_combiners;
 mod shade;
 mod struct_variant;
 mod tex_fetch;
@@ -41,6 +42,7 @@ pub use modulate::ModulateSpec;
 pub use normalize::NormalizeSpec;
 pub use power_table::PowerTableSpec;
 pub use quantized_normals::{BuilderDatapath, QuantizedNormalsSpec};
+pub use register_combiners::RegisterCombinersSpec;
 pub use shade::ShadeSpec;
 pub use tex_fetch::TexFetchSpec;
 pub use textures::TextureSource;
@@ -165,6 +167,7 @@ unit_specs! {
     QuantizedNormals(QuantizedNormalsSpec),
     FbBlend(FbBlendSpec),
     EmbossFilter(EmbossFilterSpec),
+    RegisterCombiners(RegisterCombinersSpec),
 }
 
 impl UnitSpec {
