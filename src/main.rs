@@ -3,6 +3,7 @@
 use bumpsim_pipeline::config::{self, InputError};
 use bumpsim_pipeline::output::{write_atomic, OutputSet};
 use bumpsim_pipeline::run::{self, TraceRequest};
+use bumpsim_pipeline::sweep;
 use clap::{Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -75,6 +76,27 @@ enum Command {
         format: TraceFormat,
         #[arg(long)]
         out: PathBuf,
+    },
+    /// Run a sweep file: one report row per point in DIR/sweep.csv, sweep.jsonl and
+    /// sweep.json (docs/sweep.md). With --merge, join shard directories into DIR.
+    Sweep {
+        /// A RON sweep file (see configs/sweeps/).
+        #[arg(required_unless_present = "merge")]
+        sweep: Option<PathBuf>,
+        #[arg(long)]
+        out: PathBuf,
+        /// Run only the points whose index is i modulo n (0 <= i < n).
+        #[arg(long, value_name = "i/n", conflicts_with = "merge")]
+        shard: Option<String>,
+        /// Join the rows of these shard directories (in point order) into --out.
+        #[arg(long, num_args = 1.., value_name = "DIR", conflicts_with = "sweep")]
+        merge: Vec<PathBuf>,
+        /// Worker threads (default: RAYON_NUM_THREADS or one per core).
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Pass --force to every point's load.
+        #[arg(long)]
+        force: bool,
     },
     /// Validate a config (parse, scene, wiring) without rendering.
     Check {
@@ -194,6 +216,57 @@ fn execute(cmd: Command) -> Result<(), Failure> {
                 Failure::Input(InputError::new(out.display().to_string(), "--out", e))
             })?;
             println!("wrote {} ({} records)", out.display(), trace.records.len());
+        }
+        Command::Sweep {
+            sweep,
+            out,
+            shard,
+            merge,
+            threads,
+            force,
+        } => {
+            let out_err =
+                |e: String| Failure::Input(InputError::new(out.display().to_string(), "--out", e));
+            let (files, summary) = if !merge.is_empty() {
+                let dirs: Vec<&std::path::Path> = merge.iter().map(|d| d.as_path()).collect();
+                let files = sweep::merge(&dirs)
+                    .map_err(|e| Failure::Input(InputError::new("--merge", "", e)))?;
+                (files, format!("merged {} shards", merge.len()))
+            } else {
+                let path = sweep.expect("clap requires a sweep file without --merge");
+                let shard = shard.as_deref().map(sweep::Shard::parse).transpose()?;
+                if threads == Some(0) {
+                    return Err(Failure::Input(InputError::new(
+                        "--threads",
+                        "",
+                        "0: expected at least one thread",
+                    )));
+                }
+                let s = sweep::load(&path)?;
+                let opts = sweep::RunOptions {
+                    shard,
+                    force,
+                    threads,
+                };
+                let table = s.run(opts).map_err(Failure::Internal)?;
+                let bad = table.rows.iter().filter(|r| !r.is_ok()).count();
+                let summary = format!(
+                    "{} of {} points run, {} with errors",
+                    table.rows.len(),
+                    table.points,
+                    bad
+                );
+                (table.files(), summary)
+            };
+            let mut set = OutputSet::new(&out);
+            for (name, bytes) in files {
+                set.add(name, bytes);
+            }
+            set.commit().map_err(out_err)?;
+            println!(
+                "{summary}; wrote {}/sweep.{{csv,jsonl,json}}",
+                out.display()
+            );
         }
         Command::Check { args } => {
             let l = args.load()?;

@@ -162,5 +162,9 @@ fn combiner_ports_and_programs_are_checked() {
         "engine.units.rc.unit.stages=4",
         &["engine.units[1]", "stages"],
     );
-    expect_rejected(&cfg, "engine.units.rc.unit.width=8", &["width", "expected 9 to 24"]);
+    expect_rejected(
+        &cfg,
+        "engine.units.rc.unit.width=8",
+        &["width", "expected 9 to 24"],
+    );
 }

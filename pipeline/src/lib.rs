@@ -1,5 +1,6 @@
 //! bumpsim pipelines: scenes, rasterizer, float reference, configs, the cycle simulator,
 //! reports and traces.
+pub mod artifacts;
 pub mod config;
 pub mod engine;
 pub mod metrics;
@@ -13,4 +14,5 @@ pub mod rop;
 pub mod run;
 pub mod scene;
 pub mod sim;
+pub mod sweep;
 pub mod trace;

@@ -1,5 +1,6 @@
 //! The run report: `report.json` and the readable table of `bumpsim report`.
 
+use crate::artifacts::ArtifactStats;
 use crate::engine::memory::TextureStats;
 use crate::metrics::ErrorStats;
 use crate::raster::packet::PacketLayout;
@@ -24,6 +25,17 @@ pub struct Report {
     /// Rendering passes: cycles, geometry and framebuffer traffic of each.
     pub passes: crate::passes::Passes,
     pub error: Errors,
+    /// Artifact measures (banding, faceting, ringing, low-pass PSNR, half-resolution SSIM;
+    /// docs/metrics.md) of the bit-accurate image.
+    pub artifacts: Artifacts,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Artifacts {
+    /// Bit-accurate mode against the float reference.
+    pub total: ArtifactStats,
+    /// Bit-accurate against exact mode: the artifacts of quantization alone.
+    pub quantization: ArtifactStats,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -226,6 +238,21 @@ impl Report {
                 s,
                 "  {:<12} {:>9.2} {:>9.5} {:>9.2} {:>9.3}",
                 name, e.psnr_db, e.rmse, e.max_abs_lsb, e.mean_abs_lsb
+            );
+        }
+        let _ = writeln!(
+            s,
+            "\nartifacts      {:>9} {:>9} {:>9} {:>9} {:>9}",
+            "banding", "facet LSB", "ring LSB", "LP PSNR", "SSIM/2"
+        );
+        for (name, a) in [
+            ("total", &self.artifacts.total),
+            ("quantization", &self.artifacts.quantization),
+        ] {
+            let _ = writeln!(
+                s,
+                "  {:<12} {:>9.5} {:>9.3} {:>9.3} {:>9.2} {:>9.5}",
+                name, a.banding, a.faceting_lsb, a.ringing_lsb, a.lowpass_psnr_db, a.half_ssim
             );
         }
         s

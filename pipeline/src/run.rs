@@ -6,7 +6,7 @@ use crate::engine::{self, attributes, Engine};
 use crate::metrics::{self, Rgb64};
 use crate::raster::{self, packet::PacketLayout, Fragment};
 use crate::reference;
-use crate::report::{Bandwidth, Errors, Gates, ImageInfo, Report, VERSION};
+use crate::report::{Artifacts, Bandwidth, Errors, Gates, ImageInfo, Report, VERSION};
 use crate::scene::Scene;
 use crate::sim;
 use crate::trace::{Trace, TraceUnit};
@@ -403,6 +403,10 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
         algorithm: metrics::compare(img_exact, exact_mask, &rimg, rmask),
         quantization: metrics::compare(img_bit, mask, img_exact, exact_mask),
     };
+    let artifacts = Artifacts {
+        total: crate::artifacts::measure(img_bit, mask, &rimg, rmask),
+        quantization: crate::artifacts::measure(img_bit, mask, img_exact, exact_mask),
+    };
     let covered = mask.iter().filter(|&&m| m).count() as u64;
     let mismatch = mask.iter().zip(rmask).filter(|(a, b)| a != b).count() as u64;
 
@@ -477,6 +481,7 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
         },
         passes,
         error: errors,
+        artifacts,
     };
     let trace = trace.map(|t| {
         let units = bit.stages.iter().map(TraceUnit::of_stage).collect();

@@ -150,10 +150,7 @@ impl Combiner {
         let mut port_of = [None; 7];
         for &(name, lanes) in ports {
             let k = INPUT_PORTS.iter().position(|p| *p == name).ok_or_else(|| {
-                format!(
-                    "input {name:?}: expected one of {}",
-                    INPUT_PORTS.join(", ")
-                )
+                format!("input {name:?}: expected one of {}", INPUT_PORTS.join(", "))
             })?;
             if !(1..=4).contains(&lanes) {
                 return Err(format!("input {name}: {lanes} lanes: expected 1 to 4"));

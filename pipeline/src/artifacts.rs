@@ -1,0 +1,551 @@
+//! Artifact metrics: measures of what a reader of a render sees, beside PSNR. Each compares a
+//! test image `a` with a reference `r` over the pixels covered in both (the top-left
+//! `min(width) x min(height)` rectangle, as in [`crate::metrics::compare`]). Channel values
+//! are clamped to [0, 1] (NaN as 0) and taken in 8-bit LSBs (times 255), without rounding.
+//! The definitions and formulas are in `docs/metrics.md`:
+//!
+//! * `banding`: false-contour length, contour edges per covered pixel;
+//! * `faceting_lsb`: RMS difference of the discrete Laplacians of the two images after a
+//!   3x3 box blur (gradient discontinuities such as triangle edges of Gouraud shading);
+//! * `ringing_lsb`: mean overshoot beyond the reference's local range near strong edges;
+//! * `lowpass_psnr_db`: PSNR after a 5x5 binomial blur of both images;
+//! * `half_ssim`: mean SSIM of the luma at half resolution (2x2 box), 7x7 windows.
+//!
+//! Every sum runs in a fixed pixel order, so the figures are the same at any thread count.
+
+use crate::metrics::{psnr_db, Rgb64, PSNR_CAP_DB};
+use serde::{Serialize, Serializer};
+
+/// A step of the reference of at most this many LSBs between neighbours is "smooth".
+pub const SMOOTH_LSB: f64 = 1.0;
+/// A step of the error larger than this (LSB) is more than rounding to 8 bits explains.
+pub const FALSE_STEP_LSB: f64 = 1.0;
+/// Neighbouring values closer than this (LSB) are equal (a plateau).
+pub const FLAT_LSB: f64 = 0.5;
+/// A reference step of at least this many LSBs between neighbours is a strong edge.
+pub const STRONG_EDGE_LSB: f64 = 32.0;
+/// Pixels within this Chebyshev distance of a strong edge are "near" it (ringing).
+pub const RINGING_RADIUS: i64 = 2;
+/// SSIM window side (at half resolution).
+pub const SSIM_WINDOW: usize = 7;
+
+/// The artifact figures of one image against another.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ArtifactStats {
+    /// False-contour edges per covered pixel.
+    #[serde(serialize_with = "ser_finite")]
+    pub banding: f64,
+    /// False-contour edges (pixel pairs).
+    pub banding_edges: u64,
+    /// RMS Laplacian difference after a 3x3 box blur, in LSB.
+    #[serde(serialize_with = "ser_finite")]
+    pub faceting_lsb: f64,
+    /// Mean overshoot near strong reference edges, in LSB.
+    #[serde(serialize_with = "ser_finite")]
+    pub ringing_lsb: f64,
+    /// Pixels near strong reference edges (where ringing is measured).
+    pub ringing_pixels: u64,
+    /// PSNR after a 5x5 binomial blur of both images, capped at 999 dB.
+    #[serde(serialize_with = "ser_psnr")]
+    pub lowpass_psnr_db: f64,
+    /// Mean SSIM of the luma at half resolution (1 for identical images or no window).
+    #[serde(serialize_with = "ser_finite")]
+    pub half_ssim: f64,
+}
+
+fn ser_psnr<S: Serializer>(x: &f64, s: S) -> Result<S::Ok, S::Error> {
+    if x.is_nan() {
+        s.serialize_none()
+    } else {
+        s.serialize_f64(x.clamp(-PSNR_CAP_DB, PSNR_CAP_DB))
+    }
+}
+
+fn ser_finite<S: Serializer>(x: &f64, s: S) -> Result<S::Ok, S::Error> {
+    if x.is_finite() {
+        s.serialize_f64(*x)
+    } else {
+        s.serialize_none()
+    }
+}
+
+fn unit(x: f64) -> f64 {
+    if x.is_nan() {
+        0.0
+    } else {
+        x.clamp(0.0, 1.0)
+    }
+}
+
+/// Two images on a common grid, in LSBs, with the pixels covered in both.
+struct Pair {
+    w: usize,
+    h: usize,
+    a: Vec<[f64; 3]>,
+    r: Vec<[f64; 3]>,
+    cov: Vec<bool>,
+}
+
+impl Pair {
+    fn new(a: &Rgb64, a_mask: &[bool], r: &Rgb64, r_mask: &[bool]) -> Pair {
+        let (w, h) = (a.width.min(r.width), a.height.min(r.height));
+        let n = w as usize * h as usize;
+        let (mut pa, mut pr, mut cov) = (vec![[0.0; 3]; n], vec![[0.0; 3]; n], vec![false; n]);
+        for y in 0..h {
+            for x in 0..w {
+                let i = y as usize * w as usize + x as usize;
+                let (Some(ia), Some(ir)) = (a.index(x, y), r.index(x, y)) else {
+                    continue;
+                };
+                let c = a_mask.get(ia).copied().unwrap_or(false)
+                    && r_mask.get(ir).copied().unwrap_or(false);
+                cov[i] = c;
+                pa[i] = a.px[ia].map(|v| unit(v) * 255.0);
+                pr[i] = r.px[ir].map(|v| unit(v) * 255.0);
+            }
+        }
+        Pair {
+            w: w as usize,
+            h: h as usize,
+            a: pa,
+            r: pr,
+            cov,
+        }
+    }
+
+    /// Index of `(x, y)` if inside and covered.
+    fn at(&self, x: i64, y: i64) -> Option<usize> {
+        if x < 0 || y < 0 || x >= self.w as i64 || y >= self.h as i64 {
+            return None;
+        }
+        let i = y as usize * self.w + x as usize;
+        self.cov[i].then_some(i)
+    }
+
+    fn covered(&self) -> u64 {
+        self.cov.iter().filter(|&&c| c).count() as u64
+    }
+}
+
+/// Measure `a` against the reference `r` (see the module documentation).
+pub fn measure(a: &Rgb64, a_mask: &[bool], r: &Rgb64, r_mask: &[bool]) -> ArtifactStats {
+    let p = Pair::new(a, a_mask, r, r_mask);
+    let (banding_edges, banding) = banding(&p);
+    let (ringing_lsb, ringing_pixels) = ringing(&p);
+    ArtifactStats {
+        banding,
+        banding_edges,
+        faceting_lsb: faceting(&p),
+        ringing_lsb,
+        ringing_pixels,
+        lowpass_psnr_db: lowpass_psnr(&p),
+        half_ssim: half_ssim(&p),
+    }
+}
+
+/// False contours: neighbour pairs `(p, q)` (horizontal and vertical) where, in some channel,
+/// the reference is smooth (`|r_q - r_p| <= SMOOTH_LSB`), the error steps by more than
+/// rounding explains (`|(a_q - a_p) - (r_q - r_p)| > FALSE_STEP_LSB`), and the test image is
+/// flat on both sides (`|a_p - a_{p-d}| < FLAT_LSB` and `|a_{q+d} - a_q| < FLAT_LSB`): a step
+/// between two plateaus. Returns the count and the count per covered pixel.
+fn banding(p: &Pair) -> (u64, f64) {
+    let mut edges = 0u64;
+    for (dx, dy) in [(1i64, 0i64), (0, 1)] {
+        for y in 0..p.h as i64 {
+            for x in 0..p.w as i64 {
+                let (Some(i0), Some(i1), Some(i2), Some(i3)) = (
+                    p.at(x - dx, y - dy),
+                    p.at(x, y),
+                    p.at(x + dx, y + dy),
+                    p.at(x + 2 * dx, y + 2 * dy),
+                ) else {
+                    continue;
+                };
+                let hit = (0..3).any(|c| {
+                    let dr = p.r[i2][c] - p.r[i1][c];
+                    let da = p.a[i2][c] - p.a[i1][c];
+                    dr.abs() <= SMOOTH_LSB
+                        && (da - dr).abs() > FALSE_STEP_LSB
+                        && (p.a[i1][c] - p.a[i0][c]).abs() < FLAT_LSB
+                        && (p.a[i3][c] - p.a[i2][c]).abs() < FLAT_LSB
+                });
+                edges += u64::from(hit);
+            }
+        }
+    }
+    let cov = p.covered();
+    (
+        edges,
+        if cov == 0 {
+            0.0
+        } else {
+            edges as f64 / cov as f64
+        },
+    )
+}
+
+/// A masked blur: the weighted mean over covered pixels of `img` with the separable kernel
+/// `k` (odd length), renormalised over the covered taps; uncovered pixels stay 0.
+fn blur(p: &Pair, img: &[[f64; 3]], k: &[f64]) -> Vec<[f64; 3]> {
+    let rad = (k.len() / 2) as i64;
+    let mut out = vec![[0.0; 3]; img.len()];
+    for y in 0..p.h as i64 {
+        for x in 0..p.w as i64 {
+            let Some(i) = p.at(x, y) else { continue };
+            let (mut s, mut wsum) = ([0.0; 3], 0.0);
+            for (ky, wy) in k.iter().enumerate() {
+                for (kx, wx) in k.iter().enumerate() {
+                    if let Some(j) = p.at(x + kx as i64 - rad, y + ky as i64 - rad) {
+                        let wgt = wx * wy;
+                        wsum += wgt;
+                        for c in 0..3 {
+                            s[c] += wgt * img[j][c];
+                        }
+                    }
+                }
+            }
+            out[i] = s.map(|v| v / wsum);
+        }
+    }
+    out
+}
+
+/// Faceting: `sqrt(mean((L(Ba) - L(Br))^2))` over the pixels whose 4 neighbours are covered
+/// and every channel, where `B` is the masked 3x3 box blur and `L` the 5-point Laplacian.
+fn faceting(p: &Pair) -> f64 {
+    let k = [1.0, 1.0, 1.0];
+    let (ba, br) = (blur(p, &p.a, &k), blur(p, &p.r, &k));
+    let (mut sum, mut n) = (0.0, 0u64);
+    for y in 0..p.h as i64 {
+        for x in 0..p.w as i64 {
+            let Some(i) = p.at(x, y) else { continue };
+            let nb = [(x - 1, y), (x + 1, y), (x, y - 1), (x, y + 1)].map(|(u, v)| p.at(u, v));
+            if nb.iter().any(Option::is_none) {
+                continue;
+            }
+            for c in 0..3 {
+                let lap = |img: &[[f64; 3]]| {
+                    nb.iter().map(|j| img[j.unwrap()][c]).sum::<f64>() - 4.0 * img[i][c]
+                };
+                let d = lap(&ba) - lap(&br);
+                sum += d * d;
+                n += 1;
+            }
+        }
+    }
+    if n == 0 {
+        0.0
+    } else {
+        (sum / n as f64).sqrt()
+    }
+}
+
+/// Ringing: the pixels within `RINGING_RADIUS` (Chebyshev) of a strong edge pixel (one with a
+/// 4-neighbour whose reference differs by at least `STRONG_EDGE_LSB` in some channel); for
+/// each, the largest over channels of the test value's distance outside the reference's range
+/// over the covered pixels of the 5x5 window around it; the mean of that over those pixels.
+fn ringing(p: &Pair) -> (f64, u64) {
+    let n = p.w * p.h;
+    let mut strong = vec![false; n];
+    for y in 0..p.h as i64 {
+        for x in 0..p.w as i64 {
+            let Some(i) = p.at(x, y) else { continue };
+            for (u, v) in [(x + 1, y), (x, y + 1)] {
+                if let Some(j) = p.at(u, v) {
+                    if (0..3).any(|c| (p.r[j][c] - p.r[i][c]).abs() >= STRONG_EDGE_LSB) {
+                        strong[i] = true;
+                        strong[j] = true;
+                    }
+                }
+            }
+        }
+    }
+    let rad = RINGING_RADIUS;
+    let (mut sum, mut count) = (0.0, 0u64);
+    for y in 0..p.h as i64 {
+        for x in 0..p.w as i64 {
+            let Some(i) = p.at(x, y) else { continue };
+            let mut near = false;
+            let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+            for v in y - rad..=y + rad {
+                for u in x - rad..=x + rad {
+                    if let Some(j) = p.at(u, v) {
+                        near |= strong[j];
+                        for c in 0..3 {
+                            lo[c] = lo[c].min(p.r[j][c]);
+                            hi[c] = hi[c].max(p.r[j][c]);
+                        }
+                    }
+                }
+            }
+            if !near {
+                continue;
+            }
+            let over = (0..3)
+                .map(|c| (p.a[i][c] - hi[c]).max(0.0) + (lo[c] - p.a[i][c]).max(0.0))
+                .fold(0.0, f64::max);
+            sum += over;
+            count += 1;
+        }
+    }
+    (if count == 0 { 0.0 } else { sum / count as f64 }, count)
+}
+
+/// PSNR (on the [0, 1] scale) of the two images after the masked 5x5 binomial blur
+/// `[1, 4, 6, 4, 1] / 16` in x and y.
+fn lowpass_psnr(p: &Pair) -> f64 {
+    let k = [1.0, 4.0, 6.0, 4.0, 1.0].map(|v| v / 16.0);
+    let (ba, br) = (blur(p, &p.a, &k), blur(p, &p.r, &k));
+    let (mut sum, mut n) = (0.0, 0u64);
+    for i in 0..ba.len() {
+        if p.cov[i] {
+            for c in 0..3 {
+                let d = (ba[i][c] - br[i][c]) / 255.0;
+                sum += d * d;
+                n += 1;
+            }
+        }
+    }
+    if n == 0 {
+        return PSNR_CAP_DB;
+    }
+    psnr_db((sum / n as f64).sqrt())
+}
+
+/// Mean SSIM of the luma `Y = 0.299 R + 0.587 G + 0.114 B` (on [0, 1]) at half resolution:
+/// each half-resolution pixel the mean of a 2x2 block whose four pixels are all covered;
+/// every 7x7 window of defined pixels (stride 1) gives
+/// `(2 mu_a mu_r + C1)(2 cov + C2) / ((mu_a^2 + mu_r^2 + C1)(var_a + var_r + C2))` with
+/// sample (co)variances (divisor 48), `C1 = 0.01^2`, `C2 = 0.03^2`. 1 when there is no window.
+fn half_ssim(p: &Pair) -> f64 {
+    let (hw, hh) = (p.w / 2, p.h / 2);
+    let luma = |c: [f64; 3]| (0.299 * c[0] + 0.587 * c[1] + 0.114 * c[2]) / 255.0;
+    let mut ya = vec![None; hw * hh];
+    let mut yr = vec![None; hw * hh];
+    for y in 0..hh {
+        for x in 0..hw {
+            let idx: Option<Vec<usize>> = [(0, 0), (1, 0), (0, 1), (1, 1)]
+                .iter()
+                .map(|(dx, dy)| p.at((2 * x + dx) as i64, (2 * y + dy) as i64))
+                .collect();
+            if let Some(idx) = idx {
+                ya[y * hw + x] = Some(idx.iter().map(|&j| luma(p.a[j])).sum::<f64>() / 4.0);
+                yr[y * hw + x] = Some(idx.iter().map(|&j| luma(p.r[j])).sum::<f64>() / 4.0);
+            }
+        }
+    }
+    let win = SSIM_WINDOW;
+    if hw < win || hh < win {
+        return 1.0;
+    }
+    let (c1, c2) = (0.01f64.powi(2), 0.03f64.powi(2));
+    let nwin = (win * win) as f64;
+    let (mut sum, mut count) = (0.0, 0u64);
+    for y0 in 0..=hh - win {
+        'win: for x0 in 0..=hw - win {
+            let (mut sa, mut sr, mut saa, mut srr, mut sar) = (0.0, 0.0, 0.0, 0.0, 0.0);
+            for y in y0..y0 + win {
+                for x in x0..x0 + win {
+                    let (Some(va), Some(vr)) = (ya[y * hw + x], yr[y * hw + x]) else {
+                        continue 'win;
+                    };
+                    sa += va;
+                    sr += vr;
+                    saa += va * va;
+                    srr += vr * vr;
+                    sar += va * vr;
+                }
+            }
+            let (ma, mr) = (sa / nwin, sr / nwin);
+            let va = (saa - nwin * ma * ma) / (nwin - 1.0);
+            let vr = (srr - nwin * mr * mr) / (nwin - 1.0);
+            let cov = (sar - nwin * ma * mr) / (nwin - 1.0);
+            sum += (2.0 * ma * mr + c1) * (2.0 * cov + c2)
+                / ((ma * ma + mr * mr + c1) * (va + vr + c2));
+            count += 1;
+        }
+    }
+    if count == 0 {
+        1.0
+    } else {
+        sum / count as f64
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const W: u32 = 64;
+    const H: u32 = 32;
+
+    /// A grey image from a function of (x, y) in LSBs.
+    fn img(f: impl Fn(u32, u32) -> f64) -> Rgb64 {
+        let mut m = Rgb64::new(W, H);
+        for y in 0..H {
+            for x in 0..W {
+                m.set(x, y, [f(x, y) / 255.0; 3]);
+            }
+        }
+        m
+    }
+
+    fn all() -> Vec<bool> {
+        vec![true; (W * H) as usize]
+    }
+
+    fn m(a: &Rgb64, r: &Rgb64) -> ArtifactStats {
+        measure(a, &all(), r, &all())
+    }
+
+    /// A slow ramp, 0.25 LSB per pixel in x.
+    fn ramp(x: u32, _: u32) -> f64 {
+        50.0 + 0.25 * x as f64
+    }
+
+    #[test]
+    fn identical_images_have_no_artifacts() {
+        let r = img(ramp);
+        let s = m(&r, &r);
+        assert_eq!(s.banding_edges, 0);
+        assert_eq!(s.faceting_lsb, 0.0);
+        assert_eq!(s.ringing_lsb, 0.0);
+        assert_eq!(s.lowpass_psnr_db, PSNR_CAP_DB);
+        assert!((s.half_ssim - 1.0).abs() < 1e-12, "{}", s.half_ssim);
+    }
+
+    #[test]
+    fn a_quantized_ramp_has_exactly_its_band_boundaries_as_contours() {
+        let r = img(ramp);
+        // 4-LSB steps: r goes 50 .. 65.75, bands [48,52) [52,56) [56,60) [60,64) [64,68):
+        // boundaries where r crosses 52, 56, 60, 64: x = 8, 24, 40, 56: 4 boundaries
+        let banded = img(|x, y| 4.0 * (ramp(x, y) / 4.0).floor());
+        let s = m(&banded, &r);
+        assert_eq!(s.banding_edges, 4 * H as u64);
+        assert!((s.banding - 4.0 / W as f64).abs() < 1e-15);
+        // the smooth ramp rounded to 8 bits: its 1-LSB steps are rounding, not contours
+        let rounded = img(|x, y| ramp(x, y).round());
+        assert_eq!(m(&rounded, &r).banding_edges, 0);
+        // nor is a smooth offset of the ramp a contour
+        assert_eq!(m(&img(|x, y| ramp(x, y) + 3.0), &r).banding_edges, 0);
+        // a real edge of the reference is not a false contour
+        let step = img(|x, _| if x < 32 { 50.0 } else { 60.0 });
+        assert_eq!(m(&step, &step).banding_edges, 0);
+    }
+
+    /// 4x4 Bayer thresholds in [0, 1).
+    fn bayer(x: u32, y: u32) -> f64 {
+        const B: [[f64; 4]; 4] = [
+            [0.0, 8.0, 2.0, 10.0],
+            [12.0, 4.0, 14.0, 6.0],
+            [3.0, 11.0, 1.0, 9.0],
+            [15.0, 7.0, 13.0, 5.0],
+        ];
+        (B[(y % 4) as usize][(x % 4) as usize] + 0.5) / 16.0
+    }
+
+    #[test]
+    fn dithering_trades_psnr_for_less_banding_and_better_lowpass_psnr() {
+        let r = img(ramp);
+        let banded = img(|x, y| 4.0 * (ramp(x, y) / 4.0).round());
+        let dithered = img(|x, y| 4.0 * (ramp(x, y) / 4.0 + bayer(x, y) - 0.5).round());
+        let (b, d) = (m(&banded, &r), m(&dithered, &r));
+        let psnr = |a: &Rgb64| crate::metrics::compare(a, &all(), &r, &all()).psnr_db;
+        assert!(psnr(&dithered) < psnr(&banded) + 1.0);
+        assert!(
+            d.banding < b.banding / 2.0,
+            "{} vs {}",
+            d.banding,
+            b.banding
+        );
+        assert!(
+            d.lowpass_psnr_db > b.lowpass_psnr_db + 3.0,
+            "{} vs {}",
+            d.lowpass_psnr_db,
+            b.lowpass_psnr_db
+        );
+        assert!(d.lowpass_psnr_db > psnr(&dithered));
+    }
+
+    #[test]
+    fn faceting_sees_gradient_breaks_not_offsets() {
+        // a parabola in x, and its piecewise-linear interpolation between knots 16 px apart
+        let f = |x: f64| 0.2 * (x - 32.0).powi(2);
+        let r = img(|x, _| f(x as f64));
+        let faceted = img(|x, _| {
+            let k0 = (x / 16 * 16) as f64;
+            let t = (x as f64 - k0) / 16.0;
+            f(k0) * (1.0 - t) + f(k0 + 16.0) * t
+        });
+        let s = m(&faceted, &r);
+        assert!(s.faceting_lsb > 0.5, "{}", s.faceting_lsb);
+        // a constant offset has a large error but no faceting
+        let offset = img(|x, _| f(x as f64) + 10.0);
+        assert!(m(&offset, &r).faceting_lsb < 1e-9);
+        assert!(crate::metrics::compare(&offset, &all(), &r, &all()).psnr_db < 30.0);
+    }
+
+    #[test]
+    fn ringing_is_overshoot_beside_strong_edges() {
+        let r = img(|x, _| if x < 32 { 50.0 } else { 200.0 });
+        // 10 LSB of under- and overshoot in the two columns each side of the edge
+        let rings = img(|x, _| match x {
+            30 | 31 => 40.0,
+            32 | 33 => 210.0,
+            x if x < 32 => 50.0,
+            _ => 200.0,
+        });
+        let s = m(&rings, &r);
+        // near the edge: columns 29..=34 (the edge pixels 31, 32 and two either side)
+        assert_eq!(s.ringing_pixels, 6 * H as u64);
+        assert!(
+            (s.ringing_lsb - 10.0 * 4.0 / 6.0).abs() < 1e-9,
+            "{}",
+            s.ringing_lsb
+        );
+        // a softened edge stays inside the local range: no ringing
+        let soft = img(|x, _| match x {
+            31 => 100.0,
+            32 => 150.0,
+            x if x < 32 => 50.0,
+            _ => 200.0,
+        });
+        assert_eq!(m(&soft, &r).ringing_lsb, 0.0);
+        // no strong edge, nothing measured
+        assert_eq!(m(&img(ramp), &img(ramp)).ringing_pixels, 0);
+    }
+
+    #[test]
+    fn half_resolution_ssim_drops_with_structure_loss() {
+        let r = img(|x, y| 128.0 + 40.0 * ((x as f64) / 5.0).sin() * ((y as f64) / 7.0).cos());
+        let flat = img(|_, _| 128.0);
+        let noisy = img(|x, y| {
+            128.0
+                + 40.0 * ((x as f64) / 5.0).sin() * ((y as f64) / 7.0).cos()
+                + if (x + y) % 2 == 0 { 4.0 } else { -4.0 }
+        });
+        let (sf, sn) = (m(&flat, &r).half_ssim, m(&noisy, &r).half_ssim);
+        assert!(sf < 0.3, "{sf}");
+        // a 1-pixel checkerboard averages out at half resolution
+        assert!(sn > 0.999, "{sn}");
+    }
+
+    #[test]
+    fn only_pixels_covered_in_both_count() {
+        let r = img(ramp);
+        let banded = img(|x, y| 4.0 * (ramp(x, y) / 4.0).floor());
+        let mut mask = all();
+        for y in 0..H {
+            for x in 0..W / 2 {
+                mask[(y * W + x) as usize] = false;
+            }
+        }
+        let s = measure(&banded, &mask, &r, &all());
+        // boundaries at x = 40, 56 remain (x = 24 lost: its left plateau pixel is uncovered)
+        assert_eq!(s.banding_edges, 2 * H as u64);
+        let empty = measure(&banded, &[], &r, &all());
+        assert_eq!(empty.banding, 0.0);
+        assert_eq!(empty.lowpass_psnr_db, PSNR_CAP_DB);
+        assert_eq!(empty.half_ssim, 1.0);
+    }
+}

@@ -1,0 +1,493 @@
+//! `bumpsim sweep`: one base config, axes over `--set` paths, one report row per point.
+//!
+//! A sweep file (RON, `docs/sweep.md`) names the base config (relative to the sweep file),
+//! fixed overrides applied to every point, the axes and how points are drawn from them:
+//! the product of the axes' values (`Product`, the default; the last axis varies fastest), or
+//! `Random(n, seed)` / `LatinHypercube(n, seed)` samples over the axes' ranges. Every point
+//! is loaded and run on its own ([`crate::run::run`]), in parallel; rows come back in point
+//! order, so the output does not depend on the thread count. A point whose config is
+//! rejected (or whose run fails) gives a row with the error.
+
+pub mod table;
+
+use crate::config::{self, InputError, LoadOptions};
+use rand_xoshiro::rand_core::{RngCore, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+use rayon::prelude::*;
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+pub use table::{merge, Row, Table};
+
+/// Most points one sweep may have.
+pub const MAX_POINTS: usize = 1_000_000;
+
+/// A sweep file.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SweepFile {
+    /// The base config, relative to the sweep file.
+    pub base: PathBuf,
+    /// Overrides applied to every point before the axes' values (`path=value`).
+    #[serde(default)]
+    pub sets: Vec<String>,
+    pub axes: Vec<Axis>,
+    #[serde(default)]
+    pub sampling: Sampling,
+}
+
+/// One axis: a `--set` path and its values.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Axis {
+    /// Any `--set` path, e.g. `engine.units.spec.unit.index_bits`.
+    pub path: String,
+    /// Column name in the output (default: the path).
+    #[serde(default)]
+    pub name: String,
+    pub values: Values,
+}
+
+impl Axis {
+    /// The axis' column name.
+    pub fn column(&self) -> String {
+        if self.name.is_empty() {
+            self.path.clone()
+        } else {
+            self.name.clone()
+        }
+    }
+}
+
+/// An axis' values.
+#[derive(Debug, Clone, Deserialize)]
+pub enum Values {
+    /// These values, in order.
+    List(Vec<Scalar>),
+    /// `steps` values evenly spaced from `from` to `to` (both included); integers when both
+    /// ends are integers (rounded to nearest, repeats dropped), floats otherwise. As a
+    /// sampled axis: the interval `[from, to]`.
+    Grid(Scalar, Scalar, u32),
+}
+
+/// How the points are drawn.
+#[derive(Debug, Clone, Copy, Default, Deserialize)]
+pub enum Sampling {
+    /// Every combination of the axes' values; the last axis varies fastest.
+    #[default]
+    Product,
+    /// `n` points, each axis drawn uniformly and independently (xoshiro256++ from `seed`).
+    Random(u32, u64),
+    /// `n` points of a Latin hypercube: each axis' range cut into `n` strata, one point in
+    /// each, strata paired at random (xoshiro256++ from `seed`).
+    LatinHypercube(u32, u64),
+}
+
+/// One value of an axis: what follows `path=` in a `--set`.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(untagged)]
+pub enum Scalar {
+    Bool(bool),
+    Int(i64),
+    Float(f64),
+    /// Passed to `--set` as written (RON: `"Nearest"` gives `filter=Nearest`).
+    Text(String),
+}
+
+impl Scalar {
+    /// The RON text of the value for `--set`.
+    pub fn to_ron(&self) -> String {
+        match self {
+            Scalar::Bool(b) => b.to_string(),
+            Scalar::Int(i) => i.to_string(),
+            Scalar::Float(x) => format!("{x:?}"),
+            Scalar::Text(s) => s.clone(),
+        }
+    }
+
+    fn as_f64(&self) -> Option<f64> {
+        match self {
+            Scalar::Int(i) => Some(*i as f64),
+            Scalar::Float(x) => Some(*x),
+            _ => None,
+        }
+    }
+}
+
+/// One point of a sweep: its position in point order and a value per axis.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Point {
+    pub index: usize,
+    pub values: Vec<Scalar>,
+}
+
+/// A parsed sweep, ready to run.
+#[derive(Debug, Clone)]
+pub struct Sweep {
+    pub file: SweepFile,
+    /// The sweep file's path (for messages).
+    pub path: PathBuf,
+    /// The base config's path (resolved against the sweep file's directory).
+    pub base: PathBuf,
+    pub points: Vec<Point>,
+}
+
+/// A shard: run the points whose index is `i` modulo `n` (0-based `i < n`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shard {
+    pub i: usize,
+    pub n: usize,
+}
+
+impl Shard {
+    /// Parse `i/n`.
+    pub fn parse(s: &str) -> Result<Shard, InputError> {
+        let bad = || {
+            InputError::new(
+                "--shard",
+                "",
+                format!("{s:?}: expected i/n with 0 <= i < n, e.g. 0/4"),
+            )
+        };
+        let (i, n) = s.split_once('/').ok_or_else(bad)?;
+        let (i, n): (usize, usize) = (
+            i.trim().parse().map_err(|_| bad())?,
+            n.trim().parse().map_err(|_| bad())?,
+        );
+        if n == 0 || i >= n {
+            return Err(bad());
+        }
+        Ok(Shard { i, n })
+    }
+
+    pub fn contains(&self, index: usize) -> bool {
+        index % self.n == self.i
+    }
+}
+
+/// Read and parse a sweep file and compute its points.
+pub fn load(path: &Path) -> Result<Sweep, InputError> {
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| InputError::new(&name, "", format!("cannot read the sweep file: {e}")))?;
+    let file: SweepFile = ron::from_str(&text).map_err(|e| {
+        let mut err = InputError::new(&name, "", e.code.to_string());
+        err.pos = Some((e.span.start.line, e.span.start.col));
+        err
+    })?;
+    let points = points(&file).map_err(|(field, m)| InputError::new(&name, field, m))?;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    Ok(Sweep {
+        base: dir.join(&file.base),
+        path: path.to_path_buf(),
+        file,
+        points,
+    })
+}
+
+/// The values of a grid or list axis.
+fn axis_values(a: &Values, field: &str) -> Result<Vec<Scalar>, (String, String)> {
+    match a {
+        Values::List(v) => {
+            if v.is_empty() {
+                return Err((field.into(), "List([]): expected at least one value".into()));
+            }
+            Ok(v.clone())
+        }
+        Values::Grid(from, to, steps) => {
+            let (Some(f), Some(t)) = (from.as_f64(), to.as_f64()) else {
+                return Err((
+                    field.into(),
+                    "Grid(from, to, steps): expected numbers from and to".into(),
+                ));
+            };
+            if !f.is_finite() || !t.is_finite() {
+                return Err((field.into(), "Grid: expected finite ends".into()));
+            }
+            if *steps == 0 || *steps as usize > MAX_POINTS {
+                return Err((
+                    field.into(),
+                    format!("Grid(.., {steps}): expected 1 to {MAX_POINTS} steps"),
+                ));
+            }
+            let at = |k: u32| {
+                if *steps == 1 {
+                    f
+                } else {
+                    f + (t - f) * k as f64 / (*steps - 1) as f64
+                }
+            };
+            let ints = matches!((from, to), (Scalar::Int(_), Scalar::Int(_)));
+            let mut out: Vec<Scalar> = Vec::new();
+            for k in 0..*steps {
+                let v = if ints {
+                    Scalar::Int(at(k).round() as i64)
+                } else {
+                    Scalar::Float(at(k))
+                };
+                if out.last() != Some(&v) {
+                    out.push(v);
+                }
+            }
+            Ok(out)
+        }
+    }
+}
+
+/// A uniform `f64` in [0, 1) from 53 random bits.
+fn uniform(rng: &mut Xoshiro256PlusPlus) -> f64 {
+    (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+}
+
+/// The value of a sampled axis at `u` in [0, 1): a list's element `floor(u * len)`, a
+/// grid's `from + u (to - from)` (integers: `from + floor(u (to - from + 1))`).
+fn sample_value(a: &Values, u: f64) -> Scalar {
+    match a {
+        Values::List(v) => v[((u * v.len() as f64) as usize).min(v.len() - 1)].clone(),
+        Values::Grid(from, to, _) => match (from, to) {
+            (Scalar::Int(f), Scalar::Int(t)) => {
+                let (lo, hi) = ((*f).min(*t), (*f).max(*t));
+                let span = (hi - lo + 1) as f64;
+                Scalar::Int((lo + (u * span) as i64).min(hi))
+            }
+            _ => {
+                let (f, t) = (from.as_f64().unwrap(), to.as_f64().unwrap());
+                Scalar::Float(f + u * (t - f))
+            }
+        },
+    }
+}
+
+/// The points of a sweep file, in point order.
+pub fn points(file: &SweepFile) -> Result<Vec<Point>, (String, String)> {
+    if file.axes.is_empty() {
+        return Err(("axes".into(), "expected at least one axis".into()));
+    }
+    let mut per_axis = Vec::new();
+    for (k, a) in file.axes.iter().enumerate() {
+        if a.path.trim().is_empty() {
+            return Err((format!("axes[{k}].path"), "expected a --set path".into()));
+        }
+        per_axis.push(axis_values(&a.values, &format!("axes[{k}].values"))?);
+    }
+    let points: Vec<Vec<Scalar>> = match file.sampling {
+        Sampling::Product => {
+            let mut n: usize = 1;
+            for v in &per_axis {
+                n = n.saturating_mul(v.len());
+            }
+            if n > MAX_POINTS {
+                return Err((
+                    "axes".into(),
+                    format!("{n} points: a sweep has at most {MAX_POINTS}"),
+                ));
+            }
+            (0..n)
+                .map(|mut i| {
+                    let mut vals = vec![Scalar::Int(0); per_axis.len()];
+                    for (k, v) in per_axis.iter().enumerate().rev() {
+                        vals[k] = v[i % v.len()].clone();
+                        i /= v.len();
+                    }
+                    vals
+                })
+                .collect()
+        }
+        Sampling::Random(n, seed) | Sampling::LatinHypercube(n, seed) => {
+            let n = n as usize;
+            if n == 0 || n > MAX_POINTS {
+                return Err((
+                    "sampling".into(),
+                    format!("{n} samples: expected 1 to {MAX_POINTS}"),
+                ));
+            }
+            let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+            let d = file.axes.len();
+            // u[point][axis]
+            let mut u = vec![vec![0.0; d]; n];
+            if let Sampling::Random(..) = file.sampling {
+                for row in u.iter_mut() {
+                    for x in row.iter_mut() {
+                        *x = uniform(&mut rng);
+                    }
+                }
+            } else {
+                for k in 0..d {
+                    // Fisher-Yates permutation of the strata, then a jitter in each
+                    let mut perm: Vec<usize> = (0..n).collect();
+                    for i in (1..n).rev() {
+                        let j = (rng.next_u64() % (i as u64 + 1)) as usize;
+                        perm.swap(i, j);
+                    }
+                    for (i, row) in u.iter_mut().enumerate() {
+                        row[k] = (perm[i] as f64 + uniform(&mut rng)) / n as f64;
+                    }
+                }
+            }
+            u.iter()
+                .map(|row| {
+                    file.axes
+                        .iter()
+                        .zip(row)
+                        .map(|(a, &x)| sample_value(&a.values, x))
+                        .collect()
+                })
+                .collect()
+        }
+    };
+    Ok(points
+        .into_iter()
+        .enumerate()
+        .map(|(index, values)| Point { index, values })
+        .collect())
+}
+
+/// How to run a sweep.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct RunOptions {
+    pub shard: Option<Shard>,
+    /// Passed to every point's load (`--force`).
+    pub force: bool,
+    /// Worker threads (default: rayon's, `RAYON_NUM_THREADS` or one per core).
+    pub threads: Option<usize>,
+}
+
+impl Sweep {
+    /// The `--set` list of a point: the file's fixed overrides, then one per axis.
+    pub fn sets(&self, p: &Point) -> Vec<String> {
+        let mut sets = self.file.sets.clone();
+        for (a, v) in self.file.axes.iter().zip(&p.values) {
+            sets.push(format!("{}={}", a.path, v.to_ron()));
+        }
+        sets
+    }
+
+    /// Run one point: its row (with the error of a rejected config or a failed run).
+    pub fn run_point(&self, p: &Point, force: bool) -> Row {
+        let sets = self.sets(p);
+        let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            let l = config::load_with(&self.base, &sets, LoadOptions { force })?;
+            crate::run::run(&l, None)
+        }));
+        match outcome {
+            Ok(Ok(r)) => Row::ok(p, &r.report),
+            Ok(Err(e)) => Row::error(p, &e.to_string()),
+            Err(_) => Row::error(p, "internal error: the run panicked (a bug)"),
+        }
+    }
+
+    /// Run the sweep's points (those of `opts.shard`), in parallel; rows in point order.
+    pub fn run(&self, opts: RunOptions) -> Result<Table, String> {
+        let todo: Vec<&Point> = self
+            .points
+            .iter()
+            .filter(|p| opts.shard.map_or(true, |s| s.contains(p.index)))
+            .collect();
+        let work = || -> Vec<Row> {
+            todo.par_iter()
+                .map(|p| self.run_point(p, opts.force))
+                .collect()
+        };
+        let rows = match opts.threads {
+            None => work(),
+            Some(t) => rayon::ThreadPoolBuilder::new()
+                .num_threads(t)
+                .build()
+                .map_err(|e| e.to_string())?
+                .install(work),
+        };
+        Ok(Table {
+            axes: self.file.axes.iter().map(Axis::column).collect(),
+            points: self.points.len(),
+            rows,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn file(text: &str) -> SweepFile {
+        ron::from_str(text).unwrap()
+    }
+
+    fn vals(f: &SweepFile) -> Vec<Vec<String>> {
+        points(f)
+            .unwrap()
+            .iter()
+            .map(|p| p.values.iter().map(Scalar::to_ron).collect())
+            .collect()
+    }
+
+    #[test]
+    fn grids_and_lists_form_a_product_last_axis_fastest() {
+        let f = file(
+            r#"(base: "x.ron", axes: [
+                (path: "a", values: Grid(4, 6, 3)),
+                (path: "b", values: List([0.5, "Nearest", true])),
+            ])"#,
+        );
+        let v = vals(&f);
+        assert_eq!(v.len(), 9);
+        assert_eq!(v[0], ["4", "0.5"]);
+        assert_eq!(v[1], ["4", "Nearest"]);
+        assert_eq!(v[2], ["4", "true"]);
+        assert_eq!(v[8], ["6", "true"]);
+        let g = file(r#"(base: "x", axes: [(path: "a", values: Grid(0.0, 1.0, 5))])"#);
+        assert_eq!(vals(&g), [["0.0"], ["0.25"], ["0.5"], ["0.75"], ["1.0"]]);
+        // integer grids round and drop repeats
+        let g = file(r#"(base: "x", axes: [(path: "a", values: Grid(1, 3, 5))])"#);
+        assert_eq!(vals(&g), [["1"], ["2"], ["3"]]);
+    }
+
+    #[test]
+    fn samples_are_seeded_and_latin_hypercube_strata_are_filled_once() {
+        let text = |s: &str| {
+            format!(
+                r#"(base: "x", sampling: {s}, axes: [
+                    (path: "a", values: Grid(0.0, 1.0, 2)),
+                    (path: "b", values: Grid(0, 9, 2)),
+                ])"#
+            )
+        };
+        let a = vals(&file(&text("Random(20, 7)")));
+        assert_eq!(a, vals(&file(&text("Random(20, 7)"))));
+        assert_ne!(a, vals(&file(&text("Random(20, 8)"))));
+        assert_eq!(a.len(), 20);
+        let l = points(&file(&text("LatinHypercube(10, 3)"))).unwrap();
+        let mut strata: Vec<usize> = l
+            .iter()
+            .map(|p| match p.values[0] {
+                Scalar::Float(x) => (x * 10.0) as usize,
+                _ => panic!(),
+            })
+            .collect();
+        strata.sort();
+        assert_eq!(strata, (0..10).collect::<Vec<_>>());
+        // integer axis 0..=9 with 10 strata: every integer once
+        let mut ints: Vec<i64> = l
+            .iter()
+            .map(|p| match p.values[1] {
+                Scalar::Int(i) => i,
+                _ => panic!(),
+            })
+            .collect();
+        ints.sort();
+        assert_eq!(ints, (0..10).collect::<Vec<_>>());
+    }
+
+    #[test]
+    fn bad_sweeps_and_shards_are_rejected() {
+        let f = file(r#"(base: "x", axes: [])"#);
+        assert!(points(&f).is_err());
+        let f = file(r#"(base: "x", axes: [(path: "a", values: Grid("a", 2, 3))])"#);
+        assert!(points(&f).unwrap_err().1.contains("numbers"));
+        let f = file(r#"(base: "x", axes: [(path: "a", values: List([]))])"#);
+        assert!(points(&f).is_err());
+        assert_eq!(Shard::parse("1/4").unwrap(), Shard { i: 1, n: 4 });
+        for s in ["4/4", "1", "a/2", "0/0"] {
+            assert!(Shard::parse(s).is_err(), "{s}");
+        }
+    }
+}

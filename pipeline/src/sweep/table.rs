@@ -1,0 +1,353 @@
+//! A sweep's rows: `sweep.csv` (one line per row: error messages have no line breaks),
+//! `sweep.jsonl` (one JSON object per row, keys in column order), `sweep.json` (the number of
+//! points and the rows' indices), and the merge of shards.
+
+use super::{Point, Scalar};
+use crate::artifacts::ArtifactStats;
+use crate::metrics::ErrorStats;
+use crate::report::Report;
+use std::fmt::Write;
+use std::path::Path;
+
+/// One cell of a row.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Cell {
+    Empty,
+    Int(i64),
+    Float(f64),
+    Bool(bool),
+    Text(String),
+}
+
+impl Cell {
+    fn of(s: &Scalar) -> Cell {
+        match s {
+            Scalar::Bool(b) => Cell::Bool(*b),
+            Scalar::Int(i) => Cell::Int(*i),
+            Scalar::Float(x) => Cell::Float(*x),
+            Scalar::Text(t) => Cell::Text(t.clone()),
+        }
+    }
+
+    /// The JSON text (shortest round-trip numbers; non-finite as null).
+    fn json(&self) -> String {
+        match self {
+            Cell::Empty => "null".into(),
+            Cell::Int(i) => i.to_string(),
+            Cell::Float(x) if x.is_finite() => serde_json::to_string(x).unwrap(),
+            Cell::Float(_) => "null".into(),
+            Cell::Bool(b) => b.to_string(),
+            Cell::Text(t) => serde_json::to_string(t).unwrap(),
+        }
+    }
+
+    /// The CSV field (numbers as in JSON, text quoted when it needs to be).
+    fn csv(&self) -> String {
+        match self {
+            Cell::Empty => String::new(),
+            Cell::Text(t) => {
+                if t.contains([',', '"', '\n', '\r']) {
+                    format!("\"{}\"", t.replace('"', "\"\""))
+                } else {
+                    t.clone()
+                }
+            }
+            Cell::Float(x) if !x.is_finite() => String::new(),
+            c => c.json(),
+        }
+    }
+}
+
+/// The report columns after the axes, in order.
+pub fn report_columns() -> Vec<String> {
+    let mut c: Vec<String> = [
+        "status",
+        "error",
+        "config_hash",
+        "gates_total",
+        "bits_per_triangle",
+        "bits_per_texel",
+        "cycles",
+        "fragments",
+    ]
+    .map(String::from)
+    .to_vec();
+    for k in ["total", "algorithm", "quantization"] {
+        for s in ["psnr_db", "max_lsb", "mean_lsb"] {
+            c.push(format!("{k}_{s}"));
+        }
+    }
+    for k in ["total", "quantization"] {
+        for s in [
+            "banding",
+            "faceting_lsb",
+            "ringing_lsb",
+            "lowpass_psnr_db",
+            "half_ssim",
+        ] {
+            c.push(format!("{k}_{s}"));
+        }
+    }
+    c
+}
+
+/// One point's row: its index, axis values and the report columns.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Row {
+    pub index: usize,
+    pub values: Vec<Cell>,
+    /// One cell per [`report_columns`].
+    pub report: Vec<Cell>,
+}
+
+fn errors(e: &ErrorStats) -> [Cell; 3] {
+    [
+        Cell::Float(e.psnr_db),
+        Cell::Float(e.max_abs_lsb),
+        Cell::Float(e.mean_abs_lsb),
+    ]
+}
+
+fn artifacts(a: &ArtifactStats) -> [Cell; 5] {
+    [
+        Cell::Float(a.banding),
+        Cell::Float(a.faceting_lsb),
+        Cell::Float(a.ringing_lsb),
+        Cell::Float(a.lowpass_psnr_db),
+        Cell::Float(a.half_ssim),
+    ]
+}
+
+impl Row {
+    pub fn ok(p: &Point, r: &Report) -> Row {
+        let mut c = vec![
+            Cell::Text("ok".into()),
+            Cell::Empty,
+            Cell::Text(r.config_hash.clone()),
+            Cell::Float(r.gates.total),
+            Cell::Int(r.bandwidth.bits_per_triangle as i64),
+            Cell::Int(i64::from(r.bandwidth.bits_per_texel)),
+            Cell::Int(r.cycles.total as i64),
+            Cell::Int(r.cycles.fragments as i64),
+        ];
+        for e in [&r.error.total, &r.error.algorithm, &r.error.quantization] {
+            c.extend(errors(e));
+        }
+        for a in [&r.artifacts.total, &r.artifacts.quantization] {
+            c.extend(artifacts(a));
+        }
+        Row {
+            index: p.index,
+            values: p.values.iter().map(Cell::of).collect(),
+            report: c,
+        }
+    }
+
+    pub fn error(p: &Point, message: &str) -> Row {
+        let one_line = message.split_whitespace().collect::<Vec<_>>().join(" ");
+        let mut c = vec![Cell::Text("error".into()), Cell::Text(one_line)];
+        c.resize(report_columns().len(), Cell::Empty);
+        Row {
+            index: p.index,
+            values: p.values.iter().map(Cell::of).collect(),
+            report: c,
+        }
+    }
+
+    pub fn is_ok(&self) -> bool {
+        self.report[0] == Cell::Text("ok".into())
+    }
+
+    fn cells(&self) -> impl Iterator<Item = Cell> + '_ {
+        std::iter::once(Cell::Int(self.index as i64))
+            .chain(self.values.iter().cloned())
+            .chain(self.report.iter().cloned())
+    }
+}
+
+/// The rows of a sweep (or of one shard of it).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Table {
+    /// The axes' column names.
+    pub axes: Vec<String>,
+    /// Points in the whole sweep (all shards).
+    pub points: usize,
+    pub rows: Vec<Row>,
+}
+
+impl Table {
+    /// All column names: `index`, the axes, the report columns.
+    pub fn columns(&self) -> Vec<String> {
+        std::iter::once("index".to_string())
+            .chain(self.axes.iter().cloned())
+            .chain(report_columns())
+            .collect()
+    }
+
+    pub fn to_csv(&self) -> String {
+        let mut s = String::new();
+        let head: Vec<String> = self
+            .columns()
+            .iter()
+            .map(|c| Cell::Text(c.clone()).csv())
+            .collect();
+        let _ = writeln!(s, "{}", head.join(","));
+        for r in &self.rows {
+            let line: Vec<String> = r.cells().map(|c| c.csv()).collect();
+            let _ = writeln!(s, "{}", line.join(","));
+        }
+        s
+    }
+
+    pub fn to_jsonl(&self) -> String {
+        let cols = self.columns();
+        let mut s = String::new();
+        for r in &self.rows {
+            let fields: Vec<String> = cols
+                .iter()
+                .zip(r.cells())
+                .map(|(k, c)| format!("{}:{}", serde_json::to_string(k).unwrap(), c.json()))
+                .collect();
+            let _ = writeln!(s, "{{{}}}", fields.join(","));
+        }
+        s
+    }
+
+    /// `sweep.json`: the number of points, the columns and the rows' indices.
+    pub fn summary(&self) -> String {
+        let v = serde_json::json!({
+            "points": self.points,
+            "columns": self.columns(),
+            "rows": self.rows.iter().map(|r| r.index).collect::<Vec<_>>(),
+            "errors": self.rows.iter().filter(|r| !r.is_ok()).count(),
+        });
+        serde_json::to_string_pretty(&v).unwrap() + "\n"
+    }
+
+    /// The output files: `sweep.csv`, `sweep.jsonl` and `sweep.json`.
+    pub fn files(&self) -> Vec<(&'static str, Vec<u8>)> {
+        vec![
+            ("sweep.csv", self.to_csv().into_bytes()),
+            ("sweep.jsonl", self.to_jsonl().into_bytes()),
+            ("sweep.json", self.summary().into_bytes()),
+        ]
+    }
+}
+
+/// The merged files of several shard directories (each with `sweep.csv`, `sweep.jsonl` and
+/// `sweep.json`): the rows of all shards in point order, byte for byte those of the
+/// unsharded run. Shards must share their columns and number of points, hold no point
+/// twice, and together every point.
+pub fn merge(dirs: &[&Path]) -> Result<Vec<(&'static str, Vec<u8>)>, String> {
+    let mut header: Option<String> = None;
+    let mut points: Option<u64> = None;
+    let mut rows: Vec<(u64, String, String)> = Vec::new();
+    for d in dirs {
+        let read = |name: &str| {
+            std::fs::read_to_string(d.join(name))
+                .map_err(|e| format!("{}: {e}", d.join(name).display()))
+        };
+        let (csv, jsonl, summary) = (
+            read("sweep.csv")?,
+            read("sweep.jsonl")?,
+            read("sweep.json")?,
+        );
+        let summary: serde_json::Value =
+            serde_json::from_str(&summary).map_err(|e| format!("{}: {e}", d.display()))?;
+        let n = summary["points"]
+            .as_u64()
+            .ok_or_else(|| format!("{}/sweep.json: no number of points", d.display()))?;
+        if points.is_some_and(|p| p != n) {
+            return Err(format!(
+                "{}: a sweep of {n} points, the others have {}",
+                d.display(),
+                points.unwrap()
+            ));
+        }
+        points = Some(n);
+        let mut lines = csv.lines();
+        let head = lines.next().unwrap_or("").to_string();
+        if header.as_ref().is_some_and(|h| *h != head) {
+            return Err(format!(
+                "{}/sweep.csv: its columns differ from the first shard's",
+                d.display()
+            ));
+        }
+        header = Some(head);
+        let jl: Vec<&str> = jsonl.lines().collect();
+        let cl: Vec<&str> = lines.collect();
+        if jl.len() != cl.len() {
+            return Err(format!(
+                "{}: sweep.csv has {} rows, sweep.jsonl {}",
+                d.display(),
+                cl.len(),
+                jl.len()
+            ));
+        }
+        for (c, j) in cl.into_iter().zip(jl) {
+            let index: u64 = c
+                .split(',')
+                .next()
+                .and_then(|i| i.parse().ok())
+                .ok_or_else(|| format!("{}/sweep.csv: a row without an index", d.display()))?;
+            rows.push((index, c.to_string(), j.to_string()));
+        }
+    }
+    let (Some(header), Some(points)) = (header, points) else {
+        return Err("no shard directories to merge".into());
+    };
+    rows.sort_by_key(|r| r.0);
+    for w in rows.windows(2) {
+        if w[0].0 == w[1].0 {
+            return Err(format!("point {} is in two shards", w[0].0));
+        }
+    }
+    let have: Vec<u64> = rows.iter().map(|r| r.0).collect();
+    if have != (0..points).collect::<Vec<_>>() {
+        let missing: Vec<String> = (0..points)
+            .filter(|i| have.binary_search(i).is_err())
+            .take(10)
+            .map(|i| i.to_string())
+            .collect();
+        return Err(format!(
+            "the shards hold {} of {points} points (missing: {}{})",
+            rows.len(),
+            missing.join(", "),
+            if points as usize - rows.len() > 10 {
+                ", ..."
+            } else {
+                ""
+            }
+        ));
+    }
+    let mut csv = header.clone() + "\n";
+    let mut jsonl = String::new();
+    for (_, c, j) in &rows {
+        csv.push_str(c);
+        csv.push('\n');
+        jsonl.push_str(j);
+        jsonl.push('\n');
+    }
+    let errors = rows
+        .iter()
+        .filter(|r| {
+            serde_json::from_str::<serde_json::Value>(&r.2)
+                .map_or(false, |v| v["status"] == "error")
+        })
+        .count();
+    let columns: Vec<&str> = header.split(',').collect();
+    let summary = serde_json::json!({
+        "points": points,
+        "columns": columns,
+        "rows": have,
+        "errors": errors,
+    });
+    Ok(vec![
+        ("sweep.csv", csv.into_bytes()),
+        ("sweep.jsonl", jsonl.into_bytes()),
+        (
+            "sweep.json",
+            (serde_json::to_string_pretty(&summary).unwrap() + "\n").into_bytes(),
+        ),
+    ])
+}

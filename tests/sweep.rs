@@ -1,0 +1,298 @@
+//! End-to-end tests of `bumpsim sweep`: the example sweep's CSV and its numbers, the same
+//! bytes at any thread count and from merged shards, error rows, bad sweep files and merges.
+
+mod common;
+
+use common::*;
+use serde_json::Value;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+const EXAMPLE: &str = "configs/sweeps/sgi-teapot-index-bits.ron";
+
+fn sweep(args: &[&str]) -> Out {
+    bumpsim(&[&["sweep"], args].concat())
+}
+
+/// The CSV as a list of rows, each a map from column to field (no quoted fields expected).
+fn csv_rows(path: &Path) -> Vec<BTreeMap<String, String>> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    lines
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            assert_eq!(f.len(), head.len(), "{l}");
+            head.iter()
+                .zip(f)
+                .map(|(k, v)| (k.to_string(), v.to_string()))
+                .collect()
+        })
+        .collect()
+}
+
+fn f(row: &BTreeMap<String, String>, k: &str) -> f64 {
+    row[k]
+        .parse()
+        .unwrap_or_else(|_| panic!("{k} = {:?} is not a number", row[k]))
+}
+
+fn read(p: &Path) -> Vec<u8> {
+    std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+#[test]
+fn example_sweep_rows_numbers_threads_and_shards() {
+    let s = Scratch::new("sweep-example");
+    let all = s.join("all");
+    let o = sweep(&[EXAMPLE, "--out", all.to_str().unwrap(), "--threads", "2"]);
+    o.expect_code(0, "sweep the example");
+    assert!(
+        o.stdout.contains("7 of 7 points run, 0 with errors"),
+        "{}",
+        o.stdout
+    );
+    let rows = csv_rows(&all.join("sweep.csv"));
+    assert_eq!(rows.len(), 7);
+    let bits: Vec<String> = rows.iter().map(|r| r["index_bits"].clone()).collect();
+    assert_eq!(bits, ["4", "5", "6", "7", "8", "9", "10"]);
+    for (i, r) in rows.iter().enumerate() {
+        assert_eq!(r["index"], i.to_string());
+        assert_eq!(r["status"], "ok", "{r:?}");
+        assert_eq!(r["error"], "");
+        assert_eq!(r["config_hash"].len(), 64);
+    }
+    // every point is the base config with its overrides: the 8-bit row is `report --set`
+    let r8 = &rows[4];
+    let o = bumpsim(&[
+        "report",
+        "configs/sgi-teapot.ron",
+        "--json",
+        "--set",
+        "scene.width=96",
+        "--set",
+        "scene.height=96",
+        "--set",
+        "engine.units.spec.unit.index_bits=8",
+    ]);
+    o.expect_code(0, "report of the 8-bit point");
+    let rep: Value = json(&o.stdout);
+    assert_eq!(rep["config_hash"].as_str().unwrap(), r8["config_hash"]);
+    assert_eq!(num(&rep, "gates.total"), f(r8, "gates_total"));
+    assert_eq!(uint(&rep, "cycles.total") as f64, f(r8, "cycles"));
+    assert_eq!(num(&rep, "error.total.psnr_db"), f(r8, "total_psnr_db"));
+    assert_eq!(num(&rep, "artifacts.total.banding"), f(r8, "total_banding"));
+
+    // the numbers (see docs/sweep.md)
+    let col = |k: &str| rows.iter().map(|r| f(r, k)).collect::<Vec<f64>>();
+    let gates = col("gates_total");
+    let quant = col("quantization_psnr_db");
+    let band = col("quantization_banding");
+    let facet = col("quantization_faceting_lsb");
+    let lowpass = col("quantization_lowpass_psnr_db");
+    let round = |v: &[f64], d: i32| -> Vec<f64> {
+        v.iter()
+            .map(|x| (x * 10f64.powi(d)).round() / 10f64.powi(d))
+            .collect()
+    };
+    assert_eq!(round(&gates, 0), GATES);
+    assert_eq!(round(&quant, 2), QUANT_PSNR);
+    assert_eq!(round(&band, 5), QUANT_BANDING);
+    assert_eq!(round(&facet, 3), QUANT_FACETING);
+    assert_eq!(round(&lowpass, 2), QUANT_LOWPASS_PSNR);
+    // the table grows with its index; the error and the faceting of the highlight shrink up
+    // to 8 bits (the 8-bit output then dominates)
+    assert!(gates.windows(2).all(|w| w[0] < w[1]), "{gates:?}");
+    assert!(quant[..5].windows(2).all(|w| w[0] < w[1]), "{quant:?}");
+    assert!(facet[..5].windows(2).all(|w| w[0] > w[1]), "{facet:?}");
+    assert!(lowpass[..5].windows(2).all(|w| w[0] < w[1]), "{lowpass:?}");
+    // table loads take frame cycles: more entries, more cycles
+    let cycles = col("cycles");
+    assert!(cycles.windows(2).all(|w| w[0] < w[1]), "{cycles:?}");
+    // the rest of the pipe does not depend on the table
+    for k in ["fragments", "bits_per_triangle", "algorithm_psnr_db"] {
+        let v = col(k);
+        assert!(v.iter().all(|x| *x == v[0]), "{k}: {v:?}");
+    }
+    // JSON lines: the same rows
+    let jl = std::fs::read_to_string(all.join("sweep.jsonl")).unwrap();
+    let j: Vec<Value> = jl.lines().map(json).collect();
+    assert_eq!(j.len(), 7);
+    assert_eq!(j[3]["index_bits"], 7);
+    assert_eq!(j[3]["gates_total"].as_f64().unwrap(), gates[3]);
+    assert!(j[3]["error"].is_null());
+    let summary = json(&std::fs::read_to_string(all.join("sweep.json")).unwrap());
+    assert_eq!(summary["points"], 7);
+
+    // shards at other thread counts, merged: the same bytes
+    let (s0, s1) = (s.join("s0"), s.join("s1"));
+    let o = sweep(&[
+        EXAMPLE,
+        "--out",
+        s0.to_str().unwrap(),
+        "--shard",
+        "0/2",
+        "--threads",
+        "1",
+    ]);
+    o.expect_code(0, "shard 0/2");
+    assert!(o.stdout.contains("4 of 7 points run"), "{}", o.stdout);
+    let o = sweep(&[
+        EXAMPLE,
+        "--out",
+        s1.to_str().unwrap(),
+        "--shard",
+        "1/2",
+        "--threads",
+        "3",
+    ]);
+    o.expect_code(0, "shard 1/2");
+    let idx: Vec<String> = csv_rows(&s1.join("sweep.csv"))
+        .iter()
+        .map(|r| r["index"].clone())
+        .collect();
+    assert_eq!(idx, ["1", "3", "5"]);
+    // a shard missing: refused
+    let m = s.join("merged");
+    let o = sweep(&[
+        "--merge",
+        s0.to_str().unwrap(),
+        "--out",
+        m.to_str().unwrap(),
+    ]);
+    o.expect_code(2, "merge of one of two shards");
+    assert!(o.stderr.contains("4 of 7 points"), "{}", o.stderr);
+    // a shard twice: refused
+    let o = sweep(&[
+        "--merge",
+        s0.to_str().unwrap(),
+        s0.to_str().unwrap(),
+        "--out",
+        m.to_str().unwrap(),
+    ]);
+    o.expect_code(2, "merge of a shard twice");
+    // in any order, the two shards give the unsharded files
+    let o = sweep(&[
+        "--merge",
+        s1.to_str().unwrap(),
+        s0.to_str().unwrap(),
+        "--out",
+        m.to_str().unwrap(),
+    ]);
+    o.expect_code(0, "merge");
+    for name in ["sweep.csv", "sweep.jsonl", "sweep.json"] {
+        assert_eq!(
+            read(&m.join(name)),
+            read(&all.join(name)),
+            "{name}: merged shards (1 and 3 threads) differ from the unsharded run (2 threads)"
+        );
+    }
+}
+
+/// The example's numbers, index bits 4..10 (a 96x96 teapot).
+const GATES: [f64; 7] = [
+    17886.0, 18080.0, 18466.0, 19236.0, 20774.0, 23848.0, 29994.0,
+];
+/// `quantization_psnr_db`, 2 decimals.
+const QUANT_PSNR: [f64; 7] = [25.95, 31.9, 36.76, 39.19, 42.81, 42.81, 42.8];
+/// `quantization_banding` (3, 6, 4, 4, 4, 4, 4 contour edges of 2981 pixels), 5 decimals.
+const QUANT_BANDING: [f64; 7] = [
+    0.00101, 0.00201, 0.00134, 0.00134, 0.00134, 0.00134, 0.00134,
+];
+/// `quantization_faceting_lsb`, 3 decimals.
+const QUANT_FACETING: [f64; 7] = [7.222, 3.846, 2.167, 1.501, 1.128, 1.128, 1.129];
+/// `quantization_lowpass_psnr_db`, 2 decimals.
+const QUANT_LOWPASS_PSNR: [f64; 7] = [30.41, 39.27, 42.65, 43.68, 49.77, 49.78, 49.71];
+
+#[test]
+fn a_rejected_point_is_an_error_row_and_the_sweep_goes_on() {
+    let s = Scratch::new("sweep-bad-point");
+    let file = s.join("bad.ron");
+    let base = root().join("configs/sgi-teapot.ron");
+    std::fs::write(
+        &file,
+        format!(
+            r#"(
+    base: {:?},
+    sets: ["scene.width=32", "scene.height=32"],
+    axes: [(path: "engine.units.spec.unit.index_bits", values: List([6, 0, 17])),
+           (path: "scene.width", values: List([32]))],
+    sampling: Product,
+)"#,
+            base.display().to_string()
+        ),
+    )
+    .unwrap();
+    let out = s.join("out");
+    let o = sweep(&[file.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    o.expect_code(0, "a sweep with bad points");
+    assert!(
+        o.stdout.contains("3 of 3 points run, 2 with errors"),
+        "{}",
+        o.stdout
+    );
+    let text = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 4, "{text}");
+    assert!(lines[1].starts_with("0,6,32,ok,,"), "{}", lines[1]);
+    for (l, bad) in [(lines[2], "0"), (lines[3], "17")] {
+        assert!(
+            l.starts_with(&format!(
+                "{},{bad},32,error,",
+                if bad == "0" { 1 } else { 2 }
+            )),
+            "{l}"
+        );
+        assert!(l.contains("index_bits"), "the message names the field: {l}");
+    }
+    let j: Vec<Value> = std::fs::read_to_string(out.join("sweep.jsonl"))
+        .unwrap()
+        .lines()
+        .map(json)
+        .collect();
+    assert_eq!(j[1]["status"], "error");
+    assert!(j[1]["gates_total"].is_null());
+    assert!(j[1]["error"].as_str().unwrap().contains("index_bits"));
+    assert_eq!(
+        json(&std::fs::read_to_string(out.join("sweep.json")).unwrap())["errors"],
+        2
+    );
+}
+
+#[test]
+fn bad_sweep_files_and_arguments_exit_2() {
+    let s = Scratch::new("sweep-bad-file");
+    let out = s.join("out");
+    let cases = [
+        (
+            "(base: \"../configs/sgi-teapot.ron\", axes: [])",
+            "at least one axis",
+        ),
+        ("(base: \"x.ron\", axis: [])", "axis"),
+        (
+            "(base: \"x.ron\", axes: [(path: \"a\", values: Grid(\"a\", 1, 2))])",
+            "numbers",
+        ),
+    ];
+    for (text, needle) in cases {
+        let file = s.join("s.ron");
+        std::fs::write(&file, text).unwrap();
+        let o = sweep(&[file.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+        o.expect_code(2, text);
+        assert!(o.stderr.contains(needle), "{text}: {}", o.stderr);
+        assert!(!out.exists(), "nothing is written");
+    }
+    for shard in ["2/2", "x", "1/0"] {
+        let o = sweep(&[EXAMPLE, "--out", out.to_str().unwrap(), "--shard", shard]);
+        o.expect_code(2, shard);
+        assert!(o.stderr.contains("--shard"), "{}", o.stderr);
+    }
+    let o = sweep(&[
+        "--merge",
+        s.join("nothing").to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    o.expect_code(2, "merge of a missing directory");
+    assert!(!out.exists());
+}
