@@ -20,6 +20,8 @@
 //! cells the host prints (10 x 16 px cells at x = 20 + 10 col, y = 25 + 25 row). All four
 //! channels; a pixel is exact when all four equal the frame's. A missing frame is a failure.
 
+mod nv2a;
+
 use bumpsim_hw::sampler::{Address, Filter, Sampler};
 use bumpsim_hw::units::combiner::{
     Combiner, CombinerParams, FinalCombiner, FinalInput, GeneralStage, MuxSelect, Program as Cp,
@@ -42,19 +44,7 @@ const S16: Encoding = Encoding::texel(Codec::UnitSigned, true, 16);
 const TEX: u32 = 256;
 
 fn frame(name: &str) -> image::RgbaImage {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/nv2a/golden/Bump_map")
-        .join(format!("{name}.png"));
-    let img = image::open(&p)
-        .unwrap_or_else(|e| {
-            panic!(
-                "the NV2A frame {} is missing or unreadable: {e}",
-                p.display()
-            )
-        })
-        .to_rgba8();
-    assert_eq!(img.dimensions(), (W, H), "{}", p.display());
-    img
+    nv2a::frame("Bump_map", name)
 }
 
 /// How the scene is modelled (the hypotheses the frames test).

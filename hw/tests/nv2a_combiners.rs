@@ -22,6 +22,8 @@
 //!
 //! A missing frame is a failure, not a skip.
 
+mod nv2a;
+
 use bumpsim_hw::units::combiner::{
     Combiner, CombinerParams, FinalCombiner, FinalInput, GeneralStage, Input, MuxSelect, OutputOp,
     Portion, Program, Source, Usage,
@@ -36,19 +38,7 @@ const TEXT: [u8; 4] = [255, 255, 255, 0];
 const CHECKER: [[u8; 4]; 2] = [[0x33, 0x33, 0x33, 255], [0x44, 0x44, 0x44, 255]];
 
 fn frame(name: &str) -> image::RgbaImage {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/nv2a/golden/Combiner")
-        .join(format!("{name}.png"));
-    let img = image::open(&p)
-        .unwrap_or_else(|e| {
-            panic!(
-                "the NV2A frame {} is missing or unreadable: {e}",
-                p.display()
-            )
-        })
-        .to_rgba8();
-    assert_eq!(img.dimensions(), (W, H), "{}", p.display());
-    img
+    nv2a::frame("Combiner", name)
 }
 
 #[test]

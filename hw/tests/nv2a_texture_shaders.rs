@@ -20,6 +20,8 @@
 //!
 //! A missing frame is a failure, not a skip.
 
+mod nv2a;
+
 use bumpsim_hw::sampler::{Address, Filter, Sampler};
 use bumpsim_hw::units::combiner::{
     Combiner, CombinerParams, FinalCombiner, FinalInput, GeneralStage, MuxSelect, Program as Cp,
@@ -33,23 +35,6 @@ use std::sync::Arc;
 const W: u32 = 640;
 const H: u32 = 480;
 const U8: Encoding = Encoding::texel(Codec::UnitUnsigned, false, 8);
-
-fn frame(suite: &str, name: &str) -> image::RgbaImage {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/nv2a/golden")
-        .join(suite)
-        .join(format!("{name}.png"));
-    let img = image::open(&p)
-        .unwrap_or_else(|e| {
-            panic!(
-                "the NV2A frame {} is missing or unreadable: {e}",
-                p.display()
-            )
-        })
-        .to_rgba8();
-    assert_eq!(img.dimensions(), (W, H), "{}", p.display());
-    img
-}
 
 // ---- the interpolation hypotheses --------------------------------------------------------
 
@@ -447,7 +432,7 @@ struct Tally {
 }
 
 fn check(scene: &Scene, ip: Interp, mode: Mode) -> Tally {
-    let img = frame("Pixel_shader", scene.name);
+    let img = nv2a::frame("Pixel_shader", scene.name);
     let mut t = Tally::default();
     let dump = std::env::var("NV2A_DUMP").ok();
     let mut diff_img = image::RgbaImage::new(W, H);
