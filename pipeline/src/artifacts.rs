@@ -13,8 +13,8 @@
 //!
 //! Every sum runs in a fixed pixel order, so the figures are the same at any thread count.
 
-use crate::metrics::{psnr_db, Rgb64, PSNR_CAP_DB};
-use serde::{Serialize, Serializer};
+use crate::metrics::{psnr_db, ser_finite, ser_psnr, unit, Rgb64, PSNR_CAP_DB};
+use serde::Serialize;
 
 /// A step of the reference of at most this many LSBs between neighbours is "smooth".
 pub const SMOOTH_LSB: f64 = 1.0;
@@ -51,30 +51,6 @@ pub struct ArtifactStats {
     /// Mean SSIM of the luma at half resolution (1 for identical images or no window).
     #[serde(serialize_with = "ser_finite")]
     pub half_ssim: f64,
-}
-
-fn ser_psnr<S: Serializer>(x: &f64, s: S) -> Result<S::Ok, S::Error> {
-    if x.is_nan() {
-        s.serialize_none()
-    } else {
-        s.serialize_f64(x.clamp(-PSNR_CAP_DB, PSNR_CAP_DB))
-    }
-}
-
-fn ser_finite<S: Serializer>(x: &f64, s: S) -> Result<S::Ok, S::Error> {
-    if x.is_finite() {
-        s.serialize_f64(*x)
-    } else {
-        s.serialize_none()
-    }
-}
-
-fn unit(x: f64) -> f64 {
-    if x.is_nan() {
-        0.0
-    } else {
-        x.clamp(0.0, 1.0)
-    }
 }
 
 /// Two images on a common grid, in LSBs, with the pixels covered in both.

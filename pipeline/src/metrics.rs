@@ -41,7 +41,7 @@ pub struct ErrorStats {
     pub pixels: u64,
 }
 
-fn ser_psnr<S: Serializer>(x: &f64, s: S) -> Result<S::Ok, S::Error> {
+pub(crate) fn ser_psnr<S: Serializer>(x: &f64, s: S) -> Result<S::Ok, S::Error> {
     if x.is_nan() {
         s.serialize_none()
     } else {
@@ -49,7 +49,7 @@ fn ser_psnr<S: Serializer>(x: &f64, s: S) -> Result<S::Ok, S::Error> {
     }
 }
 
-fn ser_finite<S: Serializer>(x: &f64, s: S) -> Result<S::Ok, S::Error> {
+pub(crate) fn ser_finite<S: Serializer>(x: &f64, s: S) -> Result<S::Ok, S::Error> {
     if x.is_finite() {
         s.serialize_f64(*x)
     } else {
@@ -128,7 +128,8 @@ impl Rgb64 {
 }
 
 /// One channel in [0, 1] (NaN as 0).
-fn unit(x: f64) -> f64 {
+/// A channel value clamped to [0, 1], NaN as 0.
+pub(crate) fn unit(x: f64) -> f64 {
     if x.is_nan() {
         0.0
     } else {

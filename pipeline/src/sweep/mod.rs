@@ -381,7 +381,7 @@ impl Sweep {
         let todo: Vec<&Point> = self
             .points
             .iter()
-            .filter(|p| opts.shard.map_or(true, |s| s.contains(p.index)))
+            .filter(|p| opts.shard.is_none_or(|s| s.contains(p.index)))
             .collect();
         let work = || -> Vec<Row> {
             todo.par_iter()

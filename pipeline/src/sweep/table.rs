@@ -331,8 +331,7 @@ pub fn merge(dirs: &[&Path]) -> Result<Vec<(&'static str, Vec<u8>)>, String> {
     let errors = rows
         .iter()
         .filter(|r| {
-            serde_json::from_str::<serde_json::Value>(&r.2)
-                .map_or(false, |v| v["status"] == "error")
+            serde_json::from_str::<serde_json::Value>(&r.2).is_ok_and(|v| v["status"] == "error")
         })
         .count();
     let columns: Vec<&str> = header.split(',').collect();
