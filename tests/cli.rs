@@ -117,7 +117,15 @@ fn check_report(r: &Value, units: &[String], width: u32, height: u32, what: &str
     let bits = uint(r, "bandwidth.bits_per_triangle");
     assert!(bits > 0, "{what}");
     let texel = uint(r, "bandwidth.bits_per_texel");
-    assert!(texel > 0, "{what}: every bundled engine holds a texture");
+    let textures = at(r, "bandwidth.texture_memory")
+        .as_object()
+        .expect("bandwidth.texture_memory")
+        .len();
+    assert_eq!(
+        texel > 0,
+        textures > 0,
+        "{what}: bits per texel {texel} with {textures} textures"
+    );
 
     for k in ERROR_KINDS {
         for s in ERROR_STATS {

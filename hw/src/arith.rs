@@ -112,7 +112,19 @@ impl Acc {
         let (q, o) = (enc.quant, enc.overflow);
         match enc.codec {
             Codec::Fixed => enc.format.cast(self.raw, self.frac, q, o),
-            Codec::UnitSigned => int.cast(self.raw, self.frac + 1 - n, q, o),
+            // c = x 2^(n-1): with fewer than n - 1 fraction bits the value is an exact
+            // multiple of the code's step, so it shifts left
+            Codec::UnitSigned if self.frac + 1 >= n => int.cast(self.raw, self.frac + 1 - n, q, o),
+            Codec::UnitSigned => {
+                let up = (n - 1 - self.frac).min(126);
+                let v = self.raw.checked_shl(up).filter(|v| v >> up == self.raw);
+                let sat = if self.raw < 0 {
+                    i128::MIN / 2
+                } else {
+                    i128::MAX / 2
+                };
+                int.cast(v.unwrap_or(sat), 0, q, o)
+            }
             // c = x (2^n - 1)
             Codec::UnitUnsigned => int.cast(self.raw * ((1i128 << n) - 1), self.frac, q, o),
             // c = (x (2^n - 1) - 1) / 2
@@ -133,6 +145,21 @@ pub fn bit_length(v: u128) -> u32 {
 mod tests {
     use super::*;
     use crate::format::{Codec, Encoding, Format};
+
+    #[test]
+    fn unit_signed_casts_of_values_with_few_fraction_bits_shift_up() {
+        // an integer (no fraction bits) into an 8-bit UnitSigned code: c = x 128
+        let enc = Encoding::texel(Codec::UnitSigned, true, 8);
+        assert_eq!(Acc::new(-1, 0).to_code(&enc), -128);
+        assert_eq!(Acc::new(1, 0).to_code(&enc), 127, "saturates");
+        assert_eq!(Acc::new(0, 0).to_code(&enc), 0);
+        // a quarter with 2 fraction bits: 32
+        assert_eq!(Acc::new(1, 2).to_code(&enc), 32);
+        assert_eq!(Acc::new(-3, 2).to_code(&enc), -96);
+        // huge values saturate instead of wrapping
+        assert_eq!(Acc::new(i128::MAX / 4, 0).to_code(&enc), 127);
+        assert_eq!(Acc::new(i128::MIN / 4, 0).to_code(&enc), -128);
+    }
 
     #[test]
     fn codes_read_and_write_back_exactly_for_every_8_bit_code() {

@@ -2,6 +2,7 @@
 //! reports and traces.
 pub mod artifacts;
 pub mod config;
+pub mod edges;
 pub mod engine;
 pub mod metrics;
 pub mod output;

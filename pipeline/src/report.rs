@@ -1,6 +1,7 @@
 //! The run report: `report.json` and the readable table of `bumpsim report`.
 
 use crate::artifacts::ArtifactStats;
+use crate::edges::EdgeStats;
 use crate::engine::memory::TextureStats;
 use crate::metrics::ErrorStats;
 use crate::raster::packet::PacketLayout;
@@ -28,6 +29,18 @@ pub struct Report {
     /// Artifact measures (banding, faceting, ringing, low-pass PSNR, half-resolution SSIM;
     /// docs/metrics.md) of the bit-accurate image.
     pub artifacts: Artifacts,
+    /// The edge-discontinuity measure (`pipeline/src/edges.rs`, docs/metrics.md).
+    pub edges: Edges,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct Edges {
+    /// Bit-accurate mode against the float reference.
+    pub total: EdgeStats,
+    /// Exact mode against the reference: the discontinuity of the algorithm.
+    pub algorithm: EdgeStats,
+    /// Bit-accurate against exact mode.
+    pub quantization: EdgeStats,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -253,6 +266,27 @@ impl Report {
                 s,
                 "  {:<12} {:>9.5} {:>9.3} {:>9.3} {:>9.2} {:>9.5}",
                 name, a.banding, a.faceting_lsb, a.ringing_lsb, a.lowpass_psnr_db, a.half_ssim
+            );
+        }
+        let _ = writeln!(
+            s,
+            "\nedges          {:>9} {:>9} {:>9} {:>9} {:>9}",
+            "edge LSB", "inner LSB", "excess", "edge p99", "seam LSB"
+        );
+        for (name, e) in [
+            ("total", &self.edges.total),
+            ("algorithm", &self.edges.algorithm),
+            ("quantization", &self.edges.quantization),
+        ] {
+            let _ = writeln!(
+                s,
+                "  {:<12} {:>9.3} {:>9.3} {:>9.3} {:>9.2} {:>9.3}",
+                name,
+                e.edge_step_lsb,
+                e.interior_step_lsb,
+                e.excess_lsb,
+                e.edge_p99_lsb,
+                e.worst_seam_lsb
             );
         }
         s

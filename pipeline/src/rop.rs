@@ -27,6 +27,9 @@ pub struct Framebuffer {
     pub rgb8: image::RgbImage,
     /// Pixels written.
     pub mask: Vec<bool>,
+    /// The triangle of the last fragment written at each pixel
+    /// ([`crate::edges::NO_TRIANGLE`] where none was): what the edge measure reads.
+    pub tri: Vec<u32>,
     /// Live fragments that reached the ROP's tests.
     pub tested: u64,
     /// Fragments that passed the alpha test (each reads depth).
@@ -47,6 +50,7 @@ pub fn write(
 ) -> Framebuffer {
     let mut fb = rop.clear(w, h);
     let (mut tested, mut depth_tested, mut written) = (0, 0, 0);
+    let mut tri = vec![crate::edges::NO_TRIANGLE; w as usize * h as usize];
     for (f, o) in frags.iter().zip(outputs) {
         let Some(o) = o else { continue };
         tested += 1;
@@ -57,6 +61,7 @@ pub fn write(
             Outcome::Written => {
                 depth_tested += 1;
                 written += 1;
+                tri[i] = f.tri;
             }
         }
     }
@@ -74,6 +79,7 @@ pub fn write(
         },
         rgb8,
         mask: fb.written,
+        tri,
         tested,
         depth_tested,
         written,

@@ -6,7 +6,7 @@ use crate::engine::{self, attributes, Engine};
 use crate::metrics::{self, Rgb64};
 use crate::raster::{self, packet::PacketLayout, Fragment};
 use crate::reference;
-use crate::report::{Artifacts, Bandwidth, Errors, Gates, ImageInfo, Report, VERSION};
+use crate::report::{Artifacts, Bandwidth, Edges, Errors, Gates, ImageInfo, Report, VERSION};
 use crate::scene::Scene;
 use crate::sim;
 use crate::trace::{Trace, TraceUnit};
@@ -183,20 +183,49 @@ impl Front<'_> {
                     &self.vd.values[a][frag.tri as usize],
                 )
             } else if let Some((codes, bits)) = self.fixed.filter(|_| mode == Mode::BitAccurate) {
-                let c = tri.map(|i| &codes[a][i as usize]);
-                attributes::interpolate_fixed(&attr.enc, lanes, c, frag.bary, bits)
+                let mut c = tri.map(|i| codes[a][i as usize]);
+                if let Some(flips) = self.flips(attr, a, tri) {
+                    for (v, flip) in c.iter_mut().zip(flips) {
+                        if flip {
+                            *v = v.map(|x| -x);
+                        }
+                    }
+                }
+                attributes::interpolate_fixed(
+                    &attr.enc,
+                    lanes,
+                    [&c[0], &c[1], &c[2]],
+                    frag.bary,
+                    bits,
+                )
             } else {
-                let v = tri.map(|i| &self.values[a][i as usize]);
+                let mut v = tri.map(|i| self.values[a][i as usize]);
+                if let Some(flips) = self.flips(attr, a, tri) {
+                    for (v, flip) in v.iter_mut().zip(flips) {
+                        if flip {
+                            *v = v.map(|x| -x);
+                        }
+                    }
+                }
                 attributes::interpolate_snapped(
                     mode,
                     &attr.enc,
                     lanes,
-                    [v[0], v[1], v[2]],
+                    [&v[0], &v[1], &v[2]],
                     frag.bary,
                 )
             };
         }
         (t.id, t.x, t.y) = (f as u64, frag.x, frag.y);
+    }
+
+    /// Triangle setup's sign choice for quaternion attributes
+    /// ([`crate::engine::frames::hemisphere_flips`], decided on the geometry engine's values).
+    fn flips(&self, attr: &AttributeConfig, a: usize, tri: [u32; 3]) -> Option<[bool; 3]> {
+        matches!(attr.source, AttrSource::Quaternion).then(|| {
+            let q = tri.map(|i| &self.vd.values[a][i as usize]);
+            crate::engine::frames::hemisphere_flips(q)
+        })
     }
 }
 
@@ -403,6 +432,11 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
         algorithm: metrics::compare(img_exact, exact_mask, &rimg, rmask),
         quantization: metrics::compare(img_bit, mask, img_exact, exact_mask),
     };
+    let edges = Edges {
+        total: crate::edges::measure(img_bit, mask, &fb.tri, &rimg, rmask),
+        algorithm: crate::edges::measure(img_exact, exact_mask, &fb_exact.tri, &rimg, rmask),
+        quantization: crate::edges::measure(img_bit, mask, &fb.tri, img_exact, exact_mask),
+    };
     let artifacts = Artifacts {
         total: crate::artifacts::measure(img_bit, mask, &rimg, rmask),
         quantization: crate::artifacts::measure(img_bit, mask, img_exact, exact_mask),
@@ -482,6 +516,7 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
         passes,
         error: errors,
         artifacts,
+        edges,
     };
     let trace = trace.map(|t| {
         let units = bit.stages.iter().map(TraceUnit::of_stage).collect();

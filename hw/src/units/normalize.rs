@@ -16,18 +16,25 @@ use crate::unit::{Mode, PortSpec, Unit, Word};
 pub struct Normalize {
     inputs: Vec<PortSpec>,
     outputs: Vec<PortSpec>,
+    rsqrt: Rsqrt,
+}
+
+/// The reciprocal-square-root table of [`Normalize`], shared by every unit that needs
+/// `1 / sqrt(s)` of an exact squared length (`TexramFrame`'s `1 / |m x N|` and `|N_i|`,
+/// `QuatFrame`'s `1 / |q|^2`), so that they all round the same way.
+///
+/// `2^table_bits` entries of `1 / sqrt(m)` at the bin centres, `value_bits` wide in
+/// u2.(value_bits-2); [`Rsqrt::lookup`] shifts `s` by an even amount into `m` in `[1/4, 1)`.
+#[derive(Debug, Clone)]
+pub(crate) struct Rsqrt {
     table_bits: u32,
     value_bits: u32,
     table: Vec<i64>,
 }
 
-impl Normalize {
-    pub fn new(
-        input: Encoding,
-        table_bits: u32,
-        value_bits: u32,
-        out: Encoding,
-    ) -> Result<Self, String> {
+impl Rsqrt {
+    /// The table; `table_bits` 2 to 16, `value_bits` 4 to 32 (the messages are the config's).
+    pub(crate) fn new(table_bits: u32, value_bits: u32) -> Result<Self, String> {
         if !(2..=16).contains(&table_bits) {
             return Err(format!("table_bits {table_bits}: expected 2 to 16"));
         }
@@ -43,12 +50,86 @@ impl Normalize {
                 vf.from_f64(1.0 / m.sqrt(), Quant::Rnd, crate::format::Overflow::Sat)
             })
             .collect();
-        Ok(Normalize {
-            inputs: vec![PortSpec::new("v", 3, input)],
-            outputs: vec![PortSpec::new("n", 3, out)],
+        Ok(Rsqrt {
             table_bits,
             value_bits,
             table,
+        })
+    }
+
+    /// Number of entries (`2^table_bits`).
+    pub(crate) fn entries(&self) -> u64 {
+        self.table.len() as u64
+    }
+
+    /// Index width.
+    #[cfg(test)]
+    pub(crate) fn table_bits(&self) -> u32 {
+        self.table_bits
+    }
+
+    /// Width of an entry.
+    pub(crate) fn value_bits(&self) -> u32 {
+        self.value_bits
+    }
+
+    /// `1 / sqrt(s) ~ r 2^k` for an exact `s > 0`: the table value `r` (an [`Acc`] with
+    /// `value_bits - 2` fraction bits) and the power of two `k`. `None` for `s <= 0` (the
+    /// zero detect: the table is not read).
+    pub(crate) fn lookup(&self, s: Acc) -> Option<(Acc, i64)> {
+        if s.raw <= 0 {
+            return None;
+        }
+        let len = bit_length(s.raw as u128) as i64; // s.raw in [2^(len-1), 2^len)
+        let f = s.frac as i64;
+        // s in [2^(e-1), 2^e) with e = len - f; m = s 4^k in [1/4, 1) for
+        // k = -ceil(e / 2), and 1/sqrt(s) = rsqrt(m) 2^k.
+        let e = len - f;
+        let k = -(e.div_euclid(2) + e.rem_euclid(2));
+        let mbits = f - 2 * k; // m = raw / 2^mbits
+        let tb = self.table_bits as i64;
+        let idx = if mbits >= tb {
+            s.raw >> (mbits - tb)
+        } else {
+            s.raw << (tb - mbits)
+        };
+        let r = Acc::new(self.table[idx as usize] as i128, self.value_bits - 2);
+        Some((r, k))
+    }
+
+    /// The range `(k_min, k_max)` of the shift [`Rsqrt::lookup`] returns for any `s` with
+    /// `1 <= s.raw <= 2^raw_bits` at `frac` fraction bits (for width checks).
+    pub(crate) fn k_range(raw_bits: u32, frac: u32) -> (i64, i64) {
+        let k = |e: i64| -(e.div_euclid(2) + e.rem_euclid(2));
+        let f = frac as i64;
+        (k(raw_bits as i64 + 1 - f), k(1 - f))
+    }
+}
+
+/// `a 2^k` exactly: a wire shift. Negative `k` adds fraction bits; positive `k` removes
+/// fraction bits while there are any (the raw word does not grow), then multiplies.
+pub(crate) fn shift_pow2(a: Acc, k: i64) -> Acc {
+    if k < 0 {
+        a.shr((-k) as u32)
+    } else if a.frac as i64 >= k {
+        Acc::new(a.raw, a.frac - k as u32)
+    } else {
+        Acc::new(a.raw << (k - a.frac as i64), 0)
+    }
+}
+
+impl Normalize {
+    pub fn new(
+        input: Encoding,
+        table_bits: u32,
+        value_bits: u32,
+        out: Encoding,
+    ) -> Result<Self, String> {
+        let rsqrt = Rsqrt::new(table_bits, value_bits)?;
+        Ok(Normalize {
+            inputs: vec![PortSpec::new("v", 3, input)],
+            outputs: vec![PortSpec::new("n", 3, out)],
+            rsqrt,
         })
     }
 }
@@ -72,7 +153,7 @@ impl Unit for Normalize {
     fn gates(&self, t: &CostTable) -> GateBudget {
         let w = self.inputs[0].enc.width();
         let wo = self.outputs[0].enc.width();
-        let vb = self.value_bits;
+        let vb = self.rsqrt.value_bits();
         let levels = bit_length(2 * w as u128);
         let mut g = GateBudget::new();
         g.add(format!("squarer {w}"), 3, t.squarer(w));
@@ -88,9 +169,9 @@ impl Unit for Normalize {
             t.mux(2 * w + 2, 2) * levels as f64,
         );
         g.add(
-            format!("rsqrt table {}x{vb}", self.table.len()),
+            format!("rsqrt table {}x{vb}", self.rsqrt.entries()),
             1,
-            t.rom(self.table.len() as u64, vb),
+            t.rom(self.rsqrt.entries(), vb),
         );
         g.add(format!("multiplier {w}x{vb}"), 3, t.multiplier(w, vb));
         g.add(
@@ -123,25 +204,11 @@ impl Unit for Normalize {
                 let enc = &self.inputs[0].enc;
                 let c: [Acc; 3] = std::array::from_fn(|i| Acc::from_code(v.lanes[i].raw, enc));
                 let s = c.iter().fold(Acc::ZERO, |s, a| s.add(a.mul(*a)));
-                if s.raw == 0 {
+                // 1/|v| = r 2^k; the zero vector gives zero
+                let Some((r, k)) = self.rsqrt.lookup(s) else {
                     outs[0] = Word::from_raw(&out, &[0, 0, 0]);
                     return;
-                }
-                // s = raw / 2^f. Shift by an even amount so that m = s * 4^k is in [1/4, 1).
-                let len = bit_length(s.raw as u128) as i64; // s.raw in [2^(len-1), 2^len)
-                let f = s.frac as i64;
-                // s in [2^(e-1), 2^e) with e = len - f; m = s 4^k in [1/4, 1) for
-                // k = -ceil(e / 2), and 1/|v| = rsqrt(m) 2^k.
-                let e = len - f;
-                let k = -(e.div_euclid(2) + e.rem_euclid(2));
-                let mbits = f - 2 * k; // m = raw / 2^mbits
-                let tb = self.table_bits as i64;
-                let idx = if mbits >= tb {
-                    s.raw >> (mbits - tb)
-                } else {
-                    s.raw << (tb - mbits)
                 };
-                let r = Acc::new(self.table[idx as usize] as i128, self.value_bits - 2);
                 let scale = |a: Acc| {
                     let p = a.mul(r);
                     if k >= 0 {
@@ -189,6 +256,46 @@ mod tests {
             "worst {worst}"
         );
         assert!(worst > 1e-4, "the table must show some error: {worst}");
+    }
+
+    /// The shared table: every `k` that `lookup` returns lies in `k_range` (the width checks
+    /// of the units that share it rely on this), and `r 2^k` is within the table's relative
+    /// bound of `1 / sqrt(s)`; `shift_pow2` keeps the value.
+    #[test]
+    fn shared_rsqrt_shift_range_and_error() {
+        let rs = Rsqrt::new(6, 10).unwrap();
+        let bound = 2f64.powi(-6) + 2f64.powi(-9);
+        for frac in [0u32, 1, 7, 20, 40] {
+            for bits in [1u32, 2, 9, 30, 60] {
+                let (kmin, kmax) = Rsqrt::k_range(bits, frac);
+                for raw in [
+                    1i128,
+                    2,
+                    3,
+                    (1i128 << bits) - 1,
+                    1i128 << bits,
+                    12345 % (1 << bits) + 1,
+                ] {
+                    let s = Acc::new(raw, frac);
+                    let (r, k) = rs.lookup(s).unwrap();
+                    assert!(
+                        (kmin..=kmax).contains(&k),
+                        "{raw} {frac}: {k} not in {kmin}..={kmax}"
+                    );
+                    let got = shift_pow2(r, k).to_f64();
+                    let want = 1.0 / s.to_f64().sqrt();
+                    assert!((got / want - 1.0).abs() <= bound, "{raw} {frac}");
+                }
+            }
+        }
+        assert_eq!(rs.lookup(Acc::ZERO), None);
+        for k in [-5i64, 0, 3, 9] {
+            let a = Acc::new(-77, 4);
+            assert_eq!(
+                shift_pow2(a, k).to_f64(),
+                -77.0 / 16.0 * 2f64.powi(k as i32)
+            );
+        }
     }
 
     #[test]

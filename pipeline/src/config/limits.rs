@@ -75,6 +75,7 @@ fn texture_source(s: &TextureSource) -> Result<(), Bad> {
     match *s {
         TextureSource::BumpNormals { size, .. }
         | TextureSource::BumpHeights { size }
+        | TextureSource::BumpGradient { size }
         | TextureSource::ObjectNormals { size }
         | TextureSource::LightingTable { size, .. } => side("source.size", size),
         TextureSource::ColorTexture => Ok(()),
@@ -115,6 +116,8 @@ fn check_unit(u: &UnitSpec) -> Result<(), Bad> {
             range("index_bits", s.index_bits, 1, MAX_TABLE_BITS, "")
         }
         UnitSpec::Normalize(s) => range("table_bits", s.table_bits, 2, MAX_TABLE_BITS, ""),
+        UnitSpec::TexramFrame(s) => range("table_bits", s.table_bits, 2, MAX_TABLE_BITS, ""),
+        UnitSpec::QuatFrame(s) => range("table_bits", s.table_bits, 2, MAX_TABLE_BITS, ""),
         UnitSpec::BumpBlend(s) => spec_gen("spec", &s.spec),
         UnitSpec::QuantizedNormals(s) => {
             side("size", s.size)?;
@@ -273,6 +276,9 @@ fn mesh_size(m: &MeshSpec) -> (f64, f64) {
             32.0 * grid(*subdivisions, *subdivisions),
             32.0 * rep(uv_repeat),
         ),
+        MeshSpec::Fold {
+            columns, uv_repeat, ..
+        } => (grid(2 * columns, 2 * columns), rep(uv_repeat)),
         MeshSpec::Obj { uv_repeat, .. } => (0.0, rep(uv_repeat)),
     }
 }
@@ -328,6 +334,7 @@ pub fn estimate(c: &Config) -> Estimate {
                 let size = match t.source {
                     TextureSource::BumpNormals { size, .. }
                     | TextureSource::BumpHeights { size }
+                    | TextureSource::BumpGradient { size }
                     | TextureSource::LightingTable { size, .. } => f64::from(size),
                     TextureSource::ObjectNormals { size } => {
                         let texels = f64::from(size).powi(2);

@@ -225,6 +225,21 @@ pub enum VecFrame {
     /// the "bump vector space" of Gouraud bump mapping (§4), in which a bump map's Eq. 2
     /// normals are read as directions of a surface facing +z.
     Object,
+    /// World space as it is (the frame the per-pixel engines of Ernst et al. §3.1, §3.2 and
+    /// §3.5 light in: interpolated world normals, world L and H).
+    World,
+}
+
+/// Which of Blinn's three axes a [`AttrSource::BlinnAxis`] carries (Ernst et al. §3.5: `-Pv
+/// × N`, `-N × Pu`, `Pu × Pv`, the components of §2's final equation).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Axis {
+    /// The axis that multiplies `Fu`: `s (n̂ × Pv) / |Pu × Pv|`.
+    Du,
+    /// The axis that multiplies `Fv`: `s (Pu × n̂) / |Pu × Pv|`.
+    Dv,
+    /// The unperturbed normal `n̂` (`Pu × Pv` scaled to unit length; the smooth normal).
+    N,
 }
 
 /// Where an attribute comes from. The geometry engine computes it in f64 and sends it to the
@@ -273,6 +288,48 @@ pub enum AttrSource {
     /// cheapest scheme of the period (one value from the geometry engine, no per-pixel
     /// derivatives); it selects index mipmap levels (Tarini §5.2).
     Lod { size: u32 },
+    /// The smooth unit normal `n̂` in world space, per vertex: the interpolated `N_i` of the
+    /// per-pixel engines (Ernst et al. §3.1 "the interpolated per vertex normal", §3.2).
+    Normal,
+    /// One of Blinn's axes per vertex in world space (Harmony, Ernst et al. §3.5: "simply
+    /// interpolates the per vertex coordinate systems across the triangle"), built by `rule`
+    /// (Blinn's `Pu`, `Pv`; or, for the scale-invariant rule, `Pu`, `Pv` scaled to unit
+    /// length, which equals Lingard's `D'` where `Pu ⟂ Pv`). See `docs/units/perturb.md`.
+    BlinnAxis {
+        axis: Axis,
+        #[serde(default)]
+        rule: Perturbation,
+    },
+    /// A column of VISA+'s alignment matrix `A` (Ernst et al. §3.2: `N' = N + A V`, "A is
+    /// calculated based on a local orthogonal coordinate system constructed by the local
+    /// surface normal N and the texture coordinates of the triangle"), once per triangle:
+    /// Blinn's `Du` (`column: Du`) or `Dv` axis of the triangle's own plane (its face normal
+    /// and its `Pu`, `Pv` solved from its positions and texture coordinates), by `rule` as
+    /// [`AttrSource::BlinnAxis`]; `column: N` is the face normal. A triangle without uv area
+    /// falls back to its vertices' mean normal, `Pu` and `Pv`.
+    Alignment {
+        column: Axis,
+        #[serde(default)]
+        rule: Perturbation,
+    },
+    /// Texram's main direction `m` per vertex (Ernst et al. §3.1: "a direction m, which is,
+    /// for example homogeneously interpolated over the triangle"): `Pu / |Pu|` in world space
+    /// (the tangent frame's `T` where `Pu` is degenerate).
+    MainDirection,
+    /// The vertex's tangent frame `(T, n̂ × T, n̂)` as a unit quaternion `(x, y, z, w)` (VISA+
+    /// with quaternions at the vertices, §3.2 last paragraph). Vertex quaternions are shared
+    /// by triangles, so triangle setup negates a vertex's quaternion whose dot product with
+    /// the triangle's first vertex's is negative (`q` and `-q` are one rotation; without this
+    /// the interpolation would pass through zero).
+    Quaternion,
+    /// The 2x2 matrix `M` (`m00, m01, m10, m11`) per vertex that takes the quaternion frame's
+    /// `(T, n̂ × T)` to Blinn's axes by `rule`: `Du = m00 T + m10 B`, `Dv = m01 T + m11 B`.
+    /// `(-1, 0, 0, -1)` for an orthonormal right-handed parameterisation under the
+    /// scale-invariant rule (then a `QuatFrame` without `m` does the same).
+    QuatScale {
+        #[serde(default)]
+        rule: Perturbation,
+    },
 }
 
 impl AttrSource {
@@ -280,6 +337,7 @@ impl AttrSource {
         match self {
             AttrSource::Uv => 2,
             AttrSource::BlendEnable { .. } | AttrSource::Lod { .. } => 1,
+            AttrSource::Quaternion | AttrSource::QuatScale { .. } => 4,
             _ => 3,
         }
     }
@@ -294,6 +352,7 @@ impl AttrSource {
                 per_triangle: true,
                 ..
             } | AttrSource::Lod { .. }
+                | AttrSource::Alignment { .. }
         )
     }
     /// The light the attribute is about, if any.

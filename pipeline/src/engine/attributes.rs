@@ -8,6 +8,7 @@
 //! only to the interpolated value, so a triangle spanning a wrap boundary interpolates
 //! correctly. In exact mode neither rounding happens.
 
+use super::frames;
 use crate::config::{AttrSource, AttributeConfig, VecFrame};
 use crate::scene::{Light, Scene};
 use bumpsim_hw::{Codec, Encoding, Mode, Word};
@@ -74,48 +75,60 @@ pub fn compute(scene: &Scene, attrs: &[AttributeConfig]) -> VertexData {
         })
         .collect();
     let to_object = m3.inverse();
-    let at =
-        |src: AttrSource, (p, n, pu, pv): (DVec3, DVec3, DVec3, DVec3), uv: [f64; 2]| -> [f64; 4] {
-            let frame = Frame::new(n, pu, pv);
-            let view = scene.camera.view_dir(p);
-            let local = |f: VecFrame, d: DVec3| -> [f64; 4] {
-                let x = match f {
-                    VecFrame::Tangent => frame.to_local(d),
-                    VecFrame::Object => (to_object * d).normalize_or_zero().to_array(),
-                };
-                [x[0], x[1], x[2], 0.0]
+    let at = |src: AttrSource,
+              (p, n, pu, pv): (DVec3, DVec3, DVec3, DVec3),
+              uv: [f64; 2]|
+     -> [f64; 4] {
+        let frame = Frame::new(n, pu, pv);
+        let view = scene.camera.view_dir(p);
+        let local = |f: VecFrame, d: DVec3| -> [f64; 4] {
+            let x = match f {
+                VecFrame::Tangent => frame.to_local(d),
+                VecFrame::Object => (to_object * d).normalize_or_zero().to_array(),
+                VecFrame::World => d.to_array(),
             };
-            match src {
-                AttrSource::Uv => [uv[0], uv[1], 0.0, 0.0],
-                AttrSource::LightDir {
-                    light, frame: f, ..
-                } => local(f, scene.lights[light].dir_from(p)),
-                AttrSource::HalfVec {
-                    light, frame: f, ..
-                } => {
-                    let l = scene.lights[light].dir_from(p);
-                    local(f, (l + view).normalize_or_zero())
-                }
-                AttrSource::BlendEnable { light } => {
-                    let faces = frame.n.dot(scene.lights[light].dir_from(p)) > 0.0;
-                    [f64::from(u8::from(faces)), 0.0, 0.0, 0.0]
-                }
-                // per triangle: see `lod`
-                AttrSource::Lod { .. } => [0.0; 4],
-                AttrSource::Gouraud {
-                    ambient,
-                    all_lights,
-                } => {
-                    let a = if ambient {
-                        DVec3::from(scene.material.ambient)
-                    } else {
-                        DVec3::ZERO
-                    };
-                    let c = a + gouraud(scene, frame.n, p, view, all_lights);
-                    [c.x, c.y, c.z, 0.0]
-                }
-            }
+            [x[0], x[1], x[2], 0.0]
         };
+        match src {
+            AttrSource::Uv => [uv[0], uv[1], 0.0, 0.0],
+            AttrSource::LightDir {
+                light, frame: f, ..
+            } => local(f, scene.lights[light].dir_from(p)),
+            AttrSource::HalfVec {
+                light, frame: f, ..
+            } => {
+                let l = scene.lights[light].dir_from(p);
+                local(f, (l + view).normalize_or_zero())
+            }
+            AttrSource::BlendEnable { light } => {
+                let faces = frame.n.dot(scene.lights[light].dir_from(p)) > 0.0;
+                [f64::from(u8::from(faces)), 0.0, 0.0, 0.0]
+            }
+            // per triangle: see `lod` and `frames::alignment`
+            AttrSource::Lod { .. } | AttrSource::Alignment { .. } => [0.0; 4],
+            AttrSource::Normal => lanes3(frame.n),
+            AttrSource::BlinnAxis { axis, rule } => {
+                lanes3(frames::blinn_axis(axis, frame.n, pu, pv, rule))
+            }
+            AttrSource::MainDirection => lanes3(frames::main_direction(frame.n, pu, pv)),
+            AttrSource::Quaternion => frames::quaternion_frame(frame.n, pu, pv, Default::default())
+                .0
+                .to_array(),
+            AttrSource::QuatScale { rule } => frames::quaternion_frame(frame.n, pu, pv, rule).1,
+            AttrSource::Gouraud {
+                ambient,
+                all_lights,
+            } => {
+                let a = if ambient {
+                    DVec3::from(scene.material.ambient)
+                } else {
+                    DVec3::ZERO
+                };
+                let c = a + gouraud(scene, frame.n, p, view, all_lights);
+                [c.x, c.y, c.z, 0.0]
+            }
+        }
+    };
     let values = attrs
         .iter()
         .map(|a| {
@@ -136,6 +149,31 @@ pub fn compute(scene: &Scene, attrs: &[AttributeConfig]) -> VertexData {
                             0.0,
                             0.0,
                         ]
+                    })
+                    .collect()
+            } else if let AttrSource::Alignment { column, rule } = a.source {
+                scene
+                    .mesh
+                    .triangles
+                    .iter()
+                    .map(|t| {
+                        let w = t.map(|i| world[i as usize]);
+                        let n = (w[0].1.normalize_or_zero()
+                            + w[1].1.normalize_or_zero()
+                            + w[2].1.normalize_or_zero())
+                        .normalize_or_zero();
+                        let mean = (
+                            (w[0].2 + w[1].2 + w[2].2) / 3.0,
+                            (w[0].3 + w[1].3 + w[2].3) / 3.0,
+                        );
+                        lanes3(frames::alignment(
+                            column,
+                            w.map(|x| x.0),
+                            t.map(|i| verts[i as usize].uv),
+                            n,
+                            mean,
+                            rule,
+                        ))
                     })
                     .collect()
             } else if a.source.per_triangle() {
@@ -165,6 +203,11 @@ pub fn compute(scene: &Scene, attrs: &[AttributeConfig]) -> VertexData {
         .collect();
     let flat = attrs.iter().map(|a| a.source.per_triangle()).collect();
     VertexData { clip, values, flat }
+}
+
+/// A 3-vector as attribute lanes.
+fn lanes3(v: DVec3) -> [f64; 4] {
+    [v.x, v.y, v.z, 0.0]
 }
 
 /// Per-triangle level of detail of a `size` x `size` texture ([`AttrSource::Lod`]): `1/2

@@ -9,6 +9,7 @@
 //! earlier signals (swizzles, lane selects, concatenation: [`wire`]). See docs/ARCHITECTURE.md.
 
 pub mod attributes;
+pub mod frames;
 pub mod memory;
 pub mod palette;
 pub mod units;

@@ -98,6 +98,21 @@ pub enum MeshSpec {
         stacks: u32,
         uv_repeat: [f64; 2],
     },
+    /// A strip folded along its middle (the y axis) into a ridge: two flat panels, each
+    /// `size` across and `2 size` along, whose normals differ by `angle_deg` (the dihedral angle between the
+    /// triangles that meet at the crease, 0 to 170; 0 is a flat strip), `columns` cells per
+    /// panel across and `2 columns` along. The crease vertices take the mean normal and
+    /// tangent, so shading is smooth across it: the scene of the edge-discontinuity study
+    /// (Ernst et al. §3.2; `docs/studies/perturbation-engines.md`). `u` runs across the
+    /// crease, `v` along it.
+    Fold {
+        angle_deg: f64,
+        /// Edge length of each panel (> 0).
+        size: f64,
+        /// Cells across each panel, 1..=2048.
+        columns: u32,
+        uv_repeat: [f64; 2],
+    },
 }
 
 /// Largest segment count accepted for parametric meshes.
@@ -183,6 +198,23 @@ impl MeshSpec {
                 let rep = check_repeat("Cylinder", uv_repeat)?;
                 (cylinder(radius, height, slices, stacks, rep), "Cylinder")
             }
+            MeshSpec::Fold {
+                angle_deg,
+                size,
+                columns,
+                uv_repeat,
+            } => {
+                if !(0.0..=170.0).contains(&angle_deg) {
+                    return Err(SceneError::invalid(
+                        "mesh.Fold.angle_deg",
+                        format!("expected 0 to 170 degrees, found {angle_deg}"),
+                    ));
+                }
+                check_positive("mesh.Fold.size".into(), size)?;
+                check_count("mesh.Fold.columns".into(), columns, 1, MAX_SEGMENTS / 2)?;
+                let rep = check_repeat("Fold", uv_repeat)?;
+                (fold(angle_deg, size, columns, rep), "Fold")
+            }
             MeshSpec::Teapot {
                 subdivisions,
                 uv_repeat,
@@ -259,6 +291,22 @@ fn grid(
         }
     }
     mesh
+}
+
+/// The folded strip of [`MeshSpec::Fold`]: `P = (a cos h, t, -|a| sin h) size` for `a` in
+/// [-1, 1] across, `t` in [-1, 1] along, `h` half the angle.
+fn fold(angle_deg: f64, size: f64, columns: u32, rep: DVec2) -> Mesh {
+    let (sh, ch) = (angle_deg.to_radians() / 2.0).sin_cos();
+    grid(2 * columns, 2 * columns, rep, |s, t| {
+        let (a, b) = (2.0 * s - 1.0, 2.0 * t - 1.0);
+        let side = if a.abs() < 1e-12 { 0.0 } else { a.signum() };
+        (
+            DVec3::new(a * ch, b, -a.abs() * sh) * size,
+            DVec3::new(side * sh, 0.0, ch),
+            DVec3::new(ch, 0.0, -side * sh) * (2.0 * size),
+            DVec3::new(0.0, 2.0 * size, 0.0),
+        )
+    })
 }
 
 fn one_cell() -> u32 {

@@ -88,6 +88,11 @@ pub fn report_columns() -> Vec<String> {
             c.push(format!("{k}_{s}"));
         }
     }
+    for k in ["total", "algorithm", "quantization"] {
+        for s in ["edge_excess_lsb", "edge_p99_lsb", "worst_seam_lsb"] {
+            c.push(format!("{k}_{s}"));
+        }
+    }
     c
 }
 
@@ -135,6 +140,13 @@ impl Row {
         }
         for a in [&r.artifacts.total, &r.artifacts.quantization] {
             c.extend(artifacts(a));
+        }
+        for e in [&r.edges.total, &r.edges.algorithm, &r.edges.quantization] {
+            c.extend([
+                Cell::Float(e.excess_lsb),
+                Cell::Float(e.edge_p99_lsb),
+                Cell::Float(e.worst_seam_lsb),
+            ]);
         }
         Row {
             index: p.index,

@@ -24,13 +24,16 @@ mod fb_blend;
 mod modulate;
 mod normalize;
 mod palette_lighting;
+mod perturb;
 mod ports;
 mod power_table;
 mod quantized_normals;
+mod quat_frame;
 mod register_combiners;
 mod shade;
 mod struct_variant;
 mod tex_fetch;
+mod texram_frame;
 mod textures;
 
 pub use bump_blend::BumpBlendSpec;
@@ -40,11 +43,14 @@ pub use emboss_filter::EmbossFilterSpec;
 pub use fb_blend::FbBlendSpec;
 pub use modulate::ModulateSpec;
 pub use normalize::NormalizeSpec;
+pub use perturb::PerturbSpec;
 pub use power_table::PowerTableSpec;
 pub use quantized_normals::{BuilderDatapath, QuantizedNormalsSpec};
+pub use quat_frame::QuatFrameSpec;
 pub use register_combiners::RegisterCombinersSpec;
 pub use shade::ShadeSpec;
 pub use tex_fetch::TexFetchSpec;
+pub use texram_frame::TexramFrameSpec;
 pub use textures::TextureSource;
 
 use crate::engine::memory::TextureMemory;
@@ -168,6 +174,9 @@ unit_specs! {
     FbBlend(FbBlendSpec),
     EmbossFilter(EmbossFilterSpec),
     RegisterCombiners(RegisterCombinersSpec),
+    Perturb(PerturbSpec),
+    TexramFrame(TexramFrameSpec),
+    QuatFrame(QuatFrameSpec),
 }
 
 impl UnitSpec {

@@ -30,6 +30,12 @@ pub enum TextureSource {
     /// channel clamped to [0, 1]. Read it with `address: Clamp` so that s = 1 reads the last
     /// column.
     LightingTable { size: u32, light: usize },
+    /// The scene's bump map as its height gradient `(Fu, Fv)` per unit of texture coordinate,
+    /// two lanes at texel centres: the "precalculated derivatives, offset vectors, stored in a
+    /// bump map" of VISA+ and Texram (Ernst et al. §3.2), read by the per-pixel perturbation
+    /// engines (`Perturb`). Analytic for height fields; from a normal map's texels as
+    /// `(-x / z, -y / z)` (z at least 1/64).
+    BumpGradient { size: u32 },
 }
 
 /// The texels of `source` (its size checked).
@@ -48,6 +54,24 @@ pub(super) fn texels(source: &TextureSource, ctx: &BuildCtx) -> Result<Texels, S
                 .map(|x| [x, 0.0, 0.0, 0.0])
                 .collect();
             Ok(square(size, 1, values))
+        }
+        TextureSource::BumpGradient { size } => {
+            check_size(size)?;
+            let bump = &ctx.scene.bump;
+            let n = f64::from(size);
+            let values = (0..size)
+                .flat_map(|j| (0..size).map(move |i| (i, j)))
+                .map(|(i, j)| {
+                    let (u, v) = ((f64::from(i) + 0.5) / n, (f64::from(j) + 0.5) / n);
+                    let g = bump.grad(u, v).unwrap_or_else(|| {
+                        let t = bump.normal_ts(u, v);
+                        let z = t.z.max(1.0 / 64.0);
+                        glam::DVec2::new(-t.x / z, -t.y / z)
+                    });
+                    [g.x, g.y, 0.0, 0.0]
+                })
+                .collect();
+            Ok(square(size, 2, values))
         }
         TextureSource::ObjectNormals { size } => {
             check_size(size)?;
