@@ -24,7 +24,7 @@
 //!   clamp), so the block error grows (2.68 to 3.23 degrees) and NeuQuant tables see outliers
 //!   up to ~100 degrees. Tarini's own advice (§4) is `s_N >= 256` with dithering on.
 
-use super::nearest;
+use super::search::Indices;
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 use std::ops::Range;
@@ -47,7 +47,8 @@ pub fn dither(normals: &[DVec3], w: usize, h: usize, entries: &[DVec3], scan: Sc
 }
 
 /// [`dither`] with the candidates of texel `i` restricted to `range(i)` (materials, §6).
-/// Error is only diffused between texels with the same candidate range.
+/// Error is only diffused between texels with the same candidate range. Every texel is one
+/// query of its range's [`super::NearestIndex`] (the answers of [`super::nearest`]).
 pub(crate) fn dither_in(
     normals: &[DVec3],
     w: usize,
@@ -55,6 +56,23 @@ pub(crate) fn dither_in(
     entries: &[DVec3],
     scan: Scan,
     range: impl Fn(usize) -> Range<usize>,
+) -> Vec<u32> {
+    let mut search = Indices::new(entries);
+    dither_with(normals, w, h, entries, scan, range, |v, r| {
+        search.nearest(v, r)
+    })
+}
+
+/// [`dither_in`] with the nearest-entry search given (`nearest(v, range)`: the answer of
+/// [`super::nearest`]; the tests pass that brute force itself).
+pub(crate) fn dither_with(
+    normals: &[DVec3],
+    w: usize,
+    h: usize,
+    entries: &[DVec3],
+    scan: Scan,
+    range: impl Fn(usize) -> Range<usize>,
+    mut nearest: impl FnMut(DVec3, Range<usize>) -> u32,
 ) -> Vec<u32> {
     assert_eq!(normals.len(), w * h, "dither: map size");
     assert!(!entries.is_empty(), "dither: empty table");
@@ -67,7 +85,7 @@ pub(crate) fn dither_in(
             let i = y * w + x;
             let r = range(i);
             let target = normals[i] + err[i];
-            let e = nearest(target, entries, r.clone());
+            let e = nearest(target, r.clone());
             out[i] = e;
             let d = target - entries[e as usize];
             let dir: isize = if back { -1 } else { 1 };

@@ -11,8 +11,8 @@
 //! normal that is mostly metal gets its entries in the metal interval. A material's
 //! interval may be shorter than its share (median cut stops at one entry per distinct normal).
 
-use super::{build_table, check_normals, dither::dither_in, nearest, Palette, Quantizer};
-use super::{QuantizeError, Scan, MAX_PALETTE};
+use super::{build_table, check_map, check_normals, dither::dither_in, Palette, Quantizer};
+use super::{NearestIndex, QuantizeError, Scan, MAX_PALETTE};
 use glam::DVec3;
 use std::ops::Range;
 
@@ -88,6 +88,56 @@ pub fn quantize_with_materials(
     s_n: usize,
     q: Quantizer,
 ) -> Result<MaterialPalette, QuantizeError> {
+    let (entries, intervals) = tables(normals, materials, s_n, q)?;
+    let search: Vec<NearestIndex> = intervals
+        .iter()
+        .map(|r| NearestIndex::new(&entries, r.clone()))
+        .collect();
+    let indices = normals
+        .iter()
+        .zip(materials)
+        .map(|(&n, &m)| search[m as usize].nearest(n))
+        .collect();
+    Ok(MaterialPalette {
+        palette: Palette { entries, indices },
+        intervals,
+    })
+}
+
+/// [`quantize_with_materials`] with the indices dithered ([`MaterialPalette::dither`]) of the
+/// `w x h` row-major maps `normals` and `materials`: the same result as
+/// `quantize_with_materials` followed by `mp.palette.indices = mp.dither(normals, materials,
+/// w, h, scan)`, without the nearest-entry mapping that dithering replaces (every texel is
+/// searched once). Errors as [`quantize_with_materials`], plus `normals.len() != w * h`.
+pub fn quantize_with_materials_dithered(
+    normals: &[DVec3],
+    materials: &[u8],
+    w: usize,
+    h: usize,
+    s_n: usize,
+    q: Quantizer,
+    scan: Scan,
+) -> Result<MaterialPalette, QuantizeError> {
+    check_map(normals.len(), w, h)?;
+    let (entries, intervals) = tables(normals, materials, s_n, q)?;
+    let mut mp = MaterialPalette {
+        palette: Palette {
+            entries,
+            indices: Vec::new(),
+        },
+        intervals,
+    };
+    mp.palette.indices = mp.dither(normals, materials, w, h, scan);
+    Ok(mp)
+}
+
+/// The concatenated tables and the intervals of [`quantize_with_materials`] (its checks).
+fn tables(
+    normals: &[DVec3],
+    materials: &[u8],
+    s_n: usize,
+    q: Quantizer,
+) -> Result<(Vec<DVec3>, Vec<Range<usize>>), QuantizeError> {
     if materials.len() != normals.len() {
         return Err(QuantizeError::Length {
             what: "materials",
@@ -130,15 +180,7 @@ pub fn quantize_with_materials(
         }
         intervals.push(start..entries.len());
     }
-    let indices = normals
-        .iter()
-        .zip(materials)
-        .map(|(&n, &m)| nearest(n, &entries, intervals[m as usize].clone()))
-        .collect();
-    Ok(MaterialPalette {
-        palette: Palette { entries, indices },
-        intervals,
-    })
+    Ok((entries, intervals))
 }
 
 #[cfg(test)]

@@ -3,7 +3,7 @@
 //! "average" of 4 texels is "the index in N that best approximates the average of the 4
 //! normals N(t1), ..., N(t4)".
 
-use super::{nearest, QuantizeError};
+use super::{NearestIndex, QuantizeError};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
@@ -45,13 +45,14 @@ pub fn mip_indices(
     }
     let (w2, h2) = ((w / 2).max(1), (h / 2).max(1));
     let mut out = Vec::with_capacity(w2 * h2);
+    let search = NearestIndex::of(palette);
     for y in 0..h2 {
         for x in 0..w2 {
             let q = block(indices, w, h, x, y);
             out.push(match mode {
                 MipMode::NearestToAverage => {
                     let avg = q.iter().fold(DVec3::ZERO, |s, &i| s + palette[i as usize]) / 4.0;
-                    nearest(avg, palette, 0..palette.len())
+                    search.nearest(avg)
                 }
                 MipMode::NaiveIndexAverage => {
                     ((q.iter().map(|&i| u64::from(i)).sum::<u64>() + 2) / 4) as u32

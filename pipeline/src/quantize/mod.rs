@@ -10,7 +10,10 @@
 //!   (`color_quant`, on RGBA8 pixels exactly as §4 reuses image software, at most 256
 //!   entries) or k-means ([`kmeans`], `linfa-clustering` on the f64 normals, any size), then
 //!   every texel mapped to its nearest entry (largest dot product).
-//! * [`dither()`]: Floyd–Steinberg error diffusion of normals (§4, Fig. 4).
+//! * [`dither()`]: Floyd–Steinberg error diffusion of normals (§4, Fig. 4);
+//!   [`quantize_dithered`] builds the table and dithers without the plain mapping.
+//! * [`search`]: the exact nearest-entry search ([`NearestIndex`], a k-d tree) behind every
+//!   per-texel mapping here; [`nearest`] is its brute-force reference (the same answers).
 //! * [`materials`]: several lighting models in one table, one contiguous interval of
 //!   entries per material (§6).
 //! * [`mipmap`]: index mipmaps (§5.2), where indices cannot be averaged.
@@ -45,13 +48,17 @@ pub mod kmeans;
 pub mod materials;
 pub mod median_cut;
 pub mod mipmap;
+pub mod search;
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 pub use dither::{dither, Scan};
-pub use materials::{quantize_with_materials, MaterialPalette, MAX_MATERIALS};
+pub use materials::{
+    quantize_with_materials, quantize_with_materials_dithered, MaterialPalette, MAX_MATERIALS,
+};
 pub use mipmap::{mip_indices, MipMode};
+pub use search::NearestIndex;
 
 /// Largest table size: Tarini §4 finds `s_N = 16K` "in practice invisible".
 pub const MAX_PALETTE: usize = 16384;
@@ -166,6 +173,38 @@ pub fn quantize(normals: &[DVec3], s_n: usize, q: Quantizer) -> Result<Palette, 
     Ok(Palette { entries, indices })
 }
 
+/// [`quantize`] with Floyd–Steinberg dithered indices ([`dither()`], scan `scan`) of the
+/// `w x h` row-major map `normals`: the same result as `quantize` followed by
+/// `pal.indices = dither(normals, w, h, &pal.entries, scan)`, without the nearest-entry
+/// mapping that dithering replaces (every texel is searched once).
+///
+/// Errors as [`quantize`], plus `normals.len() != w * h`.
+pub fn quantize_dithered(
+    normals: &[DVec3],
+    w: usize,
+    h: usize,
+    s_n: usize,
+    q: Quantizer,
+    scan: Scan,
+) -> Result<Palette, QuantizeError> {
+    check_map(normals.len(), w, h)?;
+    let entries = build_table(normals, s_n, q)?;
+    let indices = dither(normals, w, h, &entries, scan);
+    Ok(Palette { entries, indices })
+}
+
+/// `len == w * h`, or the error that says it is not.
+pub(crate) fn check_map(len: usize, w: usize, h: usize) -> Result<(), QuantizeError> {
+    match w.checked_mul(h) {
+        Some(n) if n == len => Ok(()),
+        n => Err(QuantizeError::Length {
+            what: "normals (w * h)",
+            expected: n.unwrap_or(usize::MAX),
+            found: len,
+        }),
+    }
+}
+
 /// The table alone (checks as [`quantize`]).
 pub(crate) fn build_table(
     normals: &[DVec3],
@@ -254,7 +293,9 @@ fn neuquant(normals: &[DVec3], s_n: usize, sample_factor: u32) -> Vec<DVec3> {
 
 /// Index of the entry of `entries[range]` with the largest dot product with `v` (the nearest
 /// direction; for unit entries also the nearest point, `|v - e|² = |v|² - 2 v·e + 1`), ties
-/// to the lower index. `v` need not be unit. Brute force: exact by construction.
+/// to the lower index. `v` need not be unit. Brute force: exact by construction, and the
+/// reference of [`NearestIndex`], which every per-texel search of this module uses (the same
+/// answers, bit for bit; `search::tests`).
 pub fn nearest(v: DVec3, entries: &[DVec3], range: std::ops::Range<usize>) -> u32 {
     let mut best = (f64::NEG_INFINITY, range.start);
     for i in range {
@@ -266,11 +307,9 @@ pub fn nearest(v: DVec3, entries: &[DVec3], range: std::ops::Range<usize>) -> u3
     best.1 as u32
 }
 
+/// [`nearest`] of every normal, through one [`NearestIndex`].
 fn nearest_all(normals: &[DVec3], entries: &[DVec3], range: std::ops::Range<usize>) -> Vec<u32> {
-    normals
-        .iter()
-        .map(|&n| nearest(n, entries, range.clone()))
-        .collect()
+    NearestIndex::new(entries, range).nearest_all(normals)
 }
 
 /// `entries[indices[i]]` for every texel.

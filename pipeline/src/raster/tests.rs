@@ -570,11 +570,15 @@ proptest! {
         let grid = |x: f64| (x * s).round() / s;
         let pts = fan.points(cx, cy, &radius, grid);
         let out = fan.draw(&pts, w, h, bits);
-        prop_assert_eq!(out.depth_rejected, 0);
         let cov = coverage(&out, w, h);
         // Independent classification in units of 1/2^(bits+1) pixel, window y up.
         let u = 2.0 * s;
         let ip: Vec<(i64, i64)> = pts.iter().map(|&(x, y)| ((x * u) as i64, (y * u) as i64)).collect();
+        // snapping two spokes at nearly the same angle to the subpixel grid can swap their
+        // order, folding a triangle over its neighbours: then the fan overlaps itself (a
+        // case of the generator, not of the rasterizer), so such fans are not drawn
+        prop_assume!((0..n).all(|k| cross(ip[0], ip[1 + k], ip[1 + (k + 1) % n]) >= 0));
+        prop_assert_eq!(out.depth_rejected, 0);
         let fan: Vec<[(i64, i64); 3]> = (0..n)
             .map(|k| [ip[0], ip[1 + k], ip[1 + (k + 1) % n]])
             .filter(|t| cross(t[0], t[1], t[2]) != 0)

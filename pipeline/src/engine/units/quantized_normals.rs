@@ -122,11 +122,13 @@ impl QuantizedNormalsSpec {
         let (w, n) = (size as usize, s_n as usize);
         let (pal, intervals) = match &scene.looks.regions {
             None => {
-                let mut pal =
-                    quantize::quantize(normals, n, self.quantizer).map_err(|e| e.to_string())?;
-                if self.dither {
-                    pal.indices = quantize::dither(normals, w, w, &pal.entries, Scan::Serpentine);
+                // each texel is searched once: dithered, or mapped to its nearest entry
+                let pal = if self.dither {
+                    quantize::quantize_dithered(normals, w, w, n, self.quantizer, Scan::Serpentine)
+                } else {
+                    quantize::quantize(normals, n, self.quantizer)
                 }
+                .map_err(|e| e.to_string())?;
                 let len = pal.entries.len();
                 (pal, std::iter::once(0..len).collect())
             }
@@ -143,11 +145,20 @@ impl QuantizedNormalsSpec {
                         r.material_at(uv, *nrm)
                     })
                     .collect();
-                let mut mp = quantize::quantize_with_materials(normals, &ids, n, self.quantizer)
-                    .map_err(|e| e.to_string())?;
-                if self.dither {
-                    mp.palette.indices = mp.dither(normals, &ids, w, w, Scan::Serpentine);
+                let mp = if self.dither {
+                    quantize::quantize_with_materials_dithered(
+                        normals,
+                        &ids,
+                        w,
+                        w,
+                        n,
+                        self.quantizer,
+                        Scan::Serpentine,
+                    )
+                } else {
+                    quantize::quantize_with_materials(normals, &ids, n, self.quantizer)
                 }
+                .map_err(|e| e.to_string())?;
                 (mp.palette, mp.intervals)
             }
         };
