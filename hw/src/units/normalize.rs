@@ -76,6 +76,34 @@ impl Rsqrt {
     /// `1 / sqrt(s) ~ r 2^k` for an exact `s > 0`: the table value `r` (an [`Acc`] with
     /// `value_bits - 2` fraction bits) and the power of two `k`. `None` for `s <= 0` (the
     /// zero detect: the table is not read).
+    /// Gates of one lookup of a `width`-bit squared length: the leading-one detector, the
+    /// mantissa shifter of `levels` stages and the table, each item named after `label`.
+    pub(crate) fn lookup_gates(
+        &self,
+        g: &mut GateBudget,
+        t: &CostTable,
+        label: &str,
+        width: u32,
+        levels: u32,
+    ) {
+        g.add(
+            format!("{label}leading-one detector {width}"),
+            1,
+            t.mux(width, 2),
+        );
+        g.add(
+            format!("{label}mantissa shifter {width}x{levels}"),
+            1,
+            t.mux(width, 2) * levels as f64,
+        );
+        let (entries, vb) = (self.entries(), self.value_bits());
+        g.add(
+            format!("{label}rsqrt table {entries}x{vb}"),
+            1,
+            t.rom(entries, vb),
+        );
+    }
+
     pub(crate) fn lookup(&self, s: Acc) -> Option<(Acc, i64)> {
         if s.raw <= 0 {
             return None;
@@ -158,21 +186,7 @@ impl Unit for Normalize {
         let mut g = GateBudget::new();
         g.add(format!("squarer {w}"), 3, t.squarer(w));
         g.add(format!("adder {}", 2 * w + 1), 2, t.adder(2 * w + 1));
-        g.add(
-            format!("leading-one detector {}", 2 * w + 2),
-            1,
-            t.mux(2 * w + 2, 2),
-        );
-        g.add(
-            format!("mantissa shifter {}x{levels}", 2 * w + 2),
-            1,
-            t.mux(2 * w + 2, 2) * levels as f64,
-        );
-        g.add(
-            format!("rsqrt table {}x{vb}", self.rsqrt.entries()),
-            1,
-            t.rom(self.rsqrt.entries(), vb),
-        );
+        self.rsqrt.lookup_gates(&mut g, t, "", 2 * w + 2, levels);
         g.add(format!("multiplier {w}x{vb}"), 3, t.multiplier(w, vb));
         g.add(
             format!("output shifter {}x{levels}", w + vb),

@@ -136,7 +136,6 @@ impl Unit for QuatFrame {
         let wq = self.inputs[0].enc.width();
         let wo = self.outputs[0].enc.width();
         let vb = self.rsqrt.value_bits();
-        let entries = self.rsqrt.entries();
         let wa = 2 * wq + 2; // a matrix entry, and s = q . q
         let levels = bit_length(wa as u128);
         let mut g = GateBudget::new();
@@ -145,13 +144,7 @@ impl Unit for QuatFrame {
         g.add(format!("q . q: adder {wa}"), 3, t.adder(wa));
         // w^2 - z^2 and x^2 - y^2, their sum and difference, and the four off-diagonal sums
         g.add(format!("matrix entries: adder {wa}"), 8, t.adder(wa));
-        g.add(format!("leading-one detector {wa}"), 1, t.mux(wa, 2));
-        g.add(
-            format!("mantissa shifter {wa}x{levels}"),
-            1,
-            t.mux(wa, 2) * levels as f64,
-        );
-        g.add(format!("rsqrt table {entries}x{vb}"), 1, t.rom(entries, vb));
+        self.rsqrt.lookup_gates(&mut g, t, "", wa, levels);
         g.add(format!("r^2 squarer {vb}"), 1, t.squarer(vb));
         let (wpre, hold) = match self.inputs.get(1) {
             None => (wa, 6 * wa),

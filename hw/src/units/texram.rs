@@ -135,7 +135,6 @@ impl Unit for TexramFrame {
         let wm = self.inputs[1].enc.width();
         let wo = self.outputs[0].enc.width();
         let vb = self.rsqrt.value_bits();
-        let entries = self.rsqrt.entries();
         let wc = wm + wn + 1; // a component of m x n
         let wp = wn + wc + 1; // a component of n x c
         let ws = 2 * wc + 2; // c . c
@@ -153,13 +152,7 @@ impl Unit for TexramFrame {
             2,
             t.adder(2 * wc + 1),
         );
-        g.add(format!("leading-one detector {ws}"), 1, t.mux(ws, 2));
-        g.add(
-            format!("mantissa shifter {ws}x{levels}"),
-            1,
-            t.mux(ws, 2) * levels as f64,
-        );
-        g.add(format!("rsqrt table {entries}x{vb}"), 1, t.rom(entries, vb));
+        self.rsqrt.lookup_gates(&mut g, t, "", ws, levels);
         g.add(
             format!("cross product n x c: multiplier {wn}x{wc}"),
             6,
@@ -194,18 +187,8 @@ impl Unit for TexramFrame {
                     2,
                     t.adder(2 * wn + 1),
                 );
-                g.add(format!("|N_i| leading-one detector {wl}"), 1, t.mux(wl, 2));
-                g.add(
-                    format!("|N_i| mantissa shifter {wl}x{ll}"),
-                    1,
-                    t.mux(wl, 2) * ll as f64,
-                );
                 // a second copy of the table: two reads per clock at interval 1
-                g.add(
-                    format!("|N_i| rsqrt table {entries}x{vb}"),
-                    1,
-                    t.rom(entries, vb),
-                );
+                self.rsqrt.lookup_gates(&mut g, t, "|N_i| ", wl, ll);
                 g.add(
                     format!("|N_i|: multiplier {wl}x{vb}"),
                     1,
