@@ -77,7 +77,8 @@ fn texture_source(s: &TextureSource) -> Result<(), Bad> {
         | TextureSource::BumpHeights { size }
         | TextureSource::BumpGradient { size }
         | TextureSource::ObjectNormals { size }
-        | TextureSource::LightingTable { size, .. } => side("source.size", size),
+        | TextureSource::LightingTable { size, .. }
+        | TextureSource::SphereLighting { size, .. } => side("source.size", size),
         TextureSource::ColorTexture => Ok(()),
     }
 }
@@ -118,6 +119,13 @@ fn check_unit(u: &UnitSpec) -> Result<(), Bad> {
         UnitSpec::Normalize(s) => range("table_bits", s.table_bits, 2, MAX_TABLE_BITS, ""),
         UnitSpec::TexramFrame(s) => range("table_bits", s.table_bits, 2, MAX_TABLE_BITS, ""),
         UnitSpec::QuatFrame(s) => range("table_bits", s.table_bits, 2, MAX_TABLE_BITS, ""),
+        UnitSpec::TextureShader(s) => range(
+            "programs",
+            s.programs.len().min(u32::MAX as usize) as u32,
+            1,
+            bumpsim_hw::units::texture_shader::MAX_STAGES as u32,
+            " stages",
+        ),
         UnitSpec::BumpBlend(s) => spec_gen("spec", &s.spec),
         UnitSpec::QuantizedNormals(s) => {
             side("size", s.size)?;
@@ -335,7 +343,8 @@ pub fn estimate(c: &Config) -> Estimate {
                     TextureSource::BumpNormals { size, .. }
                     | TextureSource::BumpHeights { size }
                     | TextureSource::BumpGradient { size }
-                    | TextureSource::LightingTable { size, .. } => f64::from(size),
+                    | TextureSource::LightingTable { size, .. }
+                    | TextureSource::SphereLighting { size, .. } => f64::from(size),
                     TextureSource::ObjectNormals { size } => {
                         let texels = f64::from(size).powi(2);
                         e.add(

@@ -330,6 +330,12 @@ pub enum AttrSource {
         #[serde(default)]
         rule: Perturbation,
     },
+    /// Texture coordinates as a texture-shader stage reads them, `(u, v, 0, 1)`.
+    Uvq,
+    /// Sphere-map coordinates of the vertex normal in view space, `(n_x / 2 + 1/2, n_y / 2 +
+    /// 1/2, 0, 1)`: the environment-map coordinates of Direct3D 6 bump mapping with a diffuse
+    /// and specular lighting map (Ernst et al. §3.3), read by a `SphereLighting` texture.
+    SphereMap,
 }
 
 impl AttrSource {
@@ -337,7 +343,10 @@ impl AttrSource {
         match self {
             AttrSource::Uv => 2,
             AttrSource::BlendEnable { .. } | AttrSource::Lod { .. } => 1,
-            AttrSource::Quaternion | AttrSource::QuatScale { .. } => 4,
+            AttrSource::Quaternion
+            | AttrSource::QuatScale { .. }
+            | AttrSource::Uvq
+            | AttrSource::SphereMap => 4,
             _ => 3,
         }
     }

@@ -75,6 +75,7 @@ pub fn compute(scene: &Scene, attrs: &[AttributeConfig]) -> VertexData {
         })
         .collect();
     let to_object = m3.inverse();
+    let view_rot = DMat3::from_mat4(scene.camera.view());
     let at = |src: AttrSource,
               (p, n, pu, pv): (DVec3, DVec3, DVec3, DVec3),
               uv: [f64; 2]|
@@ -115,6 +116,11 @@ pub fn compute(scene: &Scene, attrs: &[AttributeConfig]) -> VertexData {
                 .0
                 .to_array(),
             AttrSource::QuatScale { rule } => frames::quaternion_frame(frame.n, pu, pv, rule).1,
+            AttrSource::Uvq => [uv[0], uv[1], 0.0, 1.0],
+            AttrSource::SphereMap => {
+                let n = (view_rot * frame.n).normalize_or_zero();
+                [n.x / 2.0 + 0.5, n.y / 2.0 + 0.5, 0.0, 1.0]
+            }
             AttrSource::Gouraud {
                 ambient,
                 all_lights,

@@ -29,7 +29,16 @@ impl TextureMemory {
         if let Some(t) = self.textures.borrow().get(key) {
             return Ok(t.clone());
         }
-        let t = Arc::new(build(name)?);
+        // a unit that reads several textures names them apart; a name taken by another key
+        // still gets a suffix, so that every texture of the report has its own name
+        let taken = |n: &str| self.textures.borrow().values().any(|t| t.name() == n);
+        let mut unique = name.to_string();
+        let mut k = 2;
+        while taken(&unique) {
+            unique = format!("{name}#{k}");
+            k += 1;
+        }
+        let t = Arc::new(build(&unique)?);
         self.textures
             .borrow_mut()
             .insert(key.to_string(), t.clone());

@@ -34,6 +34,7 @@ mod shade;
 mod struct_variant;
 mod tex_fetch;
 mod texram_frame;
+mod texture_shader;
 mod textures;
 
 pub use bump_blend::BumpBlendSpec;
@@ -51,6 +52,7 @@ pub use register_combiners::RegisterCombinersSpec;
 pub use shade::ShadeSpec;
 pub use tex_fetch::TexFetchSpec;
 pub use texram_frame::TexramFrameSpec;
+pub use texture_shader::{StageConfig, StageTexture, TextureShaderSpec};
 pub use textures::TextureSource;
 
 use crate::engine::memory::TextureMemory;
@@ -177,6 +179,7 @@ unit_specs! {
     Perturb(PerturbSpec),
     TexramFrame(TexramFrameSpec),
     QuatFrame(QuatFrameSpec),
+    TextureShader(TextureShaderSpec),
 }
 
 impl UnitSpec {

@@ -36,6 +36,16 @@ pub enum TextureSource {
     /// engines (`Perturb`). Analytic for height fields; from a normal map's texels as
     /// `(-x / z, -y / z)` (z at least 1/64).
     BumpGradient { size: u32 },
+    /// A diffuse and specular lighting map of light `light` in sphere-map form, for Direct3D
+    /// 6 environment-mapped bump mapping (Ernst et al. §3.3: "the lighting environment of the
+    /// scene ... represented in an image environment map"): texel `(i, j)` at `(x, y) = (2 (i
+    /// + 1/2) / size - 1, 2 (j + 1/2) / size - 1)` (moved to the unit circle where outside it)
+    /// holds the scene material's Blinn-Phong colour for the view-space normal `(x, y,
+    /// sqrt(1 - x² - y²))`, a parallel viewer along +z and the light's direction from the
+    /// camera's target, each channel clamped to [0, 1]. Read at `AttrSource::SphereMap`
+    /// coordinates, with `address: Clamp`. The map holds the light: it must be rebuilt when
+    /// the light or the material changes.
+    SphereLighting { size: u32, light: usize },
 }
 
 /// The texels of `source` (its size checked).
@@ -72,6 +82,51 @@ pub(super) fn texels(source: &TextureSource, ctx: &BuildCtx) -> Result<Texels, S
                 })
                 .collect();
             Ok(square(size, 2, values))
+        }
+        TextureSource::SphereLighting { size, light } => {
+            check_size(size)?;
+            let scene = ctx.scene;
+            let l = scene.lights.get(light).ok_or_else(|| {
+                format!(
+                    "light {light}: the scene has {} lights: expected an index below that",
+                    scene.lights.len()
+                )
+            })?;
+            let view = glam::DMat3::from_mat4(scene.camera.view());
+            let dir = (view * l.dir_from(glam::DVec3::from(scene.camera.target))).normalize();
+            let half = (dir + glam::DVec3::Z).normalize_or_zero();
+            let m = &scene.material;
+            let color = l.color();
+            let n = f64::from(size);
+            let values = (0..size)
+                .flat_map(|j| (0..size).map(move |i| (i, j)))
+                .map(|(i, j)| {
+                    let xy = glam::DVec2::new(
+                        2.0 * (f64::from(i) + 0.5) / n - 1.0,
+                        2.0 * (f64::from(j) + 0.5) / n - 1.0,
+                    );
+                    let xy = if xy.length() > 1.0 {
+                        xy.normalize()
+                    } else {
+                        xy
+                    };
+                    let nrm = xy.extend((1.0 - xy.length_squared()).max(0.0).sqrt());
+                    let d = nrm.dot(dir);
+                    let spec = if d > 0.0 {
+                        nrm.dot(half).max(0.0).powf(m.shininess)
+                    } else {
+                        0.0
+                    };
+                    let mut v = [0.0; 4];
+                    for c in 0..3 {
+                        v[c] = (m.ambient[c]
+                            + color[c] * (m.diffuse[c] * d.max(0.0) + m.specular[c] * spec))
+                            .clamp(0.0, 1.0);
+                    }
+                    v
+                })
+                .collect();
+            Ok(square(size, 3, values))
         }
         TextureSource::ObjectNormals { size } => {
             check_size(size)?;

@@ -1,0 +1,138 @@
+//! NV20 / NV2A texture shaders as a config unit (`hw/src/units/texture_shader/`,
+//! `docs/units/texture-shader.md`).
+
+use super::ports::input;
+use super::textures::{key, texels, TextureSource};
+use super::{BuildCtx, Spec};
+use bumpsim_hw::units::texture_shader::{
+    OnBroken, Program, ShaderParams, StageSpec, TextureShader, MAX_STAGES,
+};
+use bumpsim_hw::units::{Address, Filter};
+use bumpsim_hw::{Encoding, PortSpec, Sampler, Texture, Unit};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// NV20 / NV2A texture shaders: one `program` per stage (NV_texture_shader table 3.A, the
+/// `Program` names of `hw/src/units/texture_shader/program.rs`), each stage `i` reading its
+/// texture coordinates `(s, t, r, q)` from input `coord{i}` (4 lanes; every stage the same
+/// signed fixed-point encoding, which is the part's coordinate format) and writing its texel
+/// to output `tex{i}` (4 lanes in the texture's encoding; `depth` for DEPENDENT_DEPTH_REPLACE).
+/// The part has as many stages as `programs` (1 to 8; the NV2A's 4: give NONE stages to
+/// model it whole). `on_broken`: a program that breaks a stage rule is a config error
+/// (`Reject`, the default) or runs NONE as the hardware does (`AsNone`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TextureShaderSpec {
+    pub programs: Vec<StageConfig>,
+    /// Fraction bits of the mapped dot-product vector (1 to 24; 16 by default).
+    #[serde(default = "dot_frac")]
+    pub dot_frac: u32,
+    /// Fraction bits of the offset matrix, luminance scale and bias (1 to 16; 8 by default).
+    #[serde(default = "offset_frac")]
+    pub offset_frac: u32,
+    #[serde(default)]
+    pub on_broken: Broken,
+}
+
+/// What a broken stage rule does (`hw` [`OnBroken`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum Broken {
+    #[default]
+    Reject,
+    AsNone,
+}
+
+/// One stage: its program and, for the programs that read one, its texture.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StageConfig {
+    pub program: Program,
+    #[serde(default)]
+    pub texture: Option<StageTexture>,
+}
+
+/// A stage's texture: a source of the engine's texture memory stored in `texel` words, and
+/// the stage's sampler.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StageTexture {
+    pub source: TextureSource,
+    pub texel: Encoding,
+    #[serde(default)]
+    pub filter: Filter,
+    #[serde(default = "weight_bits")]
+    pub weight_bits: u32,
+    #[serde(default)]
+    pub address: Address,
+}
+
+fn dot_frac() -> u32 {
+    16
+}
+fn offset_frac() -> u32 {
+    8
+}
+fn weight_bits() -> u32 {
+    8
+}
+
+impl Spec for TextureShaderSpec {
+    fn input_names(&self, _: &BuildCtx) -> Vec<String> {
+        (0..self.programs.len())
+            .map(|i| format!("coord{i}"))
+            .collect()
+    }
+
+    fn build(
+        &self,
+        ins: &BTreeMap<String, PortSpec>,
+        ctx: &BuildCtx,
+    ) -> Result<Box<dyn Unit>, String> {
+        let n = self.programs.len();
+        if !(1..=MAX_STAGES).contains(&n) {
+            return Err(format!(
+                "programs: {n} stages given: expected 1 to {MAX_STAGES}"
+            ));
+        }
+        let coord = input(ins, "coord0")?.enc;
+        for i in 1..n {
+            let e = input(ins, &format!("coord{i}"))?.enc;
+            if e != coord {
+                return Err(format!(
+                    "coord{i}: {e}: expected the encoding of coord0, {coord} (the part has one coordinate format)"
+                ));
+            }
+        }
+        let mut stages = Vec::with_capacity(n);
+        for (i, s) in self.programs.iter().enumerate() {
+            let Some(t) = &s.texture else {
+                stages.push(StageSpec::new(s.program, None));
+                continue;
+            };
+            let tex = ctx
+                .memory
+                .get_or_build(
+                    &key(&t.source, &t.texel, None),
+                    &format!("{}.tex{i}", ctx.unit),
+                    |name| Texture::new(name, t.texel, texels(&t.source, ctx)?),
+                )
+                .map_err(|m| format!("programs[{i}].texture: {m}"))?;
+            let sampler = Sampler::new(t.filter, t.weight_bits)
+                .map_err(|m| format!("programs[{i}].texture.weight_bits: {m}"))?
+                .with_address(t.address, t.address);
+            stages.push(StageSpec::new(s.program, Some(tex)).with_sampler(sampler));
+        }
+        let params = ShaderParams {
+            stages: n,
+            coord,
+            dot_frac: self.dot_frac,
+            offset_frac: self.offset_frac,
+            on_broken: match self.on_broken {
+                Broken::Reject => OnBroken::Reject,
+                Broken::AsNone => OnBroken::AsNone,
+            },
+            ..ShaderParams::default()
+        };
+        Ok(Box::new(TextureShader::new(params, stages)?))
+    }
+}
