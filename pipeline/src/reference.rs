@@ -5,9 +5,10 @@
 //!
 //! 1. **Coverage and visibility** — clip positions `proj · view · model · pos`; the
 //!    hardware rasterizer ([`crate::raster::rasterize`]) decides only *which triangle wins
-//!    each pixel*. The barycentrics are then recomputed exactly in f64 at the pixel centre
-//!    from the unsnapped clip-space vertices ([`pixel_barycentrics`]), so the reference does
-//!    not inherit the rasterizer's sub-pixel snapping.
+//!    each pixel* ([`Coverage`]: a run passes the engine's own fragments, [`render_covered`],
+//!    so the frame is rasterised once). The barycentrics are then recomputed exactly in f64
+//!    at the pixel centre from the unsnapped clip-space vertices ([`pixel_barycentrics`]), so
+//!    the reference does not inherit the rasterizer's sub-pixel snapping.
 //! 2. **Surface point** — object-space `P`, `N`, `Pu`, `Pv`, `uv` interpolated with those
 //!    barycentrics and taken to world space ([`surface_point`]).
 //! 3. **Perturbed normal** — Blinn 1978 as given in Ernst et al. 1998 §2, optionally with
@@ -15,9 +16,11 @@
 //!    of Ernst et al. 1998 §3.4 ([`perturbed_normal`]).
 //! 4. **Lighting** — ambient + per-light diffuse and Blinn–Phong specular, every vector
 //!    exact per pixel ([`shade`]).
-//! 5. **Assembly** — rows in parallel with rayon; each pixel is a pure function of the scene,
-//!    so the image is bit-identical at any thread count.
+//! 5. **Assembly** — rows in parallel with rayon, each written in place into the image;
+//!    each pixel is a pure function of the scene and its winner, so the image is
+//!    bit-identical at any thread count.
 
+mod coverage;
 mod shade;
 #[cfg(test)]
 mod tests;
@@ -25,8 +28,10 @@ mod tests;
 use glam::{DMat3, DMat4, DVec3, DVec4};
 use rayon::prelude::*;
 
-use crate::raster::{rasterize, RasterConfig};
+use crate::raster::{rasterize, Fragment, RasterConfig};
 use crate::scene::{Mesh, Scene};
+
+pub use coverage::Coverage;
 
 // The perturbation is part of the scene (what the bump map does to the surface); the
 // reference evaluates it exactly per pixel, the bakes per texel.
@@ -45,8 +50,21 @@ pub struct ReferenceImage {
     pub px: Vec<[f64; 3]>,
     /// Whether a triangle covers the pixel.
     pub mask: Vec<bool>,
-    /// World-space perturbed unit normal per pixel, zero where uncovered.
+    /// World-space perturbed unit normal per pixel, zero where uncovered; empty unless asked
+    /// for ([`Options::normals`]).
     pub normals: Vec<[f64; 3]>,
+}
+
+/// What [`render_covered`] computes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Options {
+    pub perturbation: Perturbation,
+    /// Shading samples per pixel side (`samples^2` per pixel, box filtered); 1 shades the
+    /// pixel centre.
+    pub samples: u32,
+    /// Keep the normal of each pixel ([`ReferenceImage::normals`]); a run's report does not
+    /// read them.
+    pub normals: bool,
 }
 
 impl ReferenceImage {
@@ -249,41 +267,78 @@ pub fn render_reference_sampled(
     samples: u32,
 ) -> ReferenceImage {
     let (w, h) = (scene.width, scene.height);
+    let out = rasterize(&clip_positions(scene), &scene.mesh.triangles, w, h, raster);
+    let coverage = Coverage::of_fragments(&out.fragments, w, h, raster);
+    let opts = Options {
+        perturbation,
+        samples,
+        normals: true,
+    };
+    render_covered(scene, &coverage, &out.fragments, opts)
+}
+
+/// The reference of `scene` on the winners `coverage` of the fragments `frags` (rasterised
+/// from [`clip_positions`] of `scene`, as the engine's geometry computes them): steps 2–5 of
+/// the module docs for every covered pixel, rows in parallel, written in place.
+pub fn render_covered(
+    scene: &Scene,
+    coverage: &Coverage,
+    frags: &[Fragment],
+    opts: Options,
+) -> ReferenceImage {
+    let (w, h) = (coverage.width, coverage.height);
     let n_px = w as usize * h as usize;
-    let clip = clip_positions(scene);
-    let out = rasterize(&clip, &scene.mesh.triangles, w, h, raster);
-    let mut winner: Vec<Option<(u32, [f64; 3])>> = vec![None; n_px];
-    for f in &out.fragments {
-        if f.x < w && f.y < h {
-            winner[f.y as usize * w as usize + f.x as usize] = Some((f.tri, f.bary));
-        }
-    }
-    let xf = Transforms::new(scene.model);
-    // Each pixel depends only on the scene and its own winner: rows are computed
-    // independently and collected in order, so the result does not depend on the pool size.
-    let rows: Vec<Vec<Option<(DVec3, DVec3)>>> = (0..h)
-        .into_par_iter()
-        .map(|y| {
-            (0..w)
-                .map(|x| {
-                    winner[y as usize * w as usize + x as usize]
-                        .map(|hit| pixel(scene, &xf, &clip, (x, y), hit, perturbation, samples))
-                })
-                .collect()
-        })
-        .collect();
     let mut img = ReferenceImage {
         width: w,
         height: h,
-        px: Vec::with_capacity(n_px),
-        mask: Vec::with_capacity(n_px),
-        normals: Vec::with_capacity(n_px),
+        px: vec![[0.0; 3]; n_px],
+        mask: vec![false; n_px],
+        normals: if opts.normals {
+            vec![[0.0; 3]; n_px]
+        } else {
+            Vec::new()
+        },
     };
-    for p in rows.into_iter().flatten() {
-        let (c, n) = p.unwrap_or((DVec3::ZERO, DVec3::ZERO));
-        img.px.push(c.to_array());
-        img.mask.push(p.is_some());
-        img.normals.push(n.to_array());
+    if n_px == 0 {
+        return img;
     }
+    let clip = clip_positions(scene);
+    let xf = Transforms::new(scene.model);
+    let wu = w as usize;
+    let mut normal_rows: Vec<Option<&mut [[f64; 3]]>> = if opts.normals {
+        img.normals.chunks_mut(wu).map(Some).collect()
+    } else {
+        (0..h).map(|_| None).collect()
+    };
+    // Each pixel depends only on the scene and its own winner: rows are computed
+    // independently into their own slices, so the result does not depend on the pool size.
+    img.px
+        .par_chunks_mut(wu)
+        .zip(img.mask.par_chunks_mut(wu))
+        .zip(normal_rows.par_iter_mut())
+        .enumerate()
+        .for_each(|(y, ((px, mask), normals))| {
+            let y = y as u32;
+            for (x, &k) in coverage.row(y).iter().enumerate() {
+                if k == Coverage::NONE {
+                    continue;
+                }
+                let f = &frags[k as usize];
+                let (c, n) = pixel(
+                    scene,
+                    &xf,
+                    &clip,
+                    (x as u32, y),
+                    (f.tri, f.bary),
+                    opts.perturbation,
+                    opts.samples,
+                );
+                px[x] = c.to_array();
+                mask[x] = true;
+                if let Some(normals) = normals {
+                    normals[x] = n.to_array();
+                }
+            }
+        });
     img
 }

@@ -13,9 +13,10 @@
 
 use crate::metrics::Rgb64;
 use crate::raster::Fragment;
+use crate::sim::Outputs;
 use bumpsim_hw::units::rop::Outcome;
 use bumpsim_hw::units::Rop;
-use bumpsim_hw::{Mode, Word};
+use bumpsim_hw::Mode;
 
 /// The frame buffer after the ROP has taken `outputs` (by fragment; `None` = killed).
 pub struct Framebuffer {
@@ -46,16 +47,16 @@ pub fn write(
     w: u32,
     h: u32,
     frags: &[Fragment],
-    outputs: &[Option<Word>],
+    outputs: &Outputs,
 ) -> Framebuffer {
     let mut fb = rop.clear(w, h);
     let (mut tested, mut depth_tested, mut written) = (0, 0, 0);
     let mut tri = vec![crate::edges::NO_TRIANGLE; w as usize * h as usize];
-    for (f, o) in frags.iter().zip(outputs) {
-        let Some(o) = o else { continue };
+    for (k, f) in frags.iter().enumerate().take(outputs.len()) {
+        let Some(o) = outputs.word(k) else { continue };
         tested += 1;
         let i = (f.y as usize) * (w as usize) + f.x as usize;
-        match rop.write(&mut fb, mode, i, f.depth, o) {
+        match rop.write(&mut fb, mode, i, f.depth, &o) {
             Outcome::AlphaFailed => {}
             Outcome::DepthFailed => depth_tested += 1,
             Outcome::Written => {
@@ -71,11 +72,16 @@ pub fn write(
     for (p, px) in rgb8.pixels_mut().zip(&fb.color) {
         p.0 = px.code.map(to8);
     }
+    drop(fb.depth);
+    // the values out of the pixels (the codes are in rgb8); collected in place where the
+    // standard library can, then shrunk, so a large frame does not hold both
+    let mut px: Vec<[f64; 3]> = fb.color.into_iter().map(|p| p.x).collect();
+    px.shrink_to_fit();
     Framebuffer {
         image: Rgb64 {
             width: w,
             height: h,
-            px: fb.color.iter().map(|p| p.x).collect(),
+            px,
         },
         rgb8,
         mask: fb.written,

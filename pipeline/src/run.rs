@@ -1,16 +1,22 @@
 //! One run of a config: scene, geometry, rasterizer, the engine in both modes, the float
 //! reference, the comparisons, the report and the pictures.
 
-use crate::config::{AttrSource, AttributeConfig, InputError, Loaded};
+mod front;
+mod measures;
+mod timings;
+
+use crate::config::{AttrSource, InputError, Loaded};
 use crate::engine::{self, attributes, Engine};
-use crate::metrics::{self, Rgb64};
-use crate::raster::{self, packet::PacketLayout, Fragment};
+use crate::metrics::Rgb64;
+use crate::raster::{self, packet::PacketLayout};
 use crate::reference;
-use crate::report::{Artifacts, Bandwidth, Edges, Errors, Gates, ImageInfo, Report, VERSION};
+use crate::report::{Bandwidth, Gates, ImageInfo, Report, VERSION};
 use crate::scene::Scene;
 use crate::sim;
 use crate::trace::{Trace, TraceUnit};
 use bumpsim_hw::{Mode, Token, Word};
+use front::{fixed, triangle_ranges, Front};
+pub use timings::Timings;
 
 /// What to trace: a half-open cycle window and optionally a subset of units.
 #[derive(Debug, Clone, Default)]
@@ -29,42 +35,6 @@ pub struct RunResult {
     /// Wall time of each phase, in order (for `render --timings`; never in the report, which
     /// stays deterministic).
     pub timings: Timings,
-}
-
-/// Wall times of a run's phases.
-#[derive(Debug, Clone, Default)]
-pub struct Timings {
-    pub phases: Vec<(&'static str, std::time::Duration)>,
-    last: Option<std::time::Instant>,
-}
-
-impl Timings {
-    /// Start timing.
-    pub fn start() -> Self {
-        Timings {
-            phases: Vec::new(),
-            last: Some(std::time::Instant::now()),
-        }
-    }
-    /// End the phase `name` (it began where the last one ended).
-    pub fn lap(&mut self, name: &'static str) {
-        let now = std::time::Instant::now();
-        let since = self.last.unwrap_or(now);
-        self.phases.push((name, now - since));
-        self.last = Some(now);
-    }
-    /// One line per phase and the total, e.g. `  simulation      12.3 ms`.
-    pub fn to_text(&self) -> String {
-        let total: std::time::Duration = self.phases.iter().map(|p| p.1).sum();
-        let mut s = String::new();
-        for (name, d) in self.phases.iter().chain([&("total", total)]) {
-            s.push_str(&format!(
-                "  {name:<18} {:>10.1} ms\n",
-                d.as_secs_f64() * 1e3
-            ));
-        }
-        s
-    }
 }
 
 /// Build the scene a config describes. Errors name the config file and the field.
@@ -129,117 +99,6 @@ fn build_looks(l: &Loaded) -> Result<crate::scene::Looks, InputError> {
     Ok(crate::scene::Looks { regions, env_maps })
 }
 
-/// Fragments grouped by triangle: ranges into the fragment list, one per submitted triangle.
-fn triangle_ranges(frags: &[Fragment], ntri: usize) -> Vec<std::ops::Range<usize>> {
-    let mut ranges = vec![0..0; ntri];
-    let mut start = 0;
-    while start < frags.len() {
-        let t = frags[start].tri as usize;
-        let mut end = start;
-        while end < frags.len() && frags[end].tri as usize == t {
-            end += 1;
-        }
-        ranges[t] = start..end;
-        start = end;
-    }
-    // triangles without fragments keep an empty range at their own position
-    let mut fixed = Vec::with_capacity(ntri);
-    let mut cursor = 0;
-    for r in ranges {
-        if r.is_empty() {
-            fixed.push(cursor..cursor);
-        } else {
-            cursor = r.end;
-            fixed.push(r);
-        }
-    }
-    fixed
-}
-
-struct Front<'a> {
-    frags: &'a [Fragment],
-    tris: &'a [[u32; 3]],
-    vd: &'a attributes::VertexData,
-    /// The vertex values the interpolator reads: on each attribute's grid in bit-accurate
-    /// mode ([`attributes::VertexData::snapped`]), as computed in exact mode.
-    values: &'a [Vec<[f64; 4]>],
-    /// The fixed-point interpolator's vertex words and weight bits, when the bit-accurate
-    /// engine has one.
-    fixed: Option<(&'a [Vec<[i64; 4]>], u32)>,
-}
-
-impl Front<'_> {
-    /// Fill a token with fragment `f`'s interpolated attributes.
-    fn fill(&self, attrs: &[AttributeConfig], mode: Mode, f: usize, t: &mut Token) {
-        let frag = &self.frags[f];
-        let tri = self.tris[frag.tri as usize];
-        for (a, attr) in attrs.iter().enumerate() {
-            let lanes = attr.source.lanes() as usize;
-            t.slots[a] = if self.vd.flat[a] {
-                attributes::flat(
-                    mode,
-                    &attr.enc,
-                    lanes,
-                    &self.vd.values[a][frag.tri as usize],
-                )
-            } else if let Some((codes, bits)) = self.fixed.filter(|_| mode == Mode::BitAccurate) {
-                let mut c = tri.map(|i| codes[a][i as usize]);
-                if let Some(flips) = self.flips(attr, a, tri) {
-                    for (v, flip) in c.iter_mut().zip(flips) {
-                        if flip {
-                            *v = v.map(|x| -x);
-                        }
-                    }
-                }
-                attributes::interpolate_fixed(
-                    &attr.enc,
-                    lanes,
-                    [&c[0], &c[1], &c[2]],
-                    frag.bary,
-                    bits,
-                )
-            } else {
-                let mut v = tri.map(|i| self.values[a][i as usize]);
-                if let Some(flips) = self.flips(attr, a, tri) {
-                    for (v, flip) in v.iter_mut().zip(flips) {
-                        if flip {
-                            *v = v.map(|x| -x);
-                        }
-                    }
-                }
-                attributes::interpolate_snapped(
-                    mode,
-                    &attr.enc,
-                    lanes,
-                    [&v[0], &v[1], &v[2]],
-                    frag.bary,
-                )
-            };
-        }
-        (t.id, t.x, t.y) = (f as u64, frag.x, frag.y);
-    }
-
-    /// Triangle setup's sign choice for quaternion attributes
-    /// ([`crate::engine::frames::hemisphere_flips`], decided on the geometry engine's values).
-    fn flips(&self, attr: &AttributeConfig, a: usize, tri: [u32; 3]) -> Option<[bool; 3]> {
-        matches!(attr.source, AttrSource::Quaternion).then(|| {
-            let q = tri.map(|i| &self.vd.values[a][i as usize]);
-            crate::engine::frames::hemisphere_flips(q)
-        })
-    }
-}
-
-/// The fixed-point interpolator's vertex words and weight bits, if `i` is one.
-fn fixed(
-    codes: &[Vec<[i64; 4]>],
-    i: crate::config::Interpolator,
-) -> Option<(&[Vec<[i64; 4]>], u32)> {
-    match i {
-        crate::config::Interpolator::Exact => None,
-        crate::config::Interpolator::Fixed { weight_bits } => Some((codes, weight_bits)),
-    }
-}
-
 /// A frame ready to simulate: the scene, the geometry engine's output, the rasterizer's
 /// fragments, and the engine (built once; it evaluates in both modes).
 pub struct Prepared {
@@ -298,8 +157,9 @@ pub fn prepare(l: &Loaded) -> Result<Prepared, InputError> {
 }
 
 impl Prepared {
-    /// The front end of `mode`: fragments and the vertex values its interpolator reads.
-    fn front(&self, mode: Mode) -> Front<'_> {
+    /// The front end of `mode`: fragments and the vertex values its interpolator reads;
+    /// `exact_raw`: whether exact-mode words carry raw words (for traces and tests).
+    fn front(&self, mode: Mode, exact_raw: bool) -> Front<'_> {
         Front {
             frags: &self.raster.fragments,
             tris: &self.scene.mesh.triangles,
@@ -309,58 +169,78 @@ impl Prepared {
                 Mode::Exact => &self.vertices.values,
             },
             fixed: fixed(&self.codes, self.interpolator),
+            exact_raw,
         }
     }
 
-    /// The timed, bit-accurate run of the frame.
-    pub fn simulate(&mut self, trace: Option<(u64, u64)>) -> sim::SimResult {
-        // the fields one by one: the stages are borrowed mutably below
-        let front = Front {
-            frags: &self.raster.fragments,
-            tris: &self.scene.mesh.triangles,
-            vd: &self.vertices,
-            values: &self.snapped,
-            fixed: fixed(&self.codes, self.interpolator),
-        };
-        let attrs = &self.engine.attributes;
-        let fill = |f: usize, t: &mut Token| front.fill(attrs, Mode::BitAccurate, f, t);
-        let ranges = triangle_ranges(front.frags, self.scene.mesh.triangles.len());
+    /// The simulator's view of the frame: triangles, their setup cycles, the token filler.
+    fn workload<'a>(&'a self, fill: &'a sim::FillToken<'a>) -> sim::Workload<'a> {
+        let ranges = triangle_ranges(&self.raster.fragments, self.scene.mesh.triangles.len());
         let setup = self
             .raster
             .triangles
             .iter()
             .map(|t| t.setups.max(1) * self.raster_config.setup_cycles)
             .collect();
-        let workload = sim::Workload {
+        sim::Workload {
             triangles: ranges,
             setup,
-            fill_token: &fill,
+            fill_token: fill,
             slots: self.engine.signals.len(),
             fifo_depth: self.fifo_depth,
-        };
-        let output = self.engine.output.wire;
-        sim::run(&mut self.engine.stages, output, workload, trace)
+        }
     }
 
-    /// The engine in exact mode over every fragment (untimed: its timing is the same).
-    pub fn evaluate_exact(&self) -> Vec<Option<Word>> {
-        let front = self.front(Mode::Exact);
+    /// The timed, bit-accurate run of the frame, every output as a [`Word`] (for tests of the
+    /// engines; a render stores raw lanes: [`Prepared::simulate_lanes`]). The timing model
+    /// ticks twins of the stages, so the engine is only read (`&mut` is kept for callers).
+    pub fn simulate(&mut self, trace: Option<(u64, u64)>) -> sim::SimResult {
+        let front = self.front(Mode::BitAccurate, true);
+        let attrs = &self.engine.attributes;
+        let fill = |f: usize, t: &mut Token| front.fill(attrs, Mode::BitAccurate, f, t);
+        let output = self.engine.output.wire;
+        sim::run(&self.engine.stages, output, self.workload(&fill), trace)
+    }
+
+    /// The timed, bit-accurate run of the frame as a render takes it: the timing model and the
+    /// function concurrently, the outputs as raw lanes of the output port.
+    pub fn simulate_lanes(&self, trace: Option<(u64, u64)>) -> sim::Timed {
+        let front = self.front(Mode::BitAccurate, true);
+        let attrs = &self.engine.attributes;
+        let fill = |f: usize, t: &mut Token| front.fill(attrs, Mode::BitAccurate, f, t);
+        let out = &self.engine.output;
+        sim::run_lanes(
+            &self.engine.stages,
+            out.wire,
+            &out.spec,
+            self.workload(&fill),
+            trace,
+        )
+    }
+
+    /// The engine in exact mode over every fragment (untimed: its timing is the same), the
+    /// outputs as values. No trace reads exact mode, so its attribute words carry no raw
+    /// words ([`Prepared::fragment_token`] keeps them).
+    pub fn evaluate_exact(&self) -> sim::Outputs {
+        let front = self.front(Mode::Exact, false);
         let attrs = &self.engine.attributes;
         let fill = |f: usize, t: &mut Token| front.fill(attrs, Mode::Exact, f, t);
-        sim::evaluate(
+        let out = &self.engine.output;
+        sim::evaluate_lanes(
             &self.engine.stages,
             Mode::Exact,
-            self.engine.output.wire,
+            out.wire,
+            &out.spec,
             front.frags.len(),
             self.engine.slots(),
             &fill,
         )
     }
 
-    /// The token of fragment `f` after every stage in `mode` (every signal's value): for
-    /// tests of the units in their configured engines.
+    /// The token of fragment `f` after every stage in `mode` (every signal's value, raw words
+    /// included): for tests of the units in their configured engines.
     pub fn fragment_token(&self, mode: Mode, f: usize) -> Token {
-        let front = self.front(mode);
+        let front = self.front(mode, true);
         let mut t = Token {
             id: 0,
             x: 0,
@@ -376,15 +256,60 @@ impl Prepared {
         t
     }
 
-    /// The float reference of the same scene.
+    /// The float reference of the same scene, on the engine's coverage (the winning fragment
+    /// of each pixel), without normals.
     pub fn reference(&self, r: crate::config::ReferenceConfig) -> reference::ReferenceImage {
-        reference::render_reference_sampled(
-            &self.scene,
-            &self.raster_config,
-            r.perturbation,
-            r.samples,
-        )
+        let (w, h) = (self.scene.width, self.scene.height);
+        let frags = &self.raster.fragments;
+        let coverage = reference::Coverage::of_fragments(frags, w, h, &self.raster_config);
+        let opts = reference::Options {
+            perturbation: r.perturbation,
+            samples: r.samples,
+            normals: false,
+        };
+        reference::render_covered(&self.scene, &coverage, frags, opts)
     }
+
+    /// The three paths of the frame concurrently (rayon): the timed bit-accurate run, exact
+    /// mode and the reference. Each only reads the prepared frame and stores its results by
+    /// index, so they are the same as one after another.
+    pub fn paths(&self, r: crate::config::ReferenceConfig, trace: Option<(u64, u64)>) -> Paths {
+        let ((sim, t_sim), ((exact, t_exact), (reference, t_ref))) = rayon::join(
+            || timed_call(|| self.simulate_lanes(trace)),
+            || {
+                rayon::join(
+                    || timed_call(|| self.evaluate_exact()),
+                    || timed_call(|| self.reference(r)),
+                )
+            },
+        );
+        Paths {
+            sim,
+            exact,
+            reference,
+            walls: [
+                ("simulation", t_sim),
+                ("exact mode", t_exact),
+                ("reference", t_ref),
+            ],
+        }
+    }
+}
+
+/// The results of [`Prepared::paths`].
+pub struct Paths {
+    pub sim: sim::Timed,
+    pub exact: sim::Outputs,
+    pub reference: reference::ReferenceImage,
+    /// The wall time of each path (they overlap).
+    pub walls: [(&'static str, std::time::Duration); 3],
+}
+
+/// `f()` and its wall time.
+fn timed_call<T>(f: impl FnOnce() -> T) -> (T, std::time::Duration) {
+    let t0 = std::time::Instant::now();
+    let r = f();
+    (r, t0.elapsed())
 }
 
 /// Run a loaded config.
@@ -408,39 +333,36 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
             }
         }
     }
-    let result = p.simulate(trace.map(|t| t.cycles));
-    timings.lap("simulation");
-    let exact_out = p.evaluate_exact();
-    timings.lap("exact mode");
+    let paths = p.paths(cfg.reference, trace.map(|t| t.cycles));
+    timings.lap("paths (concurrent)");
+    for (name, d) in paths.walls {
+        timings.part(name, d);
+    }
+    let Paths {
+        sim: result,
+        exact: exact_out,
+        reference: refimg,
+        ..
+    } = paths;
     let (w, h) = (p.scene.width, p.scene.height);
-    let frags = &p.raster.fragments;
-    let bit = &p.engine;
-    let fb = crate::rop::write(&bit.rop, Mode::BitAccurate, w, h, frags, &result.outputs);
-    let fb_exact = crate::rop::write(&bit.rop, Mode::Exact, w, h, frags, &exact_out);
-    let (img_bit, mask) = (&fb.image, &fb.mask);
-    let (img_exact, exact_mask) = (&fb_exact.image, &fb_exact.mask);
-    let refimg = p.reference(cfg.reference);
-    timings.lap("reference");
+    let (frags, bit) = (&p.raster.fragments, &p.engine);
+    let (fb, fb_exact) = rayon::join(
+        || crate::rop::write(&bit.rop, Mode::BitAccurate, w, h, frags, &result.outputs),
+        || crate::rop::write(&bit.rop, Mode::Exact, w, h, frags, &exact_out),
+    );
+    // the outputs and the fragment list are not read past the ROP: free them before the
+    // metrics, the peak of a large frame
+    drop((result.outputs, exact_out));
+    p.raster.fragments = Vec::new();
+    timings.lap("ROP");
+    let mask = &fb.mask;
     let rimg = Rgb64 {
         width: w,
         height: h,
-        px: refimg.px.clone(),
+        px: refimg.px,
     };
     let rmask = &refimg.mask;
-    let errors = Errors {
-        total: metrics::compare(img_bit, mask, &rimg, rmask),
-        algorithm: metrics::compare(img_exact, exact_mask, &rimg, rmask),
-        quantization: metrics::compare(img_bit, mask, img_exact, exact_mask),
-    };
-    let edges = Edges {
-        total: crate::edges::measure(img_bit, mask, &fb.tri, &rimg, rmask),
-        algorithm: crate::edges::measure(img_exact, exact_mask, &fb_exact.tri, &rimg, rmask),
-        quantization: crate::edges::measure(img_bit, mask, &fb.tri, img_exact, exact_mask),
-    };
-    let artifacts = Artifacts {
-        total: crate::artifacts::measure(img_bit, mask, &rimg, rmask),
-        quantization: crate::artifacts::measure(img_bit, mask, img_exact, exact_mask),
-    };
+    let measured = measures::measure(&fb, &fb_exact, &rimg, rmask);
     let covered = mask.iter().filter(|&&m| m).count() as u64;
     let mismatch = mask.iter().zip(rmask).filter(|(a, b)| a != b).count() as u64;
 
@@ -514,9 +436,9 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
             packet,
         },
         passes,
-        error: errors,
-        artifacts,
-        edges,
+        error: measured.errors,
+        artifacts: measured.artifacts,
+        edges: measured.edges,
     };
     let trace = trace.map(|t| {
         let units = bit.stages.iter().map(TraceUnit::of_stage).collect();
@@ -529,15 +451,16 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
             None => full,
         }
     });
-    let (image, reference) = (fb.rgb8.clone(), rimg.to_rgb8());
-    let error = metrics::heatmap(img_bit, mask, &rimg, rmask, 32.0);
     timings.lap("metrics");
     Ok(RunResult {
-        image,
-        reference,
-        error,
+        image: fb.rgb8,
+        reference: measured.reference,
+        error: measured.heatmap,
         report,
         trace,
         timings,
     })
 }
+
+#[cfg(test)]
+mod tests;

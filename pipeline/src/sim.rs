@@ -11,10 +11,19 @@
 //!    buffer write (ROP) drains one fragment per clock from the last FIFO.
 //!
 //! Stages are ticked from the last to the first within a clock (see `bumpsim_hw::stage`).
-//! The simulation is single-threaded and deterministic.
+//! The timing model is single-threaded and deterministic. It runs on **timing twins** of the
+//! stages (the same latency, interval and frame work in a shell of their own), so it needs no
+//! mutable access to the engine and runs concurrently with the function (`function.rs`),
+//! which evaluates the engine's own stages: timing does not depend on data.
 
-use bumpsim_hw::{Counters, CycleState, Fifo, Mode, Probe, Scratch, Stage, Token, Wire, Word};
-use rayon::prelude::*;
+mod function;
+
+use bumpsim_hw::{
+    CostTable, Counters, CycleState, Fifo, GateBudget, Mode, PortSpec, Probe, Scratch, Stage,
+    Token, Unit, Wire, Word,
+};
+use function::{eval_one, new_token};
+pub use function::{evaluate, evaluate_lanes, Outputs};
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -53,9 +62,6 @@ pub struct Workload<'a> {
 /// Fills a token with a fragment's interpolated attributes (and id and position); called from
 /// any thread.
 pub type FillToken<'a> = dyn Fn(usize, &mut Token) + Sync + 'a;
-
-/// Fragments per task of the parallel function evaluation.
-const CHUNK: usize = 2048;
 
 /// The result of a timed run.
 pub struct SimResult {
@@ -106,17 +112,76 @@ fn frame_probes(stages: &[Stage], trace: Option<(u64, u64)>) -> Vec<(usize, Prob
     out
 }
 
-/// Run one frame: the timing model over fragment ids, then the function over every fragment
-/// (timing does not depend on data), filling in the traced probes' port values. `trace` is a
-/// half-open cycle window to probe.
-pub fn run(
-    stages: &mut [Stage],
+/// Run one frame: the timing model over fragment ids and, concurrently, the function over
+/// every fragment (timing does not depend on data), then the traced probes' port values.
+/// `trace` is a half-open cycle window to probe.
+pub fn run(stages: &[Stage], output: Wire, w: Workload, trace: Option<(u64, u64)>) -> SimResult {
+    let nfrag = w.fragments();
+    let (mut cycles, probes, outputs) = run_with(stages, output, &w, trace, || {
+        evaluate(
+            stages,
+            Mode::BitAccurate,
+            output,
+            nfrag,
+            w.slots,
+            w.fill_token,
+        )
+    });
+    cycles.killed = outputs.iter().filter(|o| o.is_none()).count() as u64;
+    SimResult {
+        outputs,
+        cycles,
+        probes,
+    }
+}
+
+/// A timed run whose outputs are stored as the ROP reads them ([`Outputs`]).
+pub struct Timed {
+    pub outputs: Outputs,
+    pub cycles: CycleReport,
+    /// Probes of the stages, by stage index, for the traced cycles.
+    pub probes: Vec<(usize, Probe)>,
+}
+
+/// [`run`] with the outputs stored as raw lanes of the output port `port` ([`Outputs`]).
+pub fn run_lanes(
+    stages: &[Stage],
     output: Wire,
+    port: &PortSpec,
     w: Workload,
     trace: Option<(u64, u64)>,
-) -> SimResult {
-    let nfrag: usize = w.triangles.iter().map(|r| r.len()).sum();
-    let (mut cycles, mut probes, first) = timing(stages, &w, trace);
+) -> Timed {
+    let nfrag = w.fragments();
+    let (mut cycles, probes, outputs) = run_with(stages, output, &w, trace, || {
+        evaluate_lanes(
+            stages,
+            Mode::BitAccurate,
+            output,
+            port,
+            nfrag,
+            w.slots,
+            w.fill_token,
+        )
+    });
+    cycles.killed = outputs.killed();
+    Timed {
+        outputs,
+        cycles,
+        probes,
+    }
+}
+
+/// The timing model (on the stages' twins) concurrently with `function`, then the port values
+/// of the traced probes. The cycle report's `killed` is left to the caller (it is the
+/// function's).
+fn run_with<O: Send>(
+    stages: &[Stage],
+    output: Wire,
+    w: &Workload,
+    trace: Option<(u64, u64)>,
+    function: impl FnOnce() -> O + Send,
+) -> (CycleReport, Vec<(usize, Probe)>, O) {
+    let ((cycles, mut probes, first), outputs) = rayon::join(|| timing(stages, w, trace), function);
     // fragment id -> the probes that show it
     let mut refs: BTreeMap<u64, Vec<usize>> = BTreeMap::new();
     for (k, (_, p)) in probes.iter().enumerate().skip(first) {
@@ -124,14 +189,6 @@ pub fn run(
             refs.entry(id).or_default().push(k);
         }
     }
-    let outputs = evaluate(
-        stages,
-        Mode::BitAccurate,
-        output,
-        nfrag,
-        w.slots,
-        w.fill_token,
-    );
     // the traced fragments once more, for their port values
     let (mut t, mut scratch) = (new_token(w.slots), Scratch::default());
     for (&f, ks) in &refs {
@@ -159,12 +216,70 @@ pub fn run(
             }
         }
     }
-    cycles.killed = outputs.iter().filter(|o| o.is_none()).count() as u64;
-    SimResult {
-        outputs,
-        cycles,
-        probes,
+    (cycles, probes, outputs)
+}
+
+impl Workload<'_> {
+    fn fragments(&self) -> usize {
+        self.triangles.iter().map(|r| r.len()).sum()
     }
+}
+
+/// A stage's shell for the timing model: the latency, interval, kill flag and frame work of
+/// a unit, without its function (no ports; never evaluated).
+struct TimingTwin {
+    kind: &'static str,
+    latency: u32,
+    interval: u32,
+    frame_cycles: u64,
+    can_kill: bool,
+}
+
+impl Unit for TimingTwin {
+    fn kind(&self) -> &'static str {
+        self.kind
+    }
+    fn inputs(&self) -> &[PortSpec] {
+        &[]
+    }
+    fn outputs(&self) -> &[PortSpec] {
+        &[]
+    }
+    fn latency(&self) -> u32 {
+        self.latency
+    }
+    fn interval(&self) -> u32 {
+        self.interval
+    }
+    fn gates(&self, _: &CostTable) -> GateBudget {
+        GateBudget::new()
+    }
+    fn frame_cycles(&self) -> u64 {
+        self.frame_cycles
+    }
+    fn can_kill(&self) -> bool {
+        self.can_kill
+    }
+    fn eval(&self, _: Mode, _: &[Word], _: &mut [Word]) {}
+}
+
+/// Stages with the timing of `stages` (same names, latencies, intervals and frame work), in
+/// their reset state: what [`timing`] ticks, so the engine's stages are only read.
+fn timing_twins(stages: &[Stage]) -> Vec<Stage> {
+    stages
+        .iter()
+        .map(|s| {
+            let u = s.unit();
+            let twin = TimingTwin {
+                kind: u.kind(),
+                latency: u.latency(),
+                interval: u.interval(),
+                frame_cycles: u.frame_cycles(),
+                can_kill: u.can_kill(),
+            };
+            Stage::new(s.name.clone(), Box::new(twin), Vec::new(), Vec::new())
+        })
+        .collect()
 }
 
 /// The timing model of a frame over fragment ids: frame work, setup, scan, the stages and
@@ -172,15 +287,13 @@ pub fn run(
 /// probes of the `trace` window without port values, and the index of the first fragment
 /// probe (the ones before it are frame work).
 fn timing(
-    stages: &mut [Stage],
+    engine: &[Stage],
     w: &Workload,
     trace: Option<(u64, u64)>,
 ) -> (CycleReport, Vec<(usize, Probe)>, usize) {
-    let nfrag: usize = w.triangles.iter().map(|r| r.len()).sum();
+    let nfrag = w.fragments();
+    let mut stages = timing_twins(engine);
     let nstage = stages.len();
-    for s in stages.iter_mut() {
-        s.reset();
-    }
     let mut fifos: Vec<Fifo> = (0..=nstage).map(|_| Fifo::new(w.fifo_depth)).collect();
     // saturating sums and additions of the config-derived cycle counts (frame work, setup):
     // a huge value saturates instead of wrapping to a small one
@@ -188,7 +301,7 @@ fn timing(
         .iter()
         .map(|s| s.unit().frame_cycles())
         .fold(0, u64::saturating_add);
-    let mut probes = frame_probes(stages, trace);
+    let mut probes = frame_probes(engine, trace);
     let first = probes.len();
     let (mut setup_c, mut scan_c) = (Counters::default(), Counters::default());
     let mut next_tri = 0usize;
@@ -298,64 +411,4 @@ fn timing(
         per_unit,
     };
     (cycles, probes, first)
-}
-
-/// Evaluate every fragment through the stages without timing (the exact mode, whose timing
-/// is the same as the bit-accurate run's; and the function half of [`run`]). Fragments are
-/// independent and units do not change when they evaluate, so chunks of fragments run in
-/// parallel (rayon) and the result is the same at any thread count.
-pub fn evaluate(
-    stages: &[Stage],
-    mode: Mode,
-    output: Wire,
-    nfrag: usize,
-    slots: usize,
-    fill_token: &FillToken<'_>,
-) -> Vec<Option<Word>> {
-    let mut out = vec![None; nfrag];
-    out.par_chunks_mut(CHUNK)
-        .enumerate()
-        .for_each(|(c, chunk)| {
-            let (mut t, mut scratch) = (new_token(slots), Scratch::default());
-            for (k, o) in chunk.iter_mut().enumerate() {
-                *o = eval_one(
-                    stages,
-                    mode,
-                    output,
-                    c * CHUNK + k,
-                    &mut t,
-                    &mut scratch,
-                    fill_token,
-                );
-            }
-        });
-    out
-}
-
-fn new_token(slots: usize) -> Token {
-    Token {
-        id: 0,
-        x: 0,
-        y: 0,
-        live: true,
-        slots: vec![Word::default(); slots],
-    }
-}
-
-/// Fragment `f` through every stage in `mode`; its output word, or `None` if it was killed.
-fn eval_one(
-    stages: &[Stage],
-    mode: Mode,
-    output: Wire,
-    f: usize,
-    t: &mut Token,
-    scratch: &mut Scratch,
-    fill_token: &FillToken<'_>,
-) -> Option<Word> {
-    t.live = true;
-    fill_token(f, t);
-    for s in stages {
-        s.eval_token(t, mode, scratch);
-    }
-    t.live.then(|| output.read(&t.slots))
 }

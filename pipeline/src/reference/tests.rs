@@ -852,3 +852,83 @@ fn supersampled_reference_is_the_mean_of_its_samples() {
     assert!((DVec3::from(nine.px[k]) - DVec3::from(one.px[k])).length() > 1e-4);
     assert_eq!(nine.normals, one.normals);
 }
+
+/// Two overlapping quads, the nearer one drawn first (the early depth test rejects part of
+/// the farther one), and a third, farthest and taller, drawn last.
+fn overlapping_quads() -> Mesh {
+    let mut mesh = Mesh {
+        vertices: Vec::new(),
+        triangles: Vec::new(),
+    };
+    for (dx, hy, z) in [(0.2, 0.4, 0.5), (-0.2, 0.4, 0.0), (0.0, 0.8, -0.5)] {
+        let q = quad(0.5, hy, z, DVec3::X, DVec3::Y, DVec2::new);
+        let base = mesh.vertices.len() as u32;
+        mesh.vertices.extend(q.vertices.iter().map(|v| Vertex {
+            pos: v.pos + DVec3::new(dx, 0.0, 0.0),
+            ..*v
+        }));
+        mesh.triangles
+            .extend(q.triangles.iter().map(|t| t.map(|i| i + base)));
+    }
+    mesh
+}
+
+#[test]
+fn the_coverage_of_late_tested_fragments_is_the_early_tests() {
+    let mut s = scene(
+        overlapping_quads(),
+        ortho(),
+        BumpMap::Height(Box::new(Waves { k: 0.02 })),
+        vec![directional([0.3, 0.5, 1.0], [0.9, 0.9, 0.8])],
+        matte(),
+    );
+    (s.width, s.height) = (48, 40);
+    let clip = clip_positions(&s);
+    let (w, h) = (s.width, s.height);
+    let tris = &s.mesh.triangles;
+    let early = crate::raster::rasterize(&clip, tris, w, h, &RASTER);
+    let late =
+        crate::raster::rasterize_with(&clip, tris, w, h, &RASTER, crate::raster::DepthTest::Late);
+    assert!(late.fragments.len() > early.fragments.len() + 100);
+    let ce = Coverage::of_fragments(&early.fragments, w, h, &RASTER);
+    let cl = Coverage::of_fragments(&late.fragments, w, h, &RASTER);
+    let winners = |c: &Coverage, frags: &[Fragment]| -> Vec<Option<(u32, [u64; 3])>> {
+        (0..h)
+            .flat_map(|y| c.row(y).to_vec())
+            .map(|k| {
+                (k != Coverage::NONE).then(|| {
+                    let f = &frags[k as usize];
+                    (f.tri, f.bary.map(f64::to_bits))
+                })
+            })
+            .collect()
+    };
+    let we = winners(&ce, &early.fragments);
+    assert_eq!(we, winners(&cl, &late.fragments));
+    // every quad wins somewhere, and the nearest one wins where they overlap
+    for t in [0, 2, 4] {
+        assert!(we.iter().flatten().any(|p| p.0 == t || p.0 == t + 1), "{t}");
+    }
+    // the reference on either coverage is the reference of the scene, without normals
+    let whole = render_reference(&s, &RASTER, Perturbation::Blinn);
+    let opts = Options {
+        perturbation: Perturbation::Blinn,
+        samples: 1,
+        normals: false,
+    };
+    for (c, frags) in [(&ce, &early.fragments), (&cl, &late.fragments)] {
+        let img = render_covered(&s, c, frags, opts);
+        assert_eq!((&img.px, &img.mask), (&whole.px, &whole.mask));
+        assert!(img.normals.is_empty());
+    }
+    let with_normals = render_covered(
+        &s,
+        &cl,
+        &late.fragments,
+        Options {
+            normals: true,
+            ..opts
+        },
+    );
+    assert_eq!(with_normals, whole);
+}

@@ -1,0 +1,157 @@
+//! The front end of the engine as the simulator drives it: the rasterizer's fragments grouped
+//! by triangle, and the attribute interpolator that fills each fragment's token in a mode.
+
+use crate::config::{AttrSource, AttributeConfig};
+use crate::engine::attributes;
+use crate::raster::Fragment;
+use bumpsim_hw::{Mode, Token, Word};
+
+/// Fragments grouped by triangle: ranges into the fragment list, one per submitted triangle.
+pub(super) fn triangle_ranges(frags: &[Fragment], ntri: usize) -> Vec<std::ops::Range<usize>> {
+    let mut ranges = vec![0..0; ntri];
+    let mut start = 0;
+    while start < frags.len() {
+        let t = frags[start].tri as usize;
+        let mut end = start;
+        while end < frags.len() && frags[end].tri as usize == t {
+            end += 1;
+        }
+        ranges[t] = start..end;
+        start = end;
+    }
+    // triangles without fragments keep an empty range at their own position
+    let mut fixed = Vec::with_capacity(ntri);
+    let mut cursor = 0;
+    for r in ranges {
+        if r.is_empty() {
+            fixed.push(cursor..cursor);
+        } else {
+            cursor = r.end;
+            fixed.push(r);
+        }
+    }
+    fixed
+}
+
+pub(super) struct Front<'a> {
+    pub(super) frags: &'a [Fragment],
+    pub(super) tris: &'a [[u32; 3]],
+    pub(super) vd: &'a attributes::VertexData,
+    /// The vertex values the interpolator reads: on each attribute's grid in bit-accurate
+    /// mode ([`attributes::VertexData::snapped`]), as computed in exact mode.
+    pub(super) values: &'a [Vec<[f64; 4]>],
+    /// The fixed-point interpolator's vertex words and weight bits, when the bit-accurate
+    /// engine has one.
+    pub(super) fixed: Option<(&'a [Vec<[i64; 4]>], u32)>,
+    /// Whether exact-mode attribute words carry their raw words (`encode(x)`), which only
+    /// traces read; the units read `x` in exact mode.
+    pub(super) exact_raw: bool,
+}
+
+impl Front<'_> {
+    /// Fill a token with fragment `f`'s interpolated attributes.
+    pub(super) fn fill(&self, attrs: &[AttributeConfig], mode: Mode, f: usize, t: &mut Token) {
+        if mode == Mode::Exact && !self.exact_raw {
+            return self.fill_values(attrs, f, t);
+        }
+        let frag = &self.frags[f];
+        let tri = self.tris[frag.tri as usize];
+        for (a, attr) in attrs.iter().enumerate() {
+            let lanes = attr.source.lanes() as usize;
+            t.slots[a] = if self.vd.flat[a] {
+                attributes::flat(
+                    mode,
+                    &attr.enc,
+                    lanes,
+                    &self.vd.values[a][frag.tri as usize],
+                )
+            } else if let Some((codes, bits)) = self.fixed.filter(|_| mode == Mode::BitAccurate) {
+                let mut c = tri.map(|i| codes[a][i as usize]);
+                if let Some(flips) = self.flips(attr, a, tri) {
+                    for (v, flip) in c.iter_mut().zip(flips) {
+                        if flip {
+                            *v = v.map(|x| -x);
+                        }
+                    }
+                }
+                attributes::interpolate_fixed(
+                    &attr.enc,
+                    lanes,
+                    [&c[0], &c[1], &c[2]],
+                    frag.bary,
+                    bits,
+                )
+            } else {
+                let mut v = tri.map(|i| self.values[a][i as usize]);
+                if let Some(flips) = self.flips(attr, a, tri) {
+                    for (v, flip) in v.iter_mut().zip(flips) {
+                        if flip {
+                            *v = v.map(|x| -x);
+                        }
+                    }
+                }
+                attributes::interpolate_snapped(
+                    mode,
+                    &attr.enc,
+                    lanes,
+                    [&v[0], &v[1], &v[2]],
+                    frag.bary,
+                )
+            };
+        }
+        (t.id, t.x, t.y) = (f as u64, frag.x, frag.y);
+    }
+
+    /// [`Front::fill`] in exact mode without raw words: the values of
+    /// [`attributes::flat`] and [`attributes::interpolate_snapped`] (the same sums in the same
+    /// order), raw words left 0.
+    fn fill_values(&self, attrs: &[AttributeConfig], f: usize, t: &mut Token) {
+        let frag = &self.frags[f];
+        let tri = self.tris[frag.tri as usize];
+        let b = frag.bary;
+        for (a, attr) in attrs.iter().enumerate() {
+            let lanes = attr.source.lanes() as usize;
+            let mut w = Word::default();
+            if self.vd.flat[a] {
+                let v = &self.vd.values[a][frag.tri as usize];
+                for (l, s) in w.lanes.iter_mut().enumerate().take(lanes) {
+                    s.x = v[l];
+                }
+            } else {
+                let mut v = tri.map(|i| self.values[a][i as usize]);
+                if let Some(flips) = self.flips(attr, a, tri) {
+                    for (v, flip) in v.iter_mut().zip(flips) {
+                        if flip {
+                            *v = v.map(|x| -x);
+                        }
+                    }
+                }
+                for (l, s) in w.lanes.iter_mut().enumerate().take(lanes) {
+                    s.x = b[0] * v[0][l] + b[1] * v[1][l] + b[2] * v[2][l];
+                }
+            }
+            t.slots[a] = w;
+        }
+        (t.id, t.x, t.y) = (f as u64, frag.x, frag.y);
+    }
+
+    /// Triangle setup's sign choice for quaternion attributes
+    /// ([`crate::engine::frames::hemisphere_flips`], decided on the geometry engine's values).
+    fn flips(&self, attr: &AttributeConfig, a: usize, tri: [u32; 3]) -> Option<[bool; 3]> {
+        matches!(attr.source, AttrSource::Quaternion).then(|| {
+            let q = tri.map(|i| &self.vd.values[a][i as usize]);
+            crate::engine::frames::hemisphere_flips(q)
+        })
+    }
+}
+
+/// The fixed-point interpolator's vertex words and weight bits, if `i` is one.
+pub(super) fn fixed(
+    codes: &[Vec<[i64; 4]>],
+    i: crate::config::Interpolator,
+) -> Option<(&[Vec<[i64; 4]>], u32)> {
+    match i {
+        crate::config::Interpolator::Exact => None,
+        crate::config::Interpolator::Fixed { weight_bits } => Some((codes, weight_bits)),
+    }
+}

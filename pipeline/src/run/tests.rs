@@ -1,0 +1,94 @@
+//! The paths as a render runs them against the forms the unit tests read: the stored lanes
+//! are the words the ROP read before, the exact mode without raw words gives the same values,
+//! and the concurrent paths give what each gives alone.
+
+use super::*;
+use std::path::Path;
+
+/// Bundled configs at 64x64: plain, killing (late depth), alpha (four lanes) and two blend
+/// passes.
+fn small(name: &str) -> Prepared {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../configs/{name}.ron"));
+    let sets = ["scene.width=64".to_string(), "scene.height=64".to_string()];
+    let l = crate::config::load(&path, &sets).unwrap();
+    prepare(&l).unwrap()
+}
+
+const CONFIGS: [&str; 4] = [
+    "sgi-teapot",
+    "cull-fragment",
+    "rop-alpha-test",
+    "quantized-bunny-wood-eq2",
+];
+
+#[test]
+fn stored_lanes_are_the_words_the_rop_reads() {
+    for name in CONFIGS {
+        let mut p = small(name);
+        let words = p.simulate(None);
+        let lanes = p.simulate_lanes(None);
+        assert_eq!(words.cycles, lanes.cycles, "{name}");
+        assert_eq!(words.probes, lanes.probes, "{name}");
+        let n = p.engine.output.spec.lanes as usize;
+        assert_eq!(lanes.outputs.len(), words.outputs.len());
+        for (f, w) in words.outputs.iter().enumerate() {
+            let got = lanes.outputs.word(f);
+            assert_eq!(got.is_some(), w.is_some(), "{name} fragment {f}");
+            if let (Some(got), Some(w)) = (got, w) {
+                assert_eq!(got.lanes[..n], w.lanes[..n], "{name} fragment {f}");
+            }
+        }
+    }
+}
+
+#[test]
+fn exact_mode_without_raw_words_has_the_same_values() {
+    for name in CONFIGS {
+        let p = small(name);
+        let out = p.evaluate_exact();
+        let n = p.engine.output.spec.lanes as usize;
+        assert!(!out.is_empty(), "{name}");
+        for f in 0..out.len() {
+            let t = p.fragment_token(Mode::Exact, f);
+            let want = t.live.then(|| p.engine.output.wire.read(&t.slots));
+            let got = out.word(f);
+            assert_eq!(got.is_some(), want.is_some(), "{name} fragment {f}");
+            if let (Some(got), Some(want)) = (got, want) {
+                let bits = |w: &Word| {
+                    w.lanes[..n]
+                        .iter()
+                        .map(|s| s.x.to_bits())
+                        .collect::<Vec<_>>()
+                };
+                assert_eq!(bits(&got), bits(&want), "{name} fragment {f}");
+            }
+        }
+    }
+}
+
+#[test]
+fn the_concurrent_paths_are_the_paths_one_after_another() {
+    for name in CONFIGS {
+        let p = small(name);
+        let r = crate::config::ReferenceConfig::default();
+        let all = p.paths(r, Some((0, 200)));
+        let sim = p.simulate_lanes(Some((0, 200)));
+        assert_eq!(all.sim.outputs, sim.outputs, "{name}");
+        assert_eq!(all.sim.cycles, sim.cycles, "{name}");
+        assert_eq!(all.sim.probes, sim.probes, "{name}");
+        assert_eq!(all.exact, p.evaluate_exact(), "{name}");
+        assert_eq!(all.reference, p.reference(r), "{name}");
+        // the reference on the engine's coverage is the reference that rasterises again
+        let again = reference::render_reference_sampled(
+            &p.scene,
+            &p.raster_config,
+            r.perturbation,
+            r.samples,
+        );
+        assert_eq!(
+            (&all.reference.px, &all.reference.mask),
+            (&again.px, &again.mask),
+            "{name}"
+        );
+    }
+}

@@ -1,0 +1,208 @@
+//! The function half of the simulator: every fragment through the stages in a mode, chunks
+//! of fragments in parallel (rayon), each output stored by fragment index, so the result is
+//! the same at any thread count; and [`Outputs`], the outputs as the ROP reads them.
+
+use super::FillToken;
+use bumpsim_hw::{Encoding, Mode, PortSpec, Scratch, Stage, Token, Wire, Word, MAX_LANES};
+use rayon::prelude::*;
+
+/// Fragments per task of the parallel function evaluation.
+const CHUNK: usize = 2048;
+
+/// Evaluate every fragment through the stages without timing (the exact mode, whose timing
+/// is the same as the bit-accurate run's; and the function half of [`super::run`]). Fragments are
+/// independent and units do not change when they evaluate, so chunks of fragments run in
+/// parallel (rayon) and the result is the same at any thread count.
+pub fn evaluate(
+    stages: &[Stage],
+    mode: Mode,
+    output: Wire,
+    nfrag: usize,
+    slots: usize,
+    fill_token: &FillToken<'_>,
+) -> Vec<Option<Word>> {
+    let mut out = vec![None; nfrag];
+    out.par_chunks_mut(CHUNK)
+        .enumerate()
+        .for_each(|(c, chunk)| {
+            let (mut t, mut scratch) = (new_token(slots), Scratch::default());
+            for (k, o) in chunk.iter_mut().enumerate() {
+                *o = eval_one(
+                    stages,
+                    mode,
+                    output,
+                    c * CHUNK + k,
+                    &mut t,
+                    &mut scratch,
+                    fill_token,
+                );
+            }
+        });
+    out
+}
+
+/// The engine's output of every fragment, stored as the ROP reads it: the raw words of the
+/// output port in bit-accurate mode (the values are their decodings), the real values in
+/// exact mode (whose raw words nothing reads), `lanes` per fragment, and whether each
+/// fragment is live. A quarter to a half of a [`Word`] per fragment.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Outputs {
+    enc: Encoding,
+    lanes: usize,
+    values: Lanes,
+    live: Vec<bool>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+enum Lanes {
+    Raw(Vec<i64>),
+    Real(Vec<f64>),
+}
+
+impl Outputs {
+    /// Fragments.
+    pub fn len(&self) -> usize {
+        self.live.len()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.live.is_empty()
+    }
+    /// Fragments killed in the pipe.
+    pub fn killed(&self) -> u64 {
+        self.live.iter().filter(|&&l| !l).count() as u64
+    }
+    /// The output word of fragment `f` as the ROP reads it, `None` if it was killed: in
+    /// bit-accurate mode the raw words and their decodings (a bit-accurate word's value is its
+    /// decoding), in exact mode the values (raw words 0).
+    pub fn word(&self, f: usize) -> Option<Word> {
+        if !self.live[f] {
+            return None;
+        }
+        let lanes = f * self.lanes..(f + 1) * self.lanes;
+        Some(match &self.values {
+            Lanes::Raw(r) => Word::from_raw(&self.enc, &r[lanes]),
+            Lanes::Real(x) => {
+                let mut w = Word::default();
+                for (l, &x) in w.lanes.iter_mut().zip(&x[lanes]) {
+                    l.x = x;
+                }
+                w
+            }
+        })
+    }
+}
+
+/// [`evaluate`], the outputs stored as [`Outputs`] of the output port `port`.
+pub fn evaluate_lanes(
+    stages: &[Stage],
+    mode: Mode,
+    output: Wire,
+    port: &PortSpec,
+    nfrag: usize,
+    slots: usize,
+    fill_token: &FillToken<'_>,
+) -> Outputs {
+    // a port has 1 to MAX_LANES lanes
+    let lanes = (port.lanes as usize).clamp(1, MAX_LANES);
+    let f = Function {
+        stages,
+        mode,
+        output,
+        slots,
+        fill_token,
+    };
+    let mut live = vec![false; nfrag];
+    let values = match mode {
+        Mode::BitAccurate => {
+            let mut raw = vec![0i64; nfrag * lanes];
+            evaluate_into(&f, &mut raw, lanes, &mut live, |w, l| w.lanes[l].raw);
+            Lanes::Raw(raw)
+        }
+        Mode::Exact => {
+            let mut x = vec![0f64; nfrag * lanes];
+            evaluate_into(&f, &mut x, lanes, &mut live, |w, l| w.lanes[l].x);
+            Lanes::Real(x)
+        }
+    };
+    Outputs {
+        enc: port.enc,
+        lanes,
+        values,
+        live,
+    }
+}
+
+/// Every fragment through `stages` in `mode`, chunks in parallel; lane `l` of a live
+/// fragment `f`'s output word goes to `values[f * lanes + l]` through `get`, and its liveness
+/// to `live[f]`.
+fn evaluate_into<T: Send + Copy>(
+    f: &Function<'_>,
+    values: &mut [T],
+    lanes: usize,
+    live: &mut [bool],
+    get: impl Fn(&Word, usize) -> T + Sync,
+) {
+    values
+        .par_chunks_mut(CHUNK * lanes)
+        .zip(live.par_chunks_mut(CHUNK))
+        .enumerate()
+        .for_each(|(c, (vals, live))| {
+            let (mut t, mut scratch) = (new_token(f.slots), Scratch::default());
+            for (k, l) in live.iter_mut().enumerate() {
+                let id = c * CHUNK + k;
+                let out = eval_one(
+                    f.stages,
+                    f.mode,
+                    f.output,
+                    id,
+                    &mut t,
+                    &mut scratch,
+                    f.fill_token,
+                );
+                if let Some(w) = out {
+                    *l = true;
+                    for (i, v) in vals[k * lanes..(k + 1) * lanes].iter_mut().enumerate() {
+                        *v = get(&w, i);
+                    }
+                }
+            }
+        });
+}
+
+/// What the function evaluates: the stages in a mode, read at the output wire, on tokens of
+/// `slots` slots filled by the front end.
+struct Function<'a> {
+    stages: &'a [Stage],
+    mode: Mode,
+    output: Wire,
+    slots: usize,
+    fill_token: &'a FillToken<'a>,
+}
+
+pub(super) fn new_token(slots: usize) -> Token {
+    Token {
+        id: 0,
+        x: 0,
+        y: 0,
+        live: true,
+        slots: vec![Word::default(); slots],
+    }
+}
+
+/// Fragment `f` through every stage in `mode`; its output word, or `None` if it was killed.
+pub(super) fn eval_one(
+    stages: &[Stage],
+    mode: Mode,
+    output: Wire,
+    f: usize,
+    t: &mut Token,
+    scratch: &mut Scratch,
+    fill_token: &FillToken<'_>,
+) -> Option<Word> {
+    t.live = true;
+    fill_token(f, t);
+    for s in stages {
+        s.eval_token(t, mode, scratch);
+    }
+    t.live.then(|| output.read(&t.slots))
+}
