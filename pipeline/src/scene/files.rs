@@ -1,4 +1,4 @@
-//! Reading the files a scene names (OBJ meshes, PNG images) with bounds: a regular file (a
+//! Reading the files a scene names (OBJ and PLY meshes, PNG images) with bounds: a regular file (a
 //! directory is "is a directory", a missing file "no such file"), at most a size limit, and
 //! for PNG images the dimensions read from the header and checked before anything is decoded.
 
@@ -9,6 +9,10 @@ use super::SceneError;
 
 /// Largest OBJ file read, in bytes (256 MiB: about 5 million triangles; the bunny is 101 KB).
 pub const MAX_OBJ_BYTES: u64 = 256 << 20;
+
+/// Largest PLY file read, in bytes (256 MiB: about 16 million triangles in binary with float
+/// coordinates, 5 million in ASCII; the 871 K-face Stanford dragon is 32 MB in binary).
+pub const MAX_PLY_BYTES: u64 = 256 << 20;
 
 /// Largest PNG file read, in bytes (256 MiB).
 pub const MAX_PNG_BYTES: u64 = 256 << 20;

@@ -12,6 +12,7 @@ pub mod mesh;
 pub mod normals;
 pub mod obj;
 pub mod perturb;
+pub mod ply;
 pub mod shapes;
 
 use glam::{DMat4, DVec3};

@@ -1,97 +1,245 @@
-//! OBJ files (tobj): reading, and meshes with the file's texture coordinates.
+//! OBJ files: the reader of `MeshSpec::Obj` ([`read`], one pass, every error with its line),
+//! giving a [`FileMesh`] that `super::mesh` builds by the rule for scan defects
+//! (`docs/assets.md`). [`read_obj`] (tobj) is kept for `super::atlas::load_obj`.
 
-use std::collections::HashMap;
 use std::path::Path;
 
 use glam::{DVec2, DVec3};
 
-use super::mesh::{degenerate2, degenerate3, Mesh, Vertex};
+use super::mesh::{kept_faces_counted, Corners, FileMesh, Place, NONE};
 use super::SceneError;
 
-/// An OBJ file read by tobj, with what tobj does not keep: the file line of every triangle
-/// (after triangulation, in file order) for error messages.
-pub(crate) struct ObjFile {
-    pub models: Vec<tobj::Model>,
-    /// The 1-based line of each triangle's face, in the order of the models' triangles;
-    /// empty when it could not be matched to tobj's triangles.
-    pub lines: Vec<usize>,
-    /// Whether every face gives every corner a texture coordinate (`f a/t ...`); else the
-    /// line of the first face that does not.
-    pub missing_vt: Option<usize>,
+pub(crate) use super::mesh::smooth_normals;
+
+/// Read an OBJ file for `MeshSpec::Obj`: a regular file of at most
+/// [`super::files::MAX_OBJ_BYTES`] of UTF-8 text, parsed by [`parse`]. Errors are file errors
+/// naming the path; the file's own problems start with `could not load OBJ: line N`.
+pub(crate) fn read(path: &Path) -> Result<FileMesh, SceneError> {
+    let fail = |message: String| SceneError::file(path.display(), message);
+    let bytes = super::files::read_bounded(path, super::files::MAX_OBJ_BYTES, "OBJ")?;
+    let text = std::str::from_utf8(&bytes).map_err(|e| {
+        let line = 1 + bytes[..e.valid_up_to()]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count();
+        fail(format!(
+            "could not load OBJ: line {line}: not UTF-8 text (expected a text file)"
+        ))
+    })?;
+    parse(text).map_err(|m| fail(format!("could not load OBJ: {m}")))
 }
 
-impl ObjFile {
-    /// "line N" of triangle `t` (in the models' order), or "face t" if lines are unknown.
-    pub fn line(&self, t: usize) -> String {
-        match self.lines.get(t) {
-            Some(l) => format!("line {l}"),
-            None => format!("face {t}"),
-        }
+/// A number of a `v`, `vt` or `vn` line, read as f32 (as tobj does: OBJ files hold single
+/// precision), finite and within the f32 range.
+fn number(n: usize, key: &str, tok: &str) -> Result<f32, String> {
+    match tok.parse::<f32>() {
+        Ok(x) if x.is_finite() => Ok(x),
+        Ok(x) if x.is_infinite() && tok.parse::<f64>().is_ok_and(f64::is_finite) => Err(format!(
+            "line {n}: {key}: {tok} is out of range: OBJ coordinates are read as f32, expected \
+             at most {:e} in magnitude",
+            f32::MAX
+        )),
+        Ok(_) => Err(format!(
+            "line {n}: {key}: expected a finite number, found {tok}"
+        )),
+        Err(_) => Err(format!("line {n}: {key}: {tok:?} is not a number")),
     }
 }
 
-/// Check the numbers of the `v`, `vt` and `vn` lines and find each face's line. tobj reads
-/// coordinates as f32 (its `use_f64` feature is off), so a finite value beyond the f32 range
-/// (3.4e38) would become infinite: it is reported here, with its line, as out of range.
-fn scan(text: &str) -> Result<(Vec<usize>, Option<usize>), String> {
-    let mut lines = Vec::new();
+/// One index of a face corner: 1-based, or negative counting back from the last of the
+/// `so_far` values defined before this line; 0-based in the result.
+fn index(n: usize, tok: &str, part: &str, what: &str, so_far: usize) -> Result<u32, String> {
+    let k: i64 = part.parse().map_err(|_| {
+        format!(
+            "line {n}: f: {tok:?} is not a vertex reference (expected v, v/vt, v//vn or \
+             v/vt/vn with integer indices)"
+        )
+    })?;
+    let resolved = match k {
+        0 => {
+            return Err(format!(
+                "line {n}: f: {tok:?}: {what} index 0: OBJ indices start at 1"
+            ))
+        }
+        k if k > 0 => k - 1,
+        k => so_far as i64 + k,
+    };
+    if resolved < 0 {
+        return Err(format!(
+            "line {n}: f: {tok:?}: {what} index {k} refers before the first {what} ({so_far} \
+             defined so far)"
+        ));
+    }
+    // at most NONE - 1: larger ones are out of range of any file read
+    Ok(u32::try_from(resolved).unwrap_or(NONE - 1).min(NONE - 1))
+}
+
+/// Parse OBJ text: `v` (x y z, an optional w dividing them as tobj does, further numbers such
+/// as colours ignored), `vt` (u v), `vn` (x y z) and `f` lines (corners `v`, `v/vt`, `v//vn`
+/// or `v/vt/vn`, negative indices relative); polygons are fanned, faces of fewer than three
+/// corners counted and ignored, all objects and groups share one index space, other lines
+/// (`o`, `g`, `s`, `usemtl`, `mtllib`, `l`, `p`, ...) and `#` comments are ignored. Every
+/// number is checked and every index is checked against the file's counts; errors name the
+/// line.
+pub(crate) fn parse(text: &str) -> Result<FileMesh, String> {
+    let mut m = FileMesh {
+        place: Place::Line,
+        ..FileMesh::default()
+    };
+    let (mut uvs, mut normals) = (Vec::<DVec2>::new(), Vec::<DVec3>::new());
+    let (mut uv_index, mut normal_index) = (Vec::<[u32; 3]>::new(), Vec::<[u32; 3]>::new());
+    let mut any_normal = false;
     let mut missing_vt = None;
+    let mut corners: Vec<[u32; 3]> = Vec::new();
     for (i, line) in text.lines().enumerate() {
         let n = i + 1;
+        let line = line.split('#').next().unwrap_or_default();
         let mut it = line.split_whitespace();
         let Some(key) = it.next() else { continue };
         match key {
             "v" | "vt" | "vn" => {
-                let mut len2 = 0.0;
-                for (k, tok) in it.enumerate() {
-                    let x: f64 = tok
-                        .parse()
-                        .map_err(|_| format!("line {n}: {key}: {tok:?} is not a number"))?;
-                    if !x.is_finite() {
-                        return Err(format!(
-                            "line {n}: {key}: expected a finite number, found {tok}"
-                        ));
+                let mut x = [0f32; 4];
+                let mut count = 0;
+                for tok in it {
+                    let v = number(n, key, tok)?;
+                    if count < 4 {
+                        x[count] = v;
                     }
-                    if x.abs() > f64::from(f32::MAX) {
-                        return Err(format!(
-                            "line {n}: {key}: {tok} is out of range: OBJ coordinates are read \
-                             as f32, expected at most {:e} in magnitude",
-                            f32::MAX
-                        ));
-                    }
-                    if k < 3 {
-                        len2 += x * x;
-                    }
+                    count += 1;
                 }
-                if key == "vn" && len2 == 0.0 {
+                let need = if key == "vt" { 2 } else { 3 };
+                if count < need {
                     return Err(format!(
-                        "line {n}: vn: a normal of zero length: expected a non-zero normal"
+                        "line {n}: {key}: expected {need} numbers, found {count}"
                     ));
+                }
+                match key {
+                    "v" => {
+                        let mut p = [x[0], x[1], x[2]];
+                        if count == 4 {
+                            let w = x[3];
+                            if w == 0.0 {
+                                return Err(format!(
+                                    "line {n}: v: a weight w of 0: expected a non-zero w"
+                                ));
+                            }
+                            p = p.map(|c| c / w);
+                            if !p.iter().all(|c| c.is_finite()) {
+                                return Err(format!(
+                                    "line {n}: v: x y z / w is out of the f32 range"
+                                ));
+                            }
+                        }
+                        m.positions.push(DVec3::from(p.map(f64::from)));
+                    }
+                    "vt" => uvs.push(DVec2::new(f64::from(x[0]), f64::from(x[1]))),
+                    _ => normals.push(DVec3::new(
+                        f64::from(x[0]),
+                        f64::from(x[1]),
+                        f64::from(x[2]),
+                    )),
                 }
             }
             "f" => {
-                let corners: Vec<&str> = it.collect();
-                if corners.len() >= 3 {
-                    let has_vt = corners
-                        .iter()
-                        .all(|c| c.split('/').nth(1).is_some_and(|t| !t.is_empty()));
-                    if !has_vt && missing_vt.is_none() {
-                        missing_vt = Some(n);
+                corners.clear();
+                for tok in it {
+                    let mut parts = tok.split('/');
+                    let v = parts.next().unwrap_or_default();
+                    let vt = parts.next().unwrap_or_default();
+                    let vn = parts.next().unwrap_or_default();
+                    if parts.next().is_some() || v.is_empty() {
+                        return Err(format!(
+                            "line {n}: f: {tok:?} is not a vertex reference (expected v, \
+                             v/vt, v//vn or v/vt/vn)"
+                        ));
                     }
-                    lines.extend(std::iter::repeat_n(n, corners.len() - 2));
+                    let opt = |part: &str, what: &str, so_far: usize| {
+                        if part.is_empty() {
+                            Ok(NONE)
+                        } else {
+                            index(n, tok, part, what, so_far)
+                        }
+                    };
+                    corners.push([
+                        index(n, tok, v, "v", m.positions.len())?,
+                        opt(vt, "vt", uvs.len())?,
+                        opt(vn, "vn", normals.len())?,
+                    ]);
+                }
+                if corners.len() < 3 {
+                    m.short_faces += 1;
+                    continue;
+                }
+                let has_vt = corners.iter().all(|c| c[1] != NONE);
+                if !has_vt && missing_vt.is_none() {
+                    missing_vt = Some(n);
+                }
+                any_normal |= corners.iter().any(|c| c[2] != NONE);
+                for k in 1..corners.len() - 1 {
+                    let tri = [corners[0], corners[k], corners[k + 1]];
+                    m.triangles.push(tri.map(|c| c[0]));
+                    uv_index.push(if has_vt { tri.map(|c| c[1]) } else { [NONE; 3] });
+                    normal_index.push(tri.map(|c| c[2]));
+                    m.places.push(n as u64);
                 }
             }
             _ => {}
         }
     }
-    Ok((lines, missing_vt))
+    // positive indices may refer forward: check them against the file's counts
+    for (t, tri) in m.triangles.iter().enumerate() {
+        let checks = [
+            (tri, m.positions.len(), "v"),
+            (&uv_index[t], uvs.len(), "vt"),
+            (&normal_index[t], normals.len(), "vn"),
+        ];
+        for (ix, len, what) in checks {
+            if let Some(&k) = ix.iter().find(|&&k| k != NONE && k as usize >= len) {
+                return Err(format!(
+                    "line {}: f: {what} index {} out of range: the file has {len} {what} lines",
+                    m.places[t],
+                    u64::from(k) + 1
+                ));
+            }
+        }
+    }
+    m.no_uv = missing_vt.map(|line| {
+        format!(
+            "line {line}: a face without texture coordinates (vt): expected `f v/vt ...` on \
+             every face; bump mapping needs them (or use atlas: true)"
+        )
+    });
+    m.uvs = Some(Corners {
+        values: uvs,
+        index: uv_index,
+    });
+    m.normals = any_normal.then_some(Corners {
+        values: normals,
+        index: normal_index,
+    });
+    Ok(m)
 }
 
-/// Read an OBJ file: a regular file of at most [`super::files::MAX_OBJ_BYTES`], triangulated
-/// (points and lines ignored); errors name the file and, where known, the line.
+/// The faces kept of triangles given by their corner positions (`docs/assets.md`, "Meshes
+/// from files"): [`kept_faces_counted`] without the counts.
+pub(crate) fn kept_faces(corners: &[[DVec3; 3]]) -> Vec<bool> {
+    kept_faces_counted(corners.len(), |t| corners[t]).0
+}
+
+/// An OBJ file read by tobj, for `super::atlas::load_obj` (`MeshSpec::Obj` reads with
+/// [`read`] instead).
+pub(crate) struct ObjFile {
+    pub models: Vec<tobj::Model>,
+}
+
+/// Read an OBJ file with tobj (triangulated, points and lines ignored), after the checks of
+/// [`parse`] (numbers, indices: errors with their line).
 pub(crate) fn read_obj(path: &Path) -> Result<ObjFile, SceneError> {
     let fail = |message: String| SceneError::file(path.display(), message);
     let bytes = super::files::read_bounded(path, super::files::MAX_OBJ_BYTES, "OBJ")?;
+    if let Ok(text) = std::str::from_utf8(&bytes) {
+        parse(text).map_err(|m| fail(format!("could not load OBJ: {m}")))?;
+    }
     // `..Default::default()` covers the options of tobj's optional features.
     #[allow(clippy::needless_update)]
     let options = tobj::LoadOptions {
@@ -101,264 +249,116 @@ pub(crate) fn read_obj(path: &Path) -> Result<ObjFile, SceneError> {
         ignore_lines: true,
         ..Default::default()
     };
-    let (lines, missing_vt) = match std::str::from_utf8(&bytes) {
-        Ok(text) => scan(text).map_err(|m| fail(format!("could not load OBJ: {m}")))?,
-        Err(_) => (Vec::new(), None),
-    };
     let mut reader = std::io::BufReader::new(bytes.as_slice());
     let (models, _materials) = tobj::load_obj_buf(&mut reader, &options, |_| {
         Err(tobj::LoadError::OpenFileFailed)
     })
     .map_err(|e| fail(format!("could not load OBJ: {e}")))?;
-    let triangles: usize = models.iter().map(|m| m.mesh.indices.len() / 3).sum();
-    let lines = if lines.len() == triangles {
-        lines
-    } else {
-        Vec::new()
-    };
-    Ok(ObjFile {
-        models,
-        lines,
-        missing_vt,
-    })
+    Ok(ObjFile { models })
 }
 
-/// The faces an OBJ mesh keeps (`docs/assets.md`, "Meshes from files"): a face of zero area
-/// (its corners collinear or equal, [`degenerate3`]) is dropped, and of the faces on the same
-/// three corner positions (equal coordinates, in either winding: exact duplicates and
-/// back-to-back pairs) only the first in the file is kept. `corners` gives each triangle's
-/// three positions in file order; returns whether each is kept.
-pub(crate) fn kept_faces(corners: &[[DVec3; 3]]) -> Vec<bool> {
-    let mut seen = std::collections::HashSet::new();
-    corners
-        .iter()
-        .map(|&[a, b, c]| {
-            if degenerate3(a, b, c) {
-                return false;
-            }
-            let mut key = [a, b, c].map(|p| p.to_array().map(f64::to_bits));
-            key.sort_unstable();
-            seen.insert(key)
-        })
-        .collect()
-}
+#[cfg(test)]
+mod tests {
+    use super::*;
 
-/// Smooth vertex normals from faces: for each position the area-weighted sum of its faces'
-/// normals, normalised. Where that sum vanishes (faces around the position cancel, e.g. a
-/// fold), the sum of the faces' unit normals; where that vanishes too, the normal of the
-/// first face that uses the position. `faces` are `(position indices, (b - a) x (c - a))`.
-pub(crate) fn smooth_normals(positions: usize, faces: &[([usize; 3], DVec3)]) -> Vec<DVec3> {
-    let mut area = vec![DVec3::ZERO; positions];
-    let mut scale = vec![0.0f64; positions];
-    for (tri, n) in faces {
-        for &k in tri {
-            area[k] += *n;
-            scale[k] += n.length();
-        }
+    fn err(text: &str) -> String {
+        parse(text).unwrap_err()
     }
-    let cancelled = |k: usize, v: DVec3| v.length() <= 1e-9 * scale[k];
-    let mut out: Vec<DVec3> = area.iter().map(|v| v.normalize_or_zero()).collect();
-    let bad: Vec<usize> = (0..positions)
-        .filter(|&k| scale[k] > 0.0 && cancelled(k, area[k]))
-        .collect();
-    if bad.is_empty() {
-        return out;
-    }
-    let mut unit = vec![DVec3::ZERO; positions];
-    let mut first = vec![None; positions];
-    for (tri, n) in faces {
-        for &k in tri {
-            unit[k] += n.normalize_or_zero();
-            first[k].get_or_insert(n.normalize_or_zero());
-        }
-    }
-    for k in bad {
-        out[k] = if unit[k].length() > 1e-9 {
-            unit[k].normalize()
-        } else {
-            first[k].unwrap_or(DVec3::ZERO)
-        };
-    }
-    out
-}
 
-/// Load an OBJ file: positions, texture coordinates (required) and normals (computed if
-/// absent, [`smooth_normals`]), with `pu`, `pv` per triangle from positions and uvs, averaged
-/// per vertex weighted by triangle area. Faces are kept by [`kept_faces`]; errors name the
-/// file's line.
-pub(super) fn load_obj(path: &Path, rep: DVec2) -> Result<Mesh, SceneError> {
-    let fail = |message: String| SceneError::file(path.display(), message);
-    let file = read_obj(path)?;
-    if let Some(line) = file.missing_vt {
-        return Err(fail(format!(
-            "line {line}: a face without texture coordinates (vt): expected `f v/vt ...` on \
-             every face; bump mapping needs them (or use atlas: true)"
-        )));
+    #[test]
+    fn indices_are_checked_with_their_line() {
+        let v = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\n";
+        let e = err(&format!("{v}f 1/1 2/1 9/1\n"));
+        assert!(
+            e.starts_with("line 5: f: v index 9 out of range: the file has 3 v lines"),
+            "{e}"
+        );
+        let e = err(&format!("{v}f 1/1 2/1 3/2\n"));
+        assert!(e.starts_with("line 5: f: vt index 2 out of range"), "{e}");
+        let e = err(&format!("{v}f 1//1 2//1 3//1\n"));
+        assert!(e.starts_with("line 5: f: vn index 1 out of range"), "{e}");
+        let e = err(&format!("{v}f 0 1 2\n"));
+        assert!(e.starts_with("line 5: f: \"0\": v index 0"), "{e}");
+        let e = err(&format!("{v}f -4 1 2\n"));
+        assert!(
+            e.starts_with("line 5: f: \"-4\": v index -4 refers before"),
+            "{e}"
+        );
+        let e = err(&format!("{v}f 1/x 2 3\n"));
+        assert!(
+            e.starts_with("line 5: f: \"1/x\" is not a vertex reference"),
+            "{e}"
+        );
+        let e = err(&format!("{v}f 1/1/1/1 2 3\n"));
+        assert!(e.starts_with("line 5: f: \"1/1/1/1\""), "{e}");
+        // numbers
+        let e = err("v 0 nan 0\n");
+        assert!(
+            e.starts_with("line 1: v: expected a finite number, found nan"),
+            "{e}"
+        );
+        let e = err("v 0 0\n");
+        assert!(
+            e.starts_with("line 1: v: expected 3 numbers, found 2"),
+            "{e}"
+        );
+        let e = err("\nvt 0 zero\n");
+        assert!(e.starts_with("line 2: vt: \"zero\" is not a number"), "{e}");
+        let e = err("v 0 0 0 0\n");
+        assert!(e.starts_with("line 1: v: a weight w of 0"), "{e}");
     }
-    let models = &file.models;
-    // the corner positions of every triangle, in file order, to choose the faces kept
-    let mut corners_all = Vec::new();
-    for model in models {
-        let m = &model.mesh;
-        for tri in m.indices.chunks_exact(3) {
-            let p = |k: u32| {
-                let k = k as usize * 3;
-                m.positions.get(k..k + 3).map_or(DVec3::NAN, |c| {
-                    DVec3::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2]))
-                })
-            };
-            corners_all.push([p(tri[0]), p(tri[1]), p(tri[2])]);
-        }
+
+    #[test]
+    fn references_negative_forward_and_across_groups() {
+        // negative indices count back; a face may refer to a vertex defined after it; the
+        // groups share one index space (so computed normals are smooth across them)
+        let text = "g a\nv 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n\
+                    f -3/-4 -2/-3 -1/-2 # a comment\ng b\nf 1/1 3/3 4/4\nv 0 1 0\n";
+        let m = parse(text).unwrap();
+        assert_eq!(m.triangles, [[0, 1, 2], [0, 2, 3]]);
+        assert_eq!(m.uvs.as_ref().unwrap().index, [[0, 1, 2], [0, 2, 3]]);
+        assert_eq!(m.places, [9, 11]);
+        assert!(m.normals.is_none() && m.no_uv.is_none());
+        let (mesh, d) = m.to_mesh(DVec2::ONE).unwrap();
+        assert_eq!((mesh.vertices.len(), d.unreferenced), (4, 0));
+        // polygons are fanned; points and lines are ignored and counted
+        let m = parse("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\nf 1 2\nl 1 2\n").unwrap();
+        assert_eq!(m.triangles, [[0, 1, 2], [0, 2, 3]]);
+        assert_eq!((m.short_faces, m.places.as_slice()), (1, &[5, 5][..]));
+        // a face without vt is named when the file's uvs are needed
+        let why = m.no_uv.unwrap();
+        assert!(
+            why.starts_with("line 5: a face without texture coordinates (vt)"),
+            "{why}"
+        );
     }
-    let kept = kept_faces(&corners_all);
-    let mut mesh = Mesh::default();
-    // the file triangle of each mesh triangle
-    let mut source: Vec<usize> = Vec::new();
-    let mut first_tri = 0usize;
-    for model in models {
-        let m = &model.mesh;
-        let model_first = first_tri;
-        first_tri += m.indices.len() / 3;
-        if m.indices.is_empty() {
-            continue;
-        }
-        let name = &model.name;
-        let get3 = |data: &[f32], k: u32, what: &str| -> Result<DVec3, SceneError> {
-            let k = k as usize * 3;
-            match data.get(k..k + 3) {
-                Some(c) => Ok(DVec3::new(
-                    f64::from(c[0]),
-                    f64::from(c[1]),
-                    f64::from(c[2]),
-                )),
-                None => Err(fail(format!("object '{name}': {what} index out of range"))),
+
+    #[test]
+    fn file_normals_partial_and_zero() {
+        // corner normals where given; a zero vn and a corner without one take the computed
+        // normal (+z here)
+        let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n\
+                    vn 0 0 0\nvn 0 0 5\nf 1/1/1 2/2/2 3/3/2\nf 1/1 3/3/2 4/4/2\n";
+        let m = parse(text).unwrap();
+        let (mesh, d) = m.to_mesh(DVec2::ONE).unwrap();
+        assert_eq!(d.zero_file_normals, 1);
+        // (1, vt 1, vn 1), (2, 2, 2), (3, 3, 2), (1, 1, none), (4, 4, 2)
+        assert_eq!(mesh.vertices.len(), 5);
+        assert!(mesh.vertices.iter().all(|v| v.normal == DVec3::Z));
+    }
+
+    #[test]
+    fn read_names_the_file_and_a_line_that_is_not_utf8() {
+        let dir = std::env::temp_dir().join(format!("bumpsim-obj-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("latin1.obj");
+        std::fs::write(&p, b"v 0 0 0\n# caf\xe9\n").unwrap();
+        match read(&p) {
+            Err(SceneError::File { path, message }) => {
+                assert!(path.ends_with("latin1.obj"));
+                assert!(message.contains("line 2: not UTF-8"), "{message}");
             }
-        };
-        if m.texcoords.is_empty() || m.texcoord_indices.len() != m.indices.len() {
-            return Err(fail(format!(
-                "object '{name}': expected texture coordinates (vt) on every face; bump mapping \
-                 needs them (or use atlas: true)"
-            )));
-        }
-        let has_normals = !m.normals.is_empty() && m.normal_indices.len() == m.indices.len();
-        // Unique vertices per (position, uv, normal) index triple.
-        let mut lookup: HashMap<(u32, u32, u32), u32> = HashMap::new();
-        let mut pos_index: Vec<u32> = Vec::new(); // per new vertex: OBJ position index
-        let base = mesh.vertices.len();
-        let mut corners = Vec::with_capacity(m.indices.len());
-        for (c, &pi) in m.indices.iter().enumerate() {
-            if !kept[model_first + c / 3] {
-                continue;
-            }
-            let ti = m.texcoord_indices[c];
-            let ni = if has_normals {
-                m.normal_indices[c]
-            } else {
-                u32::MAX
-            };
-            let id = *lookup.entry((pi, ti, ni)).or_insert_with(|| {
-                pos_index.push(pi);
-                (base + pos_index.len() - 1) as u32
-            });
-            if id as usize == mesh.vertices.len() {
-                let pos = get3(&m.positions, pi, "position")?;
-                let t = ti as usize * 2;
-                let uv = match m.texcoords.get(t..t + 2) {
-                    Some(c) => DVec2::new(f64::from(c[0]), f64::from(c[1])) * rep,
-                    None => {
-                        return Err(fail(format!(
-                            "object '{name}': texcoord index out of range"
-                        )))
-                    }
-                };
-                let normal = if has_normals {
-                    get3(&m.normals, ni, "normal")?.normalize_or_zero()
-                } else {
-                    DVec3::ZERO
-                };
-                mesh.vertices.push(Vertex {
-                    pos,
-                    normal,
-                    uv,
-                    pu: DVec3::ZERO,
-                    pv: DVec3::ZERO,
-                });
-            }
-            if c % 3 == 0 {
-                source.push(model_first + c / 3);
-            }
-            corners.push(id);
-        }
-        for tri in corners.chunks_exact(3) {
-            mesh.triangles.push([tri[0], tri[1], tri[2]]);
-        }
-        if !has_normals {
-            // Area-weighted face normals summed per OBJ position, so that vertices split
-            // only by a UV seam share one smooth normal.
-            let faces: Vec<([usize; 3], DVec3)> = corners
-                .chunks_exact(3)
-                .map(|tri| {
-                    let [a, b, c] = [tri[0], tri[1], tri[2]].map(|k| mesh.vertices[k as usize].pos);
-                    let n = (b - a).cross(c - a); // |n| = 2 * area
-                    (
-                        [tri[0], tri[1], tri[2]].map(|k| pos_index[k as usize - base] as usize),
-                        n,
-                    )
-                })
-                .collect();
-            let smooth = smooth_normals(m.positions.len() / 3, &faces);
-            for (k, v) in mesh.vertices[base..].iter_mut().enumerate() {
-                v.normal = smooth[pos_index[k] as usize];
-            }
+            other => panic!("expected a file error, got {other:?}"),
         }
     }
-    for (t, tri) in mesh.triangles.iter().enumerate() {
-        let [a, b, c] = tri.map(|k| mesh.vertices[k as usize].uv);
-        if degenerate2(a, b, c) {
-            return Err(fail(format!(
-                "{}: a face with degenerate texture coordinates (zero uv area), uv {a}, {b}, \
-                 {c}: expected three distinct, non-collinear vt",
-                file.line(source[t])
-            )));
-        }
-    }
-    // Tangents: per triangle solve [e1 e2] = [Pu Pv] [duv1 duv2], average weighted by area.
-    let mut sum_u = vec![DVec3::ZERO; mesh.vertices.len()];
-    let mut sum_v = vec![DVec3::ZERO; mesh.vertices.len()];
-    let mut weight = vec![0.0; mesh.vertices.len()];
-    for tri in &mesh.triangles {
-        let [a, b, c] = tri.map(|k| mesh.vertices[k as usize]);
-        let (e1, e2) = (b.pos - a.pos, c.pos - a.pos);
-        let (d1, d2) = (b.uv - a.uv, c.uv - a.uv);
-        let det = d1.perp_dot(d2);
-        if degenerate2(a.uv, b.uv, c.uv) || det == 0.0 {
-            continue; // reported by validate
-        }
-        let pu = (e1 * d2.y - e2 * d1.y) / det;
-        let pv = (e2 * d1.x - e1 * d2.x) / det;
-        let area = 0.5 * e1.cross(e2).length();
-        for &k in tri {
-            sum_u[k as usize] += pu * area;
-            sum_v[k as usize] += pv * area;
-            weight[k as usize] += area;
-        }
-    }
-    for (k, v) in mesh.vertices.iter_mut().enumerate() {
-        if weight[k] > 0.0 {
-            v.pu = sum_u[k] / weight[k];
-            v.pv = sum_v[k] / weight[k];
-        }
-    }
-    if mesh.triangles.is_empty() {
-        return Err(fail(if corners_all.is_empty() {
-            "expected at least one face, found none".into()
-        } else {
-            format!(
-                "expected at least one face of non-zero area, found none ({} faces, all of \
-                 zero area or duplicates)",
-                corners_all.len()
-            )
-        }));
-    }
-    Ok(mesh)
 }

@@ -1,6 +1,7 @@
 //! The config's meshes (`MeshSpec`): the quad, sphere, torus and cylinder, Newell's teapot
-//! from its Bézier patches, surfaces of revolution (`super::lathe`) and OBJ files
-//! (`super::obj`, or `super::atlas` for files without texture coordinates). Conventions
+//! from its Bézier patches, surfaces of revolution (`super::lathe`) and OBJ and PLY files
+//! (`super::obj`, `super::ply`, built by `super::mesh`'s rule for scan defects, or laid out by
+//! `super::atlas` for files without texture coordinates). Conventions
 //! (y up, `u` around the axis, `Pu × Pv` outward) are `super::mesh`'s.
 
 use std::f64::consts::{PI, TAU};
@@ -9,8 +10,7 @@ use std::path::Path;
 use glam::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};
 
-use super::mesh::{Mesh, Vertex};
-use super::obj::load_obj;
+use super::mesh::{Defects, FileMesh, Mesh, Vertex};
 use super::{check_count, SceneError};
 
 /// A mesh as written in a scene config. Every `uv_repeat` is `[u, v]`, each finite and > 0:
@@ -74,7 +74,8 @@ pub enum MeshSpec {
         uv_repeat: [f64; 2],
     },
     /// A Wavefront OBJ file (all its objects merged). It must have texture coordinates on
-    /// every face; missing normals are computed (area-weighted, smooth across UV seams).
+    /// every face unless `atlas`; missing normals are computed (area-weighted, smooth across
+    /// UV seams). Scan defects load by the rule of `docs/assets.md` ("Meshes from files").
     Obj {
         /// File path, relative to the scene's directory.
         path: String,
@@ -82,6 +83,19 @@ pub enum MeshSpec {
         /// Ignore the file's texture coordinates (they may be absent) and generate a grid
         /// atlas: two triangles per square cell with gutters, smooth normals
         /// (`super::atlas`). Default false.
+        #[serde(default)]
+        atlas: bool,
+    },
+    /// A PLY file (`super::ply`: ASCII or binary, either byte order), e.g. a scanned mesh. As
+    /// `Obj`: texture coordinates (vertex `u v`, `s t`, ... or a face `texcoord` list) are
+    /// needed unless `atlas` (scans usually have none: use `atlas: true`); missing normals
+    /// are computed; scan defects load by the rule of `docs/assets.md`.
+    Ply {
+        /// File path, relative to the scene's directory.
+        path: String,
+        uv_repeat: [f64; 2],
+        /// Ignore the file's texture coordinates and generate a grid atlas (as for `Obj`).
+        /// Default false.
         #[serde(default)]
         atlas: bool,
     },
@@ -138,8 +152,8 @@ fn check_repeat(variant: &str, r: [f64; 2]) -> Result<DVec2, SceneError> {
 
 impl MeshSpec {
     /// Check the parameters and build the mesh; the result passes [`Mesh::validate`].
-    /// Parameter errors name `mesh.<Variant>.<field>`; OBJ problems are file errors naming
-    /// the path (`base_dir` joined with `path`).
+    /// Parameter errors name `mesh.<Variant>.<field>`; problems of OBJ and PLY files are file
+    /// errors naming the path (`base_dir` joined with `path`) and the line or element.
     pub fn build(&self, base_dir: &Path) -> Result<Mesh, SceneError> {
         let (mesh, variant) = match *self {
             MeshSpec::Quad {
@@ -236,26 +250,74 @@ impl MeshSpec {
                 ref path,
                 uv_repeat,
                 atlas,
-            } => {
-                let rep = check_repeat("Obj", uv_repeat)?;
-                let full = base_dir.join(path);
-                let mesh = if atlas {
-                    super::atlas::load_obj(&full, rep)?
-                } else {
-                    load_obj(&full, rep)?
-                };
-                mesh.validate("mesh.Obj").map_err(|e| match e {
-                    SceneError::Invalid { message, .. } => {
-                        SceneError::file(full.display(), message)
-                    }
-                    other => other,
-                })?;
-                return Ok(mesh);
-            }
+            } => return build_file(FileKind::Obj, base_dir, path, uv_repeat, atlas),
+            MeshSpec::Ply {
+                ref path,
+                uv_repeat,
+                atlas,
+            } => return build_file(FileKind::Ply, base_dir, path, uv_repeat, atlas),
         };
         mesh.validate(&format!("mesh.{variant}"))?;
         Ok(mesh)
     }
+}
+
+/// The format of a mesh file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FileKind {
+    Obj,
+    Ply,
+}
+
+/// [`MeshSpec::Obj`] and [`MeshSpec::Ply`]: [`load_file`], then [`Mesh::validate`], whose
+/// errors become file errors too.
+fn build_file(
+    kind: FileKind,
+    base_dir: &Path,
+    path: &str,
+    uv_repeat: [f64; 2],
+    atlas: bool,
+) -> Result<Mesh, SceneError> {
+    let variant = match kind {
+        FileKind::Obj => "Obj",
+        FileKind::Ply => "Ply",
+    };
+    let rep = check_repeat(variant, uv_repeat)?;
+    let full = base_dir.join(path);
+    let (mesh, _) = load_file(kind, &full, rep, atlas)?;
+    mesh.validate(&format!("mesh.{variant}"))
+        .map_err(|e| match e {
+            SceneError::Invalid { message, .. } => SceneError::file(full.display(), message),
+            other => other,
+        })?;
+    Ok(mesh)
+}
+
+/// Read a mesh file (`super::obj` or `super::ply`) and build it by the rule for scan defects
+/// (`docs/assets.md`, "Meshes from files"): with the file's texture coordinates times `rep`
+/// ([`FileMesh::to_mesh`]), or laid out in a generated atlas (`super::atlas`) when `atlas`.
+/// Returns the mesh (not yet [`Mesh::validate`]d) and what the rule did; errors are file
+/// errors naming the path and the line (or, in binary PLY files, the element).
+pub fn load_file(
+    kind: FileKind,
+    path: &Path,
+    rep: DVec2,
+    atlas: bool,
+) -> Result<(Mesh, Defects), SceneError> {
+    let file: FileMesh = match kind {
+        FileKind::Obj => super::obj::read(path)?,
+        FileKind::Ply => super::ply::read(path)?,
+    };
+    let fail = |message: String| SceneError::file(path.display(), message);
+    if !atlas {
+        return file.to_mesh(rep).map_err(fail);
+    }
+    let mut kept = file.keep().map_err(fail)?;
+    let normals = file.corner_normals(&mut kept);
+    let triangles: Vec<[u32; 3]> = kept.triangles.iter().map(|&t| file.triangles[t]).collect();
+    let mesh = super::atlas::atlas_mesh(&file.positions, &triangles, normals.as_deref(), rep)
+        .map_err(fail)?;
+    Ok((mesh, kept.defects))
 }
 
 /// A `nu x nv` grid of quads over `(s, t)` in [0, 1]², two triangles per quad.
