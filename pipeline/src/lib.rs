@@ -17,3 +17,4 @@ pub mod scene;
 pub mod sim;
 pub mod sweep;
 pub mod trace;
+pub mod wang;
