@@ -40,16 +40,18 @@ pub struct RunResult {
 /// Build the scene a config describes. Errors name the config file and the field.
 pub fn build_scene(l: &Loaded) -> Result<Scene, InputError> {
     let c = &l.config.scene;
-    let mesh = c
+    let (mesh, baked) = c
         .mesh
-        .build(&l.base_dir)
+        .build_with_map(&l.base_dir)
         .map_err(|e| l.scene_error("scene.mesh", "mesh:", e))?;
     mesh.validate("scene.mesh")
         .map_err(|e| l.scene_error("scene.mesh", "mesh:", e))?;
-    let bump = c
-        .bump
-        .build(&l.base_dir)
-        .map_err(|e| l.scene_error("scene.bump", "bump:", e))?;
+    let bump = match (&c.bump, baked) {
+        (crate::scene::BumpSpec::Baked, Some(map)) => crate::scene::BumpMap::Normals(map),
+        (spec, _) => spec
+            .build(&l.base_dir)
+            .map_err(|e| l.scene_error("scene.bump", "bump:", e))?,
+    };
     let color_texture = match &c.color_texture {
         None => None,
         Some(t) => Some(t.build(&l.base_dir).map_err(|(file, m)| {

@@ -288,6 +288,7 @@ fn mesh_size(m: &MeshSpec) -> (f64, f64) {
             columns, uv_repeat, ..
         } => (grid(2 * columns, 2 * columns), rep(uv_repeat)),
         MeshSpec::Obj { uv_repeat, .. } | MeshSpec::Ply { uv_repeat, .. } => (0.0, rep(uv_repeat)),
+        MeshSpec::Baked { .. } => (0.0, 1.0),
     }
 }
 

@@ -106,6 +106,9 @@ pub enum BumpSpec {
         /// File path, relative to the scene's directory.
         path: String,
     },
+    /// The face-space normal map baked with the mesh: needs `mesh: Baked(...)`
+    /// (`crate::wang::scene`).
+    Baked,
 }
 
 /// A built bump map.
@@ -272,6 +275,10 @@ impl BumpSpec {
                     &full, *depth,
                 )?)))
             }
+            BumpSpec::Baked => Err(SceneError::invalid(
+                "bump.Baked",
+                "expected mesh: Baked(...), whose bake makes this map; the mesh is not baked",
+            )),
             BumpSpec::NormalPng { path } => {
                 let full = base_dir.join(path);
                 Ok(BumpMap::Normals(NormalMap::from_png(&full)?))

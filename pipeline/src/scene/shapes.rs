@@ -99,6 +99,42 @@ pub enum MeshSpec {
         #[serde(default)]
         atlas: bool,
     },
+    /// A normal-mapped simplified mesh baked from a detailed OBJ or PLY mesh (Wang et al.;
+    /// `crate::wang`): the file simplified to `faces` faces, each face a patch of a
+    /// `map_size` map, the map baked from `views` views of the detailed mesh. The mesh has
+    /// one vertex per face corner with the face's normal; `bump: Baked` shades it with the
+    /// baked map in face space (any other bump map is allowed too).
+    Baked {
+        /// File path (`.obj` or `.ply`), relative to the scene's directory.
+        path: String,
+        /// Target face count, 4 to the file's face count.
+        faces: usize,
+        /// Map side in texels: a power of two, 16 to 4096. Default 1024 (the paper's).
+        #[serde(default = "default_bake_map")]
+        map_size: u32,
+        /// Border texels of each patch, 0 to 2. Default 1.
+        #[serde(default = "default_bake_widen")]
+        widen: u32,
+        /// Views, 1 to 64. Default 12 (the icosahedron's vertices).
+        #[serde(default = "default_bake_views")]
+        views: usize,
+        /// Side of each view's image in pixels, 16 to 4096. Default 1024.
+        #[serde(default = "default_bake_map")]
+        view_size: u32,
+        /// Largest depth difference accepted, as a fraction of the detailed mesh's
+        /// bounding-sphere radius, above 0 and at most 1. Default 0.03.
+        #[serde(default = "default_bake_threshold")]
+        threshold: f64,
+        /// `Item` (exact normals from the triangle id, default) or `Color8` (normals as
+        /// 8-bit colours, the paper's first method).
+        #[serde(default = "default_bake_buffer")]
+        buffer: crate::wang::bake::Buffer,
+        /// Two faces that share an edge share a square (the paper's packing; default true).
+        /// False: one square per face, so that bilinear filtering near an edge never mixes
+        /// the two faces' frames (see docs/studies/normal-map-baking.md).
+        #[serde(default = "default_bake_pairs")]
+        pairs: bool,
+    },
     /// A surface of revolution about the y axis (no caps): the smooth monotone cubic `r(y)`
     /// through `profile`, `u` around the axis, `v` along the profile's arc length
     /// (`super::lathe`).
@@ -129,6 +165,25 @@ pub enum MeshSpec {
     },
 }
 
+fn default_bake_map() -> u32 {
+    1024
+}
+fn default_bake_widen() -> u32 {
+    1
+}
+fn default_bake_views() -> usize {
+    12
+}
+fn default_bake_threshold() -> f64 {
+    0.03
+}
+fn default_bake_pairs() -> bool {
+    true
+}
+fn default_bake_buffer() -> crate::wang::bake::Buffer {
+    crate::wang::bake::Buffer::Item
+}
+
 /// Largest segment count accepted for parametric meshes.
 const MAX_SEGMENTS: u32 = 2048;
 
@@ -155,7 +210,41 @@ impl MeshSpec {
     /// Parameter errors name `mesh.<Variant>.<field>`; problems of OBJ and PLY files are file
     /// errors naming the path (`base_dir` joined with `path`) and the line or element.
     pub fn build(&self, base_dir: &Path) -> Result<Mesh, SceneError> {
+        Ok(self.build_with_map(base_dir)?.0)
+    }
+
+    /// [`MeshSpec::build`], and for [`MeshSpec::Baked`] the baked face-space map.
+    pub fn build_with_map(
+        &self,
+        base_dir: &Path,
+    ) -> Result<(Mesh, Option<super::NormalMap>), SceneError> {
         let (mesh, variant) = match *self {
+            MeshSpec::Baked {
+                ref path,
+                faces,
+                map_size,
+                widen,
+                views,
+                view_size,
+                threshold,
+                buffer,
+                pairs,
+            } => {
+                let spec = crate::wang::scene::BakeSpec {
+                    path: path.clone(),
+                    faces,
+                    map_size,
+                    widen,
+                    views,
+                    view_size,
+                    threshold,
+                    buffer,
+                    pairs,
+                };
+                let (mesh, map, _) = crate::wang::scene::build(&spec, base_dir)?;
+                mesh.validate("mesh.Baked")?;
+                return Ok((mesh, Some(map)));
+            }
             MeshSpec::Quad {
                 size,
                 uv_repeat,
@@ -250,15 +339,25 @@ impl MeshSpec {
                 ref path,
                 uv_repeat,
                 atlas,
-            } => return build_file(FileKind::Obj, base_dir, path, uv_repeat, atlas),
+            } => {
+                return Ok((
+                    build_file(FileKind::Obj, base_dir, path, uv_repeat, atlas)?,
+                    None,
+                ))
+            }
             MeshSpec::Ply {
                 ref path,
                 uv_repeat,
                 atlas,
-            } => return build_file(FileKind::Ply, base_dir, path, uv_repeat, atlas),
+            } => {
+                return Ok((
+                    build_file(FileKind::Ply, base_dir, path, uv_repeat, atlas)?,
+                    None,
+                ))
+            }
         };
         mesh.validate(&format!("mesh.{variant}"))?;
-        Ok(mesh)
+        Ok((mesh, None))
     }
 }
 

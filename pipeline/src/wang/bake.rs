@@ -45,6 +45,8 @@ pub struct BakeConfig {
     /// bounding-sphere radius (0 < t <= 1).
     pub threshold: f64,
     pub buffer: Buffer,
+    /// Two faces that share an edge share a square (the paper); false: a square per face.
+    pub pairs: bool,
 }
 
 impl Default for BakeConfig {
@@ -55,6 +57,7 @@ impl Default for BakeConfig {
             view_size: 1024,
             threshold: 0.03,
             buffer: Buffer::Item,
+            pairs: true,
         }
     }
 }
@@ -117,7 +120,7 @@ impl<'a> Baker<'a> {
         config: BakeConfig,
     ) -> Result<Baker<'a>, String> {
         config.validate()?;
-        let packing = pack(simplified, config.map_size, config.widen)?;
+        let packing = pack(simplified, config.map_size, config.widen, config.pairs)?;
         let samples: Vec<Option<(Sample, DVec3)>> = packing
             .samples()
             .into_iter()

@@ -64,6 +64,13 @@ impl Evaluation {
         Evaluation { views, radius }
     }
 
+    /// Render another simplified mesh in the same views (the detailed renders are kept).
+    pub fn replace_simplified(&mut self, simplified: &Surface) {
+        for v in &mut self.views {
+            v.simplified = ItemBuffer::render(simplified, &v.view);
+        }
+    }
+
     /// The errors of `map` (per texel, object space) on the simplified mesh, per view.
     pub fn errors(&self, detailed: &Surface, packing: &Packing, map: &[DVec3]) -> Vec<ViewError> {
         self.views

@@ -19,6 +19,7 @@ pub mod bake;
 pub mod camera;
 pub mod evaluate;
 pub mod pack;
+pub mod scene;
 pub mod simplify;
 pub mod views;
 

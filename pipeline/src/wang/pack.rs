@@ -58,10 +58,11 @@ pub struct Sample {
     pub bary: [f64; 3],
 }
 
-/// Pair the faces of `s` and lay the squares out on a `size`-texel map with `widen` texels of
+/// Pair the faces of `s` (unless `pairs` is false: one square per face, each patch widened
+/// on all its sides) and lay the squares out on a `size`-texel map with `widen` texels of
 /// border. `size` must be a power of two from 16 to 16,384; the patches must keep at least
 /// two texels inside the border.
-pub fn pack(s: &Surface, size: u32, widen: u32) -> Result<Packing, String> {
+pub fn pack(s: &Surface, size: u32, widen: u32, pairs: bool) -> Result<Packing, String> {
     if !(16..=16_384).contains(&size) || !size.is_power_of_two() {
         return Err(format!(
             "expected a map size that is a power of two from 16 to 16384, found {size}"
@@ -72,7 +73,13 @@ pub fn pack(s: &Surface, size: u32, widen: u32) -> Result<Packing, String> {
             "expected a widening from 0 to {MAX_WIDEN} texels, found {widen}"
         ));
     }
-    let squares = pair(s);
+    let squares = if pairs {
+        pair(s)
+    } else {
+        (0..s.triangles.len() as u32)
+            .map(|f| [Some(f), None])
+            .collect()
+    };
     let n = squares.len() as u64;
     let mut grid = ((n as f64).sqrt() as u64).max(1);
     while grid * grid < n {

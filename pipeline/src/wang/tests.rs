@@ -107,7 +107,7 @@ fn simplify_reaches_the_target_and_rejects_bad_targets() {
 #[test]
 fn packing_pairs_neighbours_and_gives_each_face_an_equal_patch() {
     let s = simplify(&bumpy_sphere(3, 0.0, 0.0), 200).unwrap().surface;
-    let p = pack(&s, 256, 1).unwrap();
+    let p = pack(&s, 256, 1, true).unwrap();
     let paired = p.squares.iter().filter(|q| q[1].is_some()).count();
     assert_eq!(paired * 2 + (p.squares.len() - paired), s.triangles.len());
     assert!(paired * 2 >= s.triangles.len() * 8 / 10, "{paired}");
@@ -136,7 +136,7 @@ fn packing_pairs_neighbours_and_gives_each_face_an_equal_patch() {
         (256, 3, "widening"),
         (16, 2, "larger map"),
     ] {
-        let e = pack(&s, size, widen).unwrap_err();
+        let e = pack(&s, size, widen, true).unwrap_err();
         assert!(e.contains(want), "{e}");
     }
 }
@@ -188,4 +188,35 @@ fn quantize_rounds_each_component() {
         quantize(DVec3::new(0.3, 0.0, 0.0), 16).x,
         (0.3f64 * 32767.0).round() / 32767.0
     );
+}
+
+#[test]
+fn face_space_texels_give_back_the_baked_normals_in_the_engines_frame() {
+    use super::scene::face_mesh;
+    use crate::scene::perturb::perturb_normal_map;
+    let detailed = bumpy_sphere(4, 0.04, 7.0);
+    let simple = simplify(&detailed, 200).unwrap().surface;
+    let cfg = BakeConfig {
+        map_size: 128,
+        view_size: 128,
+        ..BakeConfig::default()
+    };
+    let mut b = Baker::new(&detailed, &simple, cfg).unwrap();
+    directions(12).into_iter().for_each(|d| b.add_view(d));
+    let mesh = face_mesh(&simple, &b.packing.uv);
+    assert_eq!(mesh.vertices.len(), 3 * simple.triangles.len());
+    let (texels, below) = super::scene::face_space(&b, &mesh);
+    let mut worst = 0.0f64;
+    for (k, s) in b.samples.iter().enumerate() {
+        let Some((s, _)) = s else {
+            assert_eq!(texels[k], DVec3::Z);
+            continue;
+        };
+        let v = mesh.vertices[3 * s.face as usize];
+        let n = perturb_normal_map(v.normal, v.pu, v.pv, texels[k]);
+        worst = worst.max((n - b.normals[k].normalize()).length());
+    }
+    assert!(worst < 1e-9, "{worst}");
+    // face space keeps the baked normals above their faces (HILO needs z >= 0)
+    assert!(below * 100 < b.sample_count(), "{below}");
 }

@@ -1,0 +1,177 @@
+//! A baked mesh as a scene mesh (`MeshSpec::Baked` in a config): the detailed mesh loaded,
+//! simplified, packed and baked (this module's parent), then given to the engines as the
+//! simplified mesh with one vertex per face corner at its patch's texture coordinates and the
+//! map as a tangent-space normal map (`bump: Baked`).
+//!
+//! **Face space** (Wang et al. §3): "we transform all normal vectors within a triangle patch of
+//! the normal map into a local face space, whose z-axis is the same direction as normal
+//! vector of the triangle", so that z >= 0 and a SIGNED_HILO16 texture can hold them. Here the
+//! face's frame is the one every engine and the reference build from a vertex's normal, `Pu`
+//! and `Pv` ([`tangent_frame`]): the vertices of a face carry the face's normal, and `Pu`,
+//! `Pv` of its patch's texture mapping, so `x` lies along the patch's `u` edge; a texel `t`
+//! holds `(n.T, n.B, n.N)` of the baked normal `n`, and the engines' `T t.x + B t.y + N t.z`
+//! gives back `n` exactly at texel centres. Texels outside every square hold `(0, 0, 1)`.
+
+use glam::{DVec2, DVec3};
+use serde::Serialize;
+use std::path::Path;
+
+use super::bake::{BakeConfig, Baker, Buffer};
+use super::simplify::simplify;
+use super::views::{directions, MAX_VIEWS};
+use super::Surface;
+use crate::scene::mesh::{Mesh, Vertex};
+use crate::scene::normals::NormalMap;
+use crate::scene::perturb::tangent_frame;
+use crate::scene::SceneError;
+
+/// The parameters of `MeshSpec::Baked` (documented in docs/configs.md; the config's
+/// variant is deserialised there).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BakeSpec {
+    pub path: String,
+    pub faces: usize,
+    pub map_size: u32,
+    pub widen: u32,
+    pub views: usize,
+    pub view_size: u32,
+    pub threshold: f64,
+    pub buffer: Buffer,
+    pub pairs: bool,
+}
+
+/// What a bake did, for reports and studies.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
+pub struct BakeStats {
+    pub detailed_faces: usize,
+    pub faces: usize,
+    pub samples: usize,
+    /// Samples some view replaced (the others keep the interpolated normal).
+    pub updated: usize,
+    /// Samples whose face-space normal points away from the face (z < 0).
+    pub below: usize,
+}
+
+/// Largest map side of a baked mesh in a config.
+pub const MAX_MAP: u32 = 4096;
+/// Largest side of a baking view in a config.
+pub const MAX_VIEW: u32 = 4096;
+
+/// Load `base_dir/path`, simplify, pack and bake; the simplified mesh and the face-space map.
+pub fn build(spec: &BakeSpec, base_dir: &Path) -> Result<(Mesh, NormalMap, BakeStats), SceneError> {
+    let field = |f: &str| format!("mesh.Baked.{f}");
+    let bad = |f: &str, m: String| SceneError::invalid(field(f), m);
+    if spec.views == 0 || spec.views > MAX_VIEWS.min(64) {
+        return Err(bad(
+            "views",
+            format!("expected 1 to 64 views, found {}", spec.views),
+        ));
+    }
+    if spec.map_size > MAX_MAP {
+        return Err(bad(
+            "map_size",
+            format!("expected at most {MAX_MAP} texels, found {}", spec.map_size),
+        ));
+    }
+    if spec.view_size > MAX_VIEW {
+        return Err(bad(
+            "view_size",
+            format!(
+                "expected at most {MAX_VIEW} pixels, found {}",
+                spec.view_size
+            ),
+        ));
+    }
+    let cfg = BakeConfig {
+        map_size: spec.map_size,
+        widen: spec.widen,
+        view_size: spec.view_size,
+        threshold: spec.threshold,
+        buffer: spec.buffer,
+        pairs: spec.pairs,
+    };
+    cfg.validate().map_err(|m| {
+        let (f, rest) = m.split_once(": ").unwrap_or(("", &m));
+        bad(f, rest.to_string())
+    })?;
+    let full = base_dir.join(&spec.path);
+    let detailed = Surface::load(&full)?;
+    let simple = simplify(&detailed, spec.faces).map_err(|m| bad("faces", m))?;
+    let s = &simple.surface;
+    let mut baker = Baker::new(&detailed, s, cfg).map_err(|m| {
+        let f = if m.contains("widening") && !m.contains("map") {
+            "widen"
+        } else {
+            "map_size"
+        };
+        bad(f, m)
+    })?;
+    for d in directions(spec.views) {
+        baker.add_view(d);
+    }
+    let mesh = face_mesh(s, &baker.packing.uv);
+    let (texels, below) = face_space(&baker, &mesh);
+    let stats = BakeStats {
+        detailed_faces: detailed.triangles.len(),
+        faces: s.triangles.len(),
+        samples: baker.sample_count(),
+        updated: baker.updated(),
+        below,
+    };
+    let map = NormalMap {
+        width: spec.map_size,
+        height: spec.map_size,
+        texels,
+    };
+    Ok((mesh, map, stats))
+}
+
+/// One vertex per face corner: the face's normal, its patch's texture coordinates, `Pu`,
+/// `Pv` of the patch's mapping.
+pub fn face_mesh(s: &Surface, uv: &[[DVec2; 3]]) -> Mesh {
+    let mut mesh = Mesh::default();
+    for (f, t) in uv.iter().enumerate() {
+        let p = s.corners(f);
+        let n = s.face_normal(f);
+        let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
+        let (d1, d2) = (t[1] - t[0], t[2] - t[0]);
+        let det = d1.perp_dot(d2);
+        let (pu, pv) = if det == 0.0 {
+            (e1, e2)
+        } else {
+            ((e1 * d2.y - e2 * d1.y) / det, (e2 * d1.x - e1 * d2.x) / det)
+        };
+        let base = mesh.vertices.len() as u32;
+        for i in 0..3 {
+            mesh.vertices.push(Vertex {
+                pos: p[i],
+                normal: n,
+                uv: t[i],
+                pu,
+                pv,
+            });
+        }
+        mesh.triangles.push([base, base + 1, base + 2]);
+    }
+    mesh
+}
+
+/// The baked normals in each texel's face frame (see the module), and how many point below
+/// their face.
+pub(crate) fn face_space(baker: &Baker<'_>, mesh: &Mesh) -> (Vec<DVec3>, usize) {
+    let mut below = 0;
+    let texels = baker
+        .samples
+        .iter()
+        .zip(&baker.normals)
+        .map(|(s, &n)| {
+            let Some((s, _)) = s else { return DVec3::Z };
+            let v = mesh.vertices[3 * s.face as usize];
+            let (t, b) = tangent_frame(v.normal, v.pu, v.pv);
+            let local = DVec3::new(n.dot(t), n.dot(b), n.dot(v.normal)).normalize_or(DVec3::Z);
+            below += usize::from(local.z < 0.0);
+            local
+        })
+        .collect();
+    (texels, below)
+}
