@@ -8,6 +8,8 @@ use clap::{Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+mod rtl_cmd;
+
 #[derive(Parser)]
 #[command(
     name = "bumpsim",
@@ -103,6 +105,18 @@ enum Command {
         #[command(flatten)]
         args: ConfigArgs,
     },
+    /// Write Verilog of the engine's units into DIR (docs/rtl.md): NAME.v and NAME.regs per
+    /// unit with a generator; --cosim N replays N vectors with iverilog, --synth runs yosys.
+    Rtl {
+        #[command(flatten)]
+        args: ConfigArgs,
+        #[arg(long)]
+        out: PathBuf,
+        #[arg(long, default_value_t = 0, value_name = "N")]
+        cosim: usize,
+        #[arg(long)]
+        synth: bool,
+    },
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -155,6 +169,12 @@ fn parse_cycles(s: &str) -> Result<(u64, u64), InputError> {
 
 fn execute(cmd: Command) -> Result<(), Failure> {
     match cmd {
+        Command::Rtl {
+            args,
+            out,
+            cosim,
+            synth,
+        } => rtl_cmd::execute(&args.load()?, &out, cosim, synth)?,
         Command::Render { args, out, timings } => {
             let l = args.load()?;
             let mut r = run::run(&l, None)?;

@@ -4,6 +4,7 @@
 pub mod arith;
 pub mod format;
 pub mod gates;
+pub mod rtl;
 pub mod sampler;
 pub mod stage;
 pub mod texture;

@@ -62,8 +62,8 @@
 //! colours 8 bits (`UnitUnsigned` 8 for `C_src`, the light colour registers and the output),
 //! the intensity register 8 bits (`UnitUnsigned` 8, so it indexes the table directly), a 256 x
 //! 8 power table (a colour LUT's size), two lights ("usually two to four"). A Diffuse unit
-//! plus a Specular unit at these widths cost about 14,300 GE (5,600 + 8,700; tests), inside
-//! the paper's "10,000 to 25,000 gate equivalents" (13,000 GE with one light, 16,700 with
+//! plus a Specular unit at these widths cost about 15,700 GE (6,267 + 9,398; tests), inside
+//! the paper's "10,000 to 25,000 gate equivalents" (14,300 GE with one light, 18,100 with
 //! four). The power table is the largest single item (3,072 GE), then the three B x L
 //! multipliers of each dot product (1,470 GE) and the three colour multipliers (1,150 GE).
 
@@ -452,6 +452,12 @@ impl BumpBlend {
     }
 }
 
+/// Whether words of `e` are read by bit replication (`c / (2^n - 1)` codecs): their exact
+/// products and casts need the shift-and-add of `2^n + 1` or `2^n - 1` (gate estimate).
+fn replicated(e: &Encoding) -> bool {
+    matches!(e.codec, Codec::UnitUnsigned | Codec::UnitSymmetric)
+}
+
 impl Unit for BumpBlend {
     fn kind(&self) -> &'static str {
         "bump_blend"
@@ -485,6 +491,7 @@ impl Unit for BumpBlend {
         let wl = self.il.map_or(ws, |k| self.inputs[k].enc.width());
         let wh = self.ih.map_or(ws, |k| self.inputs[k].enc.width());
         let wd = self.p.dot.width();
+        let dot_enc = self.p.dot;
         let wk = self.p.color.width();
         let wo = self.p.out.width();
         let mut g = GateBudget::new();
@@ -506,6 +513,15 @@ impl Unit for BumpBlend {
                 p,
                 t.clamp(wd) + t.half_adder * wd as f64,
             );
+            // the exact cast into a `c / (2^n - 1)` code multiplies by 2^n - 1: a subtractor
+            // over the exact dot product
+            if replicated(&dot_enc) {
+                g.add(
+                    format!("{name} intensity cast x(2^{wd}-1) {}", wb + wv + 2),
+                    p,
+                    t.adder(wb + wv + 2),
+                );
+            }
             g.add(format!("{name} intensity register {wd}"), p, t.register(wd));
         };
         if self.p.kind.diffuse() {
@@ -532,7 +548,24 @@ impl Unit for BumpBlend {
         );
         g.add(format!("accumulator adder {wa}"), 3 * p, t.adder(wa));
         g.add(format!("accumulator register {wa}"), 3, t.register(wa));
+        // the products of two `c / (2^n - 1)` reads carry two bit replications, C_src one:
+        // a shift and add per replication they differ by aligns them
+        let f_reps = match &self.gen {
+            Some(_) => 1, // the power table's words are UnitUnsigned
+            None => replicated(&self.p.dot) as i32,
+        };
+        let extra = (f_reps + replicated(&self.p.color) as i32
+            - replicated(&self.inputs[0].enc) as i32)
+            .unsigned_abs();
+        g.add(
+            format!("C_src replication adder {wa}"),
+            3 * extra,
+            t.adder(wa),
+        );
         g.add(format!("C_src adder {wa}"), 3, t.adder(wa));
+        if replicated(&self.p.out) {
+            g.add(format!("output cast x(2^{wo}-1) {wa}"), 3, t.adder(wa));
+        }
         g.add(format!("output clamp {wo}"), 3, t.clamp(wo));
         g.add(format!("output register {}", 3 * wo), 1, t.register(3 * wo));
         // bump-state registers

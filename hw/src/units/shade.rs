@@ -15,7 +15,7 @@
 //! into the output encoding.
 
 use crate::arith::Acc;
-use crate::format::Encoding;
+use crate::format::{Codec, Encoding};
 use crate::gates::{CostTable, GateBudget};
 use crate::unit::{Mode, PortSpec, Unit, Word};
 
@@ -126,16 +126,26 @@ impl Unit for Shade {
         (self.k() as u32).div_ceil(self.parallel).max(1)
     }
     fn gates(&self, t: &CostTable) -> GateBudget {
-        let wi = self.inputs.first().map_or(8, |p| p.enc.width());
+        let ie = self.inputs.first().map_or(self.coef, |p| p.enc);
+        let wi = ie.width();
         let wb = self.has.base.map_or(0, |e| e.width());
         let wc = self.coef.width();
-        let wo = self.outputs[0].enc.width();
-        // The bit-accurate datapath keeps every product exact, so the adders and the accumulator
-        // are priced at the full product width plus the growth of k + 2 terms.
+        let out = self.outputs[0].enc;
+        let wo = out.width();
+        // The bit-accurate datapath keeps every product exact, so the adders and the
+        // accumulator are priced at the width of the exact sum (`exact_sum_bits`: the
+        // products' code bits, aligned to the finest fraction, with the bit replication of
+        // `c / (2^n - 1)` reads) plus the growth of k + 2 terms.
         let wd = if wb > 0 { wi + wb } else { wi };
         let ws = self.has.specular.map_or(0, |e| e.width());
         let growth = 32 - (self.k() as u32 + 2).leading_zeros();
-        let acc = (wd + wc).max(ws + wc).max(wb + wc) + growth;
+        let mut diffuse = vec![self.coef, ie];
+        diffuse.extend(self.has.base);
+        let mut terms = vec![Term::of(&diffuse)];
+        if let Some(se) = self.has.specular {
+            terms.push(Term::of(&[self.coef, se]));
+        }
+        let acc = exact_sum_bits(&terms) + growth;
         let p = self.parallel;
         let mut g = GateBudget::new();
         if wb > 0 {
@@ -161,15 +171,45 @@ impl Unit for Shade {
                 3 * p,
                 t.multiplier(ws, wc),
             );
+            // a product read with more bit replications than the other is aligned to it by
+            // a shift and add per extra replication
+            for (name, term) in ["diffuse", "specular"].iter().zip(&terms) {
+                let extra = term.reps.len() - common_reps(&terms).len();
+                if extra > 0 {
+                    g.add(
+                        format!("{name} replication adder {}", term.bits),
+                        3 * p * extra as u32,
+                        t.adder(term.bits),
+                    );
+                }
+            }
             g.add(format!("adder {acc}"), 3 * p, t.adder(acc));
         }
         g.add(format!("accumulator adder {acc}"), 3 * p, t.adder(acc));
         g.add(format!("accumulator register {acc}"), 3, t.register(acc));
+        // the ambient code lands on the accumulator's top bits (its fraction is coarser)
+        let wamb = wc + wb + growth + 1;
+        g.add(format!("ambient adder {wamb}"), 3, t.adder(wamb));
         if self.has.src.is_some() {
             g.add(format!("source colour adder {acc}"), 3, t.adder(acc));
         }
+        // the exact cast: x (2^n - 1) for the unit codecs (a subtractor), and the rounding
+        match out.codec {
+            Codec::UnitUnsigned | Codec::UnitSymmetric => {
+                g.add(
+                    format!("output cast x(2^{wo}-1) and rounding {acc}"),
+                    3,
+                    t.adder(acc),
+                );
+            }
+            Codec::Fixed | Codec::UnitSigned => {
+                g.add(format!("output rounding {wo}"), 3, t.half_adder * wo as f64);
+            }
+        }
         g.add(format!("output clamp {wo}"), 3, t.clamp(wo));
-        let coefs = 3 + 3 * self.k() as u32 * (1 + self.has.specular.is_some() as u32);
+        g.add(format!("output register {}", 3 * wo), 1, t.register(3 * wo));
+        let per_light = 3 * (1 + self.has.specular.is_some() as u32);
+        let coefs = 3 + self.k() as u32 * per_light;
         g.add(
             format!("coefficient registers {coefs}x{wc}"),
             1,
@@ -180,6 +220,15 @@ impl Unit for Shade {
                 format!("light mux {}:1 x{}", self.interval(), 2 * wi),
                 p,
                 t.mux(2 * wi, self.interval()),
+            );
+            g.add(
+                format!(
+                    "coefficient select mux {}:1 x{}",
+                    self.interval(),
+                    per_light * wc
+                ),
+                p,
+                t.mux(per_light * wc, self.interval()),
             );
         }
         g
@@ -225,6 +274,78 @@ impl Unit for Shade {
             }
         }
     }
+}
+
+/// One product of the combiner's sum, for its gate estimate: the code bits of its operands,
+/// its fraction bits as [`Acc`] reads them, and the widths of the operands read by bit
+/// replication (`c (2^n + 1)` for the `c / (2^n - 1)` codecs).
+struct Term {
+    bits: u32,
+    frac: u32,
+    reps: Vec<u32>,
+}
+
+impl Term {
+    fn of(operands: &[Encoding]) -> Term {
+        let mut t = Term {
+            bits: 0,
+            frac: 0,
+            reps: Vec::new(),
+        };
+        for e in operands {
+            let n = e.width();
+            t.bits += n;
+            t.frac += match e.codec {
+                Codec::Fixed => e.format.frac as u32,
+                Codec::UnitSigned => n - 1,
+                Codec::UnitUnsigned | Codec::UnitSymmetric => {
+                    t.reps.push(n);
+                    2 * n
+                }
+            };
+        }
+        t.reps.sort_unstable();
+        t
+    }
+}
+
+/// `a` without the elements of `b` (multisets).
+fn minus(a: &[u32], b: &[u32]) -> Vec<u32> {
+    let mut rest = b.to_vec();
+    a.iter()
+        .copied()
+        .filter(|x| match rest.iter().position(|y| y == x) {
+            Some(i) => {
+                rest.remove(i);
+                false
+            }
+            None => true,
+        })
+        .collect()
+}
+
+/// The replications every term shares (kept as a common factor of the sum).
+fn common_reps(terms: &[Term]) -> Vec<u32> {
+    let mut c = terms[0].reps.clone();
+    for t in &terms[1..] {
+        c = minus(&c, &minus(&c, &t.reps));
+    }
+    c
+}
+
+/// Bits of the exact sum of the terms: each aligned to the finest fraction, with its
+/// replications beyond the common ones applied (`n + 1` bits each).
+fn exact_sum_bits(terms: &[Term]) -> u32 {
+    let f = terms.iter().map(|t| t.frac).max().unwrap_or(0);
+    let c = common_reps(terms);
+    terms
+        .iter()
+        .map(|t| {
+            let extra: u32 = minus(&t.reps, &c).iter().map(|n| n + 1).sum();
+            t.bits + extra + (f - t.frac)
+        })
+        .max()
+        .unwrap_or(0)
 }
 
 #[cfg(test)]

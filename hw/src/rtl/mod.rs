@@ -1,0 +1,291 @@
+//! Verilog from the model: synthesisable Verilog-2005 of units at their configured widths,
+//! bit-exact with their bit-accurate mode (`docs/rtl.md`).
+//!
+//! Each generator takes the parameters that build the unit ([`Dot3Rtl`], [`PowerTableRtl`],
+//! [`ShadeRtl`], [`blend::rtl`] reads a built [`crate::units::BumpBlend`]) and writes the
+//! datapath with the twins of [`crate::arith::Acc`]'s operations in [`fixed`], so the widths,
+//! rounding, clamps and casts are those of the model's code. Co-simulation against the model
+//! (`hw/tests/rtl_cosim.rs`) checks every output word; [`synth`] prices the result with yosys.
+//!
+//! Every generated unit has one interface ([`RtlUnit`]): `clk`, `rst` (synchronous, the
+//! sequencer only: datapath registers are reset-free as in the gate model), `start` (the
+//! fragment's inputs are presented and held until `done`), one input per port lane
+//! (`{port}_{lane}`, or `{port}` for a 1-lane port), one registered output per output lane
+//! (named the same way, `out_` in front where an input has the name),
+//! `done` (the outputs are valid), and for units with host-loaded registers (coefficients,
+//! bump state) a write port `cfg_we`, `cfg_addr`, `cfg_data` (one register word per address,
+//! [`RtlUnit::config`]). Tables with known contents are separate ROM modules
+//! ([`RtlUnit::tables`]) so that synthesis prices them apart.
+
+pub mod blend;
+pub mod cast;
+pub mod dot3;
+pub mod fixed;
+pub mod power;
+pub mod shade;
+pub mod synth;
+pub mod testbench;
+pub mod vectors;
+pub mod verilog;
+
+pub use dot3::Dot3Rtl;
+pub use power::PowerTableRtl;
+pub use shade::ShadeRtl;
+
+use crate::format::Encoding;
+use crate::unit::PortSpec;
+use verilog::{unsigned_bits, Module};
+
+/// One lane of a port as a Verilog port.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Lane {
+    /// Verilog port name.
+    pub name: String,
+    /// Index of the unit port and lane it carries.
+    pub port: usize,
+    pub lane: usize,
+    pub enc: Encoding,
+}
+
+/// One host-loaded register word, at address = its index in [`RtlUnit::config`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct ConfigWord {
+    pub what: String,
+    pub width: u32,
+    /// The raw code the model holds in that register.
+    pub value: i64,
+}
+
+/// A generated unit: its Verilog and its interface.
+#[derive(Debug, Clone)]
+pub struct RtlUnit {
+    /// Name of the unit's top module.
+    pub top: String,
+    /// Every module of the unit (ROMs first, then the top).
+    pub verilog: String,
+    pub inputs: Vec<Lane>,
+    pub outputs: Vec<Lane>,
+    pub config: Vec<ConfigWord>,
+    /// Clocks from the edge that samples `start` to the one after which `done` is high.
+    pub latency: u32,
+    /// Names of the ROM modules (tables with known contents) the top instantiates, with the
+    /// number of instances.
+    pub tables: Vec<(String, u32)>,
+}
+
+impl RtlUnit {
+    pub fn cfg_addr_bits(&self) -> u32 {
+        unsigned_bits(self.config.len().saturating_sub(1) as u128)
+    }
+    pub fn cfg_data_bits(&self) -> u32 {
+        self.config.iter().map(|c| c.width).max().unwrap_or(1)
+    }
+}
+
+/// The clocking of a unit: input capture edge, `interval` datapath edges, a final edge.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Plan {
+    /// Edge 1 loads input registers; the datapath runs from edge 2.
+    pub capture: bool,
+    /// Datapath edges (the unit's initiation interval).
+    pub interval: u32,
+    /// One edge after the datapath that writes the output registers.
+    pub finish: bool,
+}
+
+impl Plan {
+    pub fn latency(&self) -> u32 {
+        self.capture as u32 + self.interval + self.finish as u32
+    }
+}
+
+/// The common shell of a generated unit: ports, sequencer, host registers, ROMs.
+pub(crate) struct Shell {
+    pub m: Module,
+    plan: Plan,
+    inputs: Vec<Lane>,
+    outputs: Vec<Lane>,
+    config: Vec<(ConfigWord, String)>,
+    roms: Vec<String>,
+    tables: Vec<(String, u32)>,
+    /// Datapath clock index, its width; datapath enable; final-edge enable.
+    pub t: String,
+    pub t_bits: u32,
+    pub comp: String,
+    pub fin: String,
+}
+
+fn lane_name(port: &PortSpec, lane: usize) -> String {
+    if port.lanes == 1 {
+        port.name.clone()
+    } else {
+        format!("{}_{lane}", port.name)
+    }
+}
+
+impl Shell {
+    pub fn new(top: &str, plan: Plan) -> Shell {
+        let mut m = Module::new(top);
+        m.input("clk", 1);
+        m.input("rst", 1);
+        m.input("start", 1);
+        let l = plan.latency();
+        let sb = unsigned_bits(l as u128);
+        m.reg("step", sb);
+        m.output_wire("done", 1, &format!("step == {sb}'d{l}"));
+        m.stmt(format!(
+            "// sequencer: step = clocks since start (0 idle)\n\
+             always @(posedge clk) begin\n    if (rst) step <= {sb}'d0;\n    \
+             else if (start) step <= {sb}'d1;\n    else if (step == {sb}'d{l}) step <= {sb}'d0;\n    \
+             else if (step != {sb}'d0) step <= step + {sb}'d1;\nend"
+        ));
+        let iv = plan.interval;
+        let tb = unsigned_bits(iv.saturating_sub(1) as u128);
+        let (t, comp) = if plan.capture {
+            (
+                m.uwire("t", tb, &format!("step - {sb}'d1")),
+                m.uwire(
+                    "comp",
+                    1,
+                    &format!("(step >= {sb}'d1) && (step <= {sb}'d{iv})"),
+                ),
+            )
+        } else {
+            (
+                m.uwire("t", tb, &format!("start ? {sb}'d0 : step")),
+                m.uwire(
+                    "comp",
+                    1,
+                    &format!("start || ((step != {sb}'d0) && (step < {sb}'d{iv}))"),
+                ),
+            )
+        };
+        let fe = plan.capture as u32 + iv;
+        let fin = m.uwire("fin", 1, &format!("step == {sb}'d{fe}"));
+        Shell {
+            m,
+            plan,
+            inputs: Vec::new(),
+            outputs: Vec::new(),
+            config: Vec::new(),
+            roms: Vec::new(),
+            tables: Vec::new(),
+            t,
+            t_bits: tb,
+            comp,
+            fin,
+        }
+    }
+
+    /// Input ports of the unit port `index`; with `capture`, registers loaded at `start`.
+    /// Returns the names that carry each lane's bits.
+    pub fn port(&mut self, index: usize, p: &PortSpec, capture: bool) -> Vec<String> {
+        let w = p.enc.width();
+        (0..p.lanes as usize)
+            .map(|l| {
+                let name = lane_name(p, l);
+                self.m.input(&name, w);
+                self.inputs.push(Lane {
+                    name: name.clone(),
+                    port: index,
+                    lane: l,
+                    enc: p.enc,
+                });
+                if capture {
+                    let r = self.m.reg(&format!("in_{name}"), w);
+                    self.m
+                        .stmt(format!("always @(posedge clk) if (start) {r} <= {name};"));
+                    r
+                } else {
+                    name
+                }
+            })
+            .collect()
+    }
+
+    /// A host-loaded register holding the code `value` of `enc`; returns its name.
+    pub fn config_reg(&mut self, what: &str, enc: &Encoding, value: i64) -> String {
+        let name = format!("cfg_{}", self.config.len());
+        self.m.reg(&name, enc.width());
+        self.config.push((
+            ConfigWord {
+                what: what.to_string(),
+                width: enc.width(),
+                value,
+            },
+            name.clone(),
+        ));
+        name
+    }
+
+    /// Registered output lanes of the unit port `index`; returns their names.
+    pub fn output(&mut self, index: usize, p: &PortSpec) -> Vec<String> {
+        (0..p.lanes as usize)
+            .map(|l| {
+                let mut name = lane_name(p, l);
+                if self.inputs.iter().any(|i| i.name == name) {
+                    name = format!("out_{name}");
+                }
+                self.m.output_reg(&name, p.enc.width());
+                self.outputs.push(Lane {
+                    name: name.clone(),
+                    port: index,
+                    lane: l,
+                    enc: p.enc,
+                });
+                name
+            })
+            .collect()
+    }
+
+    /// Instantiate the ROM `words` (module `name`, emitted once) addressed by `addr`; returns
+    /// the wire with the word.
+    pub fn rom(&mut self, name: &str, words: &[i64], value_bits: u32, addr: &str) -> String {
+        match self.tables.iter_mut().find(|(n, _)| n == name) {
+            Some((_, k)) => *k += 1,
+            None => {
+                self.roms.push(verilog::rom(name, words, value_bits));
+                self.tables.push((name.to_string(), 1));
+            }
+        }
+        let y = self.m.net("rom", value_bits);
+        let inst = format!("{y}_i");
+        self.m.stmt(format!("{name} {inst} (.a({addr}), .y({y}));"));
+        y
+    }
+
+    pub fn finish(mut self) -> RtlUnit {
+        if !self.config.is_empty() {
+            let ab = unsigned_bits(self.config.len().saturating_sub(1) as u128);
+            let db = self.config.iter().map(|c| c.0.width).max().unwrap();
+            self.m.input("cfg_we", 1);
+            self.m.input("cfg_addr", ab);
+            self.m.input("cfg_data", db);
+            for (i, (c, r)) in self.config.iter().enumerate() {
+                let sel = if c.width == 1 {
+                    "cfg_data[0]".to_string()
+                } else {
+                    format!("cfg_data[{}:0]", c.width - 1)
+                };
+                self.m.stmt(format!(
+                    "always @(posedge clk) if (cfg_we && cfg_addr == {ab}'d{i}) {r} <= {sel};"
+                ));
+            }
+        }
+        let mut verilog = String::from("// generated by bumpsim_hw::rtl: do not edit\n");
+        for r in &self.roms {
+            verilog += r;
+            verilog += "\n";
+        }
+        verilog += &self.m.text();
+        RtlUnit {
+            top: self.m.name.clone(),
+            verilog,
+            inputs: self.inputs,
+            outputs: self.outputs,
+            config: self.config.into_iter().map(|c| c.0).collect(),
+            latency: self.plan.latency(),
+            tables: self.tables,
+        }
+    }
+}

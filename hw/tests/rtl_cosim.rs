@@ -1,0 +1,127 @@
+//! Co-simulation of the generated Verilog (`bumpsim_hw::rtl`) against the bit-accurate
+//! model: for each unit, deterministic vectors from the model (`rtl::vectors`: random words,
+//! plausible values, corner words, aligned vectors), replayed by an iverilog testbench that
+//! compares every output word. Zero mismatches are required, and `done` must come at the
+//! unit's RTL latency for every vector.
+//!
+//! iverilog (`iverilog` on `PATH`, or `$IVERILOG`) is required: the test **fails** without
+//! it (`.ci/install-iverilog.sh` installs it). `BUMPSIM_SKIP_IVERILOG=1` skips it explicitly.
+
+mod rtl_units;
+
+use bumpsim_hw::rtl::{testbench, vectors};
+use rtl_units::Case;
+use std::path::Path;
+use std::process::Command;
+
+/// Vectors per bundled unit, and per variant.
+const BUNDLED_VECTORS: usize = 4000;
+const VARIANT_VECTORS: usize = 1500;
+
+fn skip_requested() -> bool {
+    std::env::var_os("BUMPSIM_SKIP_IVERILOG").is_some_and(|v| !v.is_empty() && v != "0")
+}
+
+fn iverilog_available() -> bool {
+    Command::new(testbench::iverilog_bin().0)
+        .arg("-V")
+        .output()
+        .map(|o| o.status.success())
+        .unwrap_or(false)
+}
+
+fn cosim(cases: Vec<Case>, n: usize, seed: u64) {
+    if skip_requested() {
+        println!("rtl_cosim: skipped (BUMPSIM_SKIP_IVERILOG is set)");
+        return;
+    }
+    assert!(
+        iverilog_available(),
+        "rtl_cosim: iverilog not found: install it (Debian package iverilog, \
+         .ci/install-iverilog.sh), point $IVERILOG at it, or set BUMPSIM_SKIP_IVERILOG=1"
+    );
+    let tmp = Path::new(env!("CARGO_TARGET_TMPDIR")).join("rtl_cosim");
+    let results: Vec<_> = std::thread::scope(|s| {
+        let hs: Vec<_> = cases
+            .iter()
+            .enumerate()
+            .map(|(i, c)| {
+                let tmp = &tmp;
+                s.spawn(move || {
+                    let (ins, outs) = vectors::vectors(c.unit.as_ref(), n, seed + i as u64);
+                    let dir = tmp.join(c.name);
+                    testbench::write(&dir, &c.rtl, &ins, &outs).unwrap();
+                    testbench::run_iverilog(&dir)
+                })
+            })
+            .collect();
+        hs.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    let mut bad = Vec::new();
+    for (c, r) in cases.iter().zip(results) {
+        match r {
+            Ok(r) => {
+                println!(
+                    "{:<22} vectors {:>5}  mismatches {}  latency {} (model {}){}",
+                    c.name,
+                    r.vectors,
+                    r.mismatches,
+                    c.rtl.latency,
+                    c.unit.latency(),
+                    if r.latency_errors > 0 {
+                        "  LATENCY ERRORS"
+                    } else {
+                        ""
+                    }
+                );
+                for l in &r.first {
+                    println!("    {l}");
+                }
+                if r.vectors != n || r.mismatches > 0 || r.latency_errors > 0 {
+                    bad.push(format!("{}: {r:?}", c.name));
+                }
+            }
+            Err(e) => bad.push(format!("{}: {e}", c.name)),
+        }
+    }
+    assert!(bad.is_empty(), "co-simulation failed:\n{}", bad.join("\n"));
+}
+
+#[test]
+fn bundled_units_match_the_model_word_for_word() {
+    cosim(rtl_units::bundled(), BUNDLED_VECTORS, 0x13_0001);
+}
+
+#[test]
+fn generator_variants_match_the_model_word_for_word() {
+    cosim(rtl_units::variants(), VARIANT_VECTORS, 0x13_1001);
+}
+
+#[test]
+fn vectors_are_deterministic() {
+    let u = &rtl_units::bundled()[0];
+    let a = vectors::vectors(u.unit.as_ref(), 64, 5);
+    let b = vectors::vectors(u.unit.as_ref(), 64, 5);
+    assert_eq!(a, b);
+}
+
+#[test]
+fn a_wrong_expected_word_is_reported() {
+    if skip_requested() {
+        return;
+    }
+    assert!(iverilog_available(), "rtl_cosim: iverilog not found");
+    let c = &rtl_units::bundled()[1]; // the power table: the fastest
+    let (ins, mut outs) = vectors::vectors(c.unit.as_ref(), 200, 9);
+    let w = &mut outs[17][1].lanes[0].raw;
+    *w ^= 1;
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("rtl_cosim/corrupted");
+    testbench::write(&dir, &c.rtl, &ins, &outs).unwrap();
+    let r = testbench::run_iverilog(&dir).unwrap();
+    assert_eq!(
+        (r.vectors, r.mismatches, r.latency_errors),
+        (200, 1, 0),
+        "{r:?}"
+    );
+    assert!(r.first[0].contains("vector 17 lane y1"), "{:?}", r.first);
+}

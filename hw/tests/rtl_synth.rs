@@ -1,0 +1,130 @@
+//! The gate model against synthesis, per unit: the five units at the bundled configs' widths
+//! (`tests/rtl_units`) generated as Verilog (`bumpsim_hw::rtl`), synthesised by yosys and
+//! priced with the 45 nm cell areas (`rtl::synth`), beside each unit's `gates()` estimate.
+//!
+//! The power tables are loadable in the model (`sram_bit`, 1.5 GE/bit) and emitted as ROMs
+//! of their known contents: the test compares the logic (every item but the table) and prints
+//! the table apart. See `docs/gates.md`, "Model vs synthesis per unit".
+//!
+//! yosys is required (`.ci/install-yosys.sh`): the test **fails** without it unless
+//! `BUMPSIM_SKIP_YOSYS=1` is set.
+
+mod rtl_units;
+
+use bumpsim_hw::rtl::synth;
+use bumpsim_hw::{CostTable, GateBudget};
+use std::path::Path;
+use std::process::Command;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// Accepted `model / yosys` ratio of each unit's logic (the table excluded). Measured (yosys
+/// 0.23): dot 0.80, spec 0.99, shade 0.88, diffuse 0.78, specular 0.78; the primitives'
+/// own ratios are 0.74-0.82 for adders and multipliers (`gates_yosys.rs`), 1.0 for registers
+/// and muxes. Issue 13 asks for +-10% once the primitives are calibrated.
+const BAND: (f64, f64) = (0.7, 1.1);
+
+fn skip_requested() -> bool {
+    std::env::var_os("BUMPSIM_SKIP_YOSYS").is_some_and(|v| !v.is_empty() && v != "0")
+}
+
+fn yosys_available() -> bool {
+    Command::new(synth::yosys_bin())
+        .arg("-V")
+        .output()
+        .map(|o| o.status.success())
+        .unwrap_or(false)
+}
+
+/// The model's table items (the loadable power tables).
+fn is_table(what: &str) -> bool {
+    what.contains("power table")
+}
+
+fn split(g: &GateBudget) -> (f64, f64) {
+    let table: f64 = g
+        .items
+        .iter()
+        .filter(|i| is_table(&i.what))
+        .map(|i| i.ge)
+        .sum();
+    (g.total() - table, table)
+}
+
+#[test]
+fn model_is_within_band_of_synthesis_per_unit() {
+    if skip_requested() {
+        println!("rtl_synth: skipped (BUMPSIM_SKIP_YOSYS is set)");
+        return;
+    }
+    assert!(
+        yosys_available(),
+        "rtl_synth: yosys not found: install it (.ci/install-yosys.sh), point $YOSYS at it, \
+         or set BUMPSIM_SKIP_YOSYS=1"
+    );
+    let cases = rtl_units::bundled();
+    let tmp = Path::new(env!("CARGO_TARGET_TMPDIR")).join("rtl_synth");
+    let t0 = std::time::Instant::now();
+    // two workers (CI has two cores), each taking the next unit
+    let next = AtomicUsize::new(0);
+    let mut results: Vec<_> = std::thread::scope(|s| {
+        let hs: Vec<_> = (0..2)
+            .map(|_| {
+                s.spawn(|| {
+                    let mut got = Vec::new();
+                    loop {
+                        let i = next.fetch_add(1, Ordering::Relaxed);
+                        let Some(c) = cases.get(i) else { break got };
+                        got.push((i, synth::synthesise(&c.rtl, &tmp.join(c.name))));
+                    }
+                })
+            })
+            .collect();
+        hs.into_iter().flat_map(|h| h.join().unwrap()).collect()
+    });
+    results.sort_by_key(|r| r.0);
+    let table = CostTable::default();
+    println!(
+        "{:<18} {:>9} {:>9} {:>6} | {:>9} {:>9} {:>6} | {:>5}",
+        "unit", "model", "yosys", "ratio", "logic m", "logic y", "ratio", "flops"
+    );
+    let mut bad = Vec::new();
+    for (c, (_, r)) in cases.iter().zip(results) {
+        let s = r.unwrap_or_else(|e| panic!("{}: {e}", c.name));
+        let g = c.unit.gates(&table);
+        let (ml, mt) = split(&g);
+        let yl = s.ge - s.table_ge;
+        let ratio = ml / yl;
+        let tables = if mt > 0.0 {
+            format!(
+                "   table: model {mt:.1} loadable ({:.1} as a ROM), yosys ROM {:.1}",
+                mt / table.sram_bit * table.rom_bit,
+                s.table_ge
+            )
+        } else {
+            String::new()
+        };
+        println!(
+            "{:<18} {:>9.1} {:>9.1} {:>6.3} | {:>9.1} {:>9.1} {:>6.3} | {:>5}{tables}",
+            c.name,
+            g.total(),
+            s.ge,
+            g.total() / s.ge,
+            ml,
+            yl,
+            ratio,
+            s.flops,
+        );
+        if !(BAND.0..=BAND.1).contains(&ratio) {
+            bad.push(format!(
+                "{}: logic ratio {ratio:.3} outside {BAND:?}",
+                c.name
+            ));
+        }
+    }
+    println!(
+        "rtl_synth: {} syntheses in {:.1?}",
+        cases.len(),
+        t0.elapsed()
+    );
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
+}

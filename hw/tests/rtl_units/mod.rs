@@ -1,0 +1,286 @@
+//! The units of the RTL tests: the five units at the bundled configs' widths
+//! (`configs/sgi-teapot.ron`: dot, spec, shade; `configs/gouraud-teapot.ron`: diffuse,
+//! specular), and variants that exercise the other parameters of the generators.
+
+// shared by rtl_cosim.rs (both lists) and rtl_synth.rs (the bundled units only)
+#![allow(dead_code)]
+
+use bumpsim_hw::rtl::{self, Dot3Rtl, PowerTableRtl, RtlUnit, ShadeRtl};
+use bumpsim_hw::units::{
+    BlendKind, BumpBlend, BumpBlendParams, Clamp, LightState, Selective, ShadeInputs, ShadeParams,
+    SpecGen, VecSource,
+};
+use bumpsim_hw::{Codec, Encoding, Format, Overflow, Quant, Unit};
+
+/// A unit under test: its name, the model and its Verilog.
+pub struct Case {
+    pub name: &'static str,
+    pub unit: Box<dyn Unit>,
+    pub rtl: RtlUnit,
+}
+
+fn fixed(signed: bool, w: u8, f: u8) -> Encoding {
+    Encoding::fixed(if signed {
+        Format::s(w, f)
+    } else {
+        Format::u(w, f)
+    })
+}
+fn uu(w: u8) -> Encoding {
+    Encoding::texel(Codec::UnitUnsigned, false, w)
+}
+fn us(w: u8) -> Encoding {
+    Encoding::texel(Codec::UnitSigned, true, w)
+}
+
+fn dot3(name: &'static str, p: Dot3Rtl) -> Case {
+    Case {
+        name,
+        unit: Box::new(p.unit()),
+        rtl: p.rtl(name),
+    }
+}
+fn power(name: &'static str, p: PowerTableRtl) -> Case {
+    Case {
+        name,
+        unit: Box::new(p.unit()),
+        rtl: p.rtl(name),
+    }
+}
+fn shade(name: &'static str, p: ShadeRtl) -> Case {
+    Case {
+        name,
+        unit: Box::new(p.unit()),
+        rtl: p.rtl(name),
+    }
+}
+fn blend(name: &'static str, p: BumpBlendParams, wire: impl Fn(&str) -> Option<Encoding>) -> Case {
+    let u = BumpBlend::new(p, wire).unwrap();
+    let rtl = rtl::blend::rtl(&u, name).unwrap();
+    Case {
+        name,
+        unit: Box::new(u),
+        rtl,
+    }
+}
+
+fn light(color: [f64; 3], l: [f64; 3], h: [f64; 3]) -> LightState {
+    LightState {
+        color,
+        l,
+        h,
+        k: 1.0,
+    }
+}
+
+fn sgi_shade() -> ShadeRtl {
+    ShadeRtl {
+        intensity: fixed(false, 9, 8),
+        has: ShadeInputs {
+            specular: Some(uu(8)),
+            base: None,
+            src: None,
+        },
+        params: ShadeParams {
+            ambient: [0.08; 3],
+            diffuse: [0.75, 0.65, 0.45],
+            specular: [0.5; 3],
+            light_colors: vec![[1.0, 1.0, 1.0], [0.6, 0.2, 0.6]],
+        },
+        coef: uu(8),
+        parallel: 1,
+        out: uu(8),
+    }
+}
+
+fn gouraud(kind: BlendKind, color: [f64; 3]) -> BumpBlendParams {
+    let mut p = BumpBlendParams::paper(kind, vec![light(color, [0.0, 0.6, 0.8], [0.0, 0.0, 1.0])]);
+    p.state = us(10);
+    p.l_source = VecSource::Port;
+    p.h_source = VecSource::Port;
+    p.spec = SpecGen::Table {
+        index_bits: 8,
+        value_bits: 8,
+    };
+    p.shininess = 16.0;
+    p.selective = Selective::Off;
+    p
+}
+
+/// The five units at the bundled configs' widths.
+pub fn bundled() -> Vec<Case> {
+    let s10 = fixed(true, 10, 8);
+    let wire = |l: &'static str| {
+        move |n: &str| match n {
+            "c" => Some(uu(8)),
+            "b" => Some(us(8)),
+            x if x == l => Some(us(16)),
+            _ => None,
+        }
+    };
+    vec![
+        dot3(
+            "sgi_dot",
+            Dot3Rtl {
+                a: s10,
+                b: s10,
+                k: 4,
+                parallel: 2,
+                clamp: Clamp::Unit,
+                out: fixed(false, 9, 8),
+            },
+        ),
+        power(
+            "sgi_spec",
+            PowerTableRtl {
+                input: fixed(false, 9, 8),
+                k: 2,
+                index_bits: 8,
+                value_bits: 8,
+                shininess: 32.0,
+                parallel: 1,
+            },
+        ),
+        shade("sgi_shade", sgi_shade()),
+        blend(
+            "gouraud_diffuse",
+            gouraud(BlendKind::Diffuse, [0.75, 0.65, 0.45]),
+            wire("l0"),
+        ),
+        blend(
+            "gouraud_specular",
+            gouraud(BlendKind::Specular, [0.5; 3]),
+            wire("h0"),
+        ),
+    ]
+}
+
+/// Other parameters of the generators: clamps, codecs, rounding and overflow modes,
+/// parallel datapaths with idle slots, optional shade inputs, state vectors.
+pub fn variants() -> Vec<Case> {
+    let sym = Encoding::texel(Codec::UnitSymmetric, true, 8);
+    let mut trn = fixed(true, 10, 6);
+    trn.quant = Quant::RndConv;
+    trn.overflow = Overflow::Wrap;
+    let mut odd = fixed(true, 7, 4);
+    odd.quant = Quant::TrnZero;
+    odd.overflow = Overflow::SatSym;
+    let mut inf = uu(6);
+    inf.quant = Quant::RndInf;
+    inf.overflow = Overflow::SatZero;
+    let mut zero = us(9);
+    zero.quant = Quant::RndZero;
+    let mut shade3 = sgi_shade();
+    shade3.params.light_colors.push([0.3, 0.9, 0.1]);
+    shade3.parallel = 2;
+    shade3.has.base = Some(uu(8));
+    shade3.has.src = Some(uu(8));
+    shade3.out = inf;
+    let mut both = BumpBlendParams::paper(
+        BlendKind::Both,
+        vec![
+            light([0.9, 0.5, 0.2], [0.0, 0.6, 0.8], [0.1, 0.2, 0.97]),
+            light([0.2, 0.6, 1.0], [0.6, 0.0, 0.8], [0.3, 0.0, 0.95]),
+            light([0.5, 0.5, 0.5], [-0.48, 0.6, 0.64], [0.0, 0.0, 1.0]),
+        ],
+    );
+    both.parallel = 2;
+    both.out = zero;
+    vec![
+        dot3(
+            "var_dot_none_sym",
+            Dot3Rtl {
+                a: fixed(true, 12, 10),
+                b: sym,
+                k: 3,
+                parallel: 2,
+                clamp: Clamp::None,
+                out: trn,
+            },
+        ),
+        dot3(
+            "var_dot_positive",
+            Dot3Rtl {
+                a: us(8),
+                b: fixed(true, 10, 8),
+                k: 2,
+                parallel: 1,
+                clamp: Clamp::Positive,
+                out: odd,
+            },
+        ),
+        dot3(
+            "var_dot_symmetric_out",
+            Dot3Rtl {
+                a: us(9),
+                b: uu(7),
+                k: 1,
+                parallel: 1,
+                clamp: Clamp::None,
+                out: {
+                    let mut e = sym;
+                    e.quant = Quant::Trn;
+                    e
+                },
+            },
+        ),
+        dot3(
+            "var_dot_coarse_into_signed",
+            Dot3Rtl {
+                a: fixed(true, 4, 1),
+                b: fixed(true, 5, 1),
+                k: 2,
+                parallel: 2,
+                clamp: Clamp::None,
+                out: us(8),
+            },
+        ),
+        power(
+            "var_power_par",
+            PowerTableRtl {
+                input: uu(8),
+                k: 3,
+                index_bits: 6,
+                value_bits: 10,
+                shininess: 8.0,
+                parallel: 2,
+            },
+        ),
+        shade("var_shade_base_src", shade3),
+        blend(
+            "var_blend_unperturbed",
+            {
+                let mut p = gouraud(BlendKind::Specular, [0.5; 3]);
+                p.selective = Selective::Unperturbed;
+                p
+            },
+            |n: &str| match n {
+                "c" => Some(uu(8)),
+                "b" => Some(us(8)),
+                "h0" => Some(us(16)),
+                _ => None,
+            },
+        ),
+        blend(
+            "var_blend_enable_fixed_c",
+            {
+                let mut p = gouraud(BlendKind::Diffuse, [0.75, 0.65, 0.45]);
+                p.selective = Selective::UnperturbedAndEnable;
+                p.out = fixed(false, 9, 8);
+                p
+            },
+            |n: &str| match n {
+                "c" => Some(fixed(false, 9, 8)),
+                "b" => Some(Encoding::texel(Codec::UnitSymmetric, true, 8)),
+                "l0" => Some(us(16)),
+                "enable" => Some(bumpsim_hw::units::blend::ENABLE_ENCODING),
+                _ => None,
+            },
+        ),
+        blend("var_blend_both_state", both, |n: &str| match n {
+            "c" => Some(uu(8)),
+            "b" => Some(us(8)),
+            _ => None,
+        }),
+    ]
+}

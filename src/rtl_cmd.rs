@@ -1,0 +1,321 @@
+//! `bumpsim rtl CONFIG --out DIR [--cosim N] [--synth]`: Verilog of the engine's units
+//! (`bumpsim_hw::rtl`, `docs/rtl.md`).
+//!
+//! For every unit with a generator (Dot3, PowerTable, Shade, BumpBlend) the unit's parameters
+//! are taken from its config spec, the encodings of the signals wired to it (the built
+//! engine's unit) and the scene (material, bump lights), and the unit is rebuilt from them
+//! with the hw constructors; the rebuilt unit must have the engine's gate budget (the same
+//! structure) and, with `--cosim`, the same outputs as the engine's unit on every vector.
+//! Writes `DIR/NAME.v` (the unit and its ROMs) and `DIR/NAME.regs` (the host-loaded register
+//! words: address, width, value, what); `--cosim N` replays N vectors per unit with iverilog
+//! in `DIR/cosim/NAME/`; `--synth` runs yosys and prints the model's GE beside synthesis.
+
+use crate::Failure;
+use bumpsim_hw::rtl::{self, synth, testbench, vectors, Dot3Rtl, PowerTableRtl, RtlUnit, ShadeRtl};
+use bumpsim_hw::units::{
+    BlendKind, BumpBlend, BumpBlendParams, LightState, ShadeInputs, ShadeParams,
+};
+use bumpsim_hw::{Mode, PortSpec, Unit, Word};
+use bumpsim_pipeline::config::{InputError, Loaded};
+use bumpsim_pipeline::engine::{self, units::UnitSpec};
+use bumpsim_pipeline::run::build_scene;
+use bumpsim_pipeline::scene::Scene;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// A generated unit: the Verilog and the unit rebuilt from the same parameters.
+struct Generated {
+    rtl: RtlUnit,
+    model: Box<dyn Unit>,
+}
+
+fn enc_of(ports: &[PortSpec], name: &str) -> Option<bumpsim_hw::Encoding> {
+    ports.iter().find(|p| p.name == name).map(|p| p.enc)
+}
+
+/// The bump lights' indices (as `BuildCtx::bump_lights`).
+fn bump_lights(scene: &Scene) -> Vec<usize> {
+    (0..scene.lights.len())
+        .filter(|&i| scene.lights[i].bump)
+        .collect()
+}
+
+/// The blend unit's parameters as `BumpBlendSpec::params` computes them.
+fn blend_params(s: &engine::units::BumpBlendSpec, scene: &Scene) -> BumpBlendParams {
+    let to_object = scene.model.inverse();
+    let origin = scene.model.transform_point3(Default::default());
+    let v = to_object
+        .transform_vector3(scene.camera.view_dir(origin))
+        .normalize_or_zero();
+    let lights = bump_lights(scene)
+        .into_iter()
+        .map(|i| {
+            let light = &scene.lights[i];
+            let l = to_object
+                .transform_vector3(light.dir_from(origin))
+                .normalize_or_zero();
+            let w = match s.kind {
+                BlendKind::Diffuse => scene.material.diffuse,
+                BlendKind::Specular => scene.material.specular,
+                BlendKind::Both => [1.0; 3],
+            };
+            LightState {
+                color: std::array::from_fn(|c| light.color[c] * w[c]),
+                l: l.to_array(),
+                h: (l + v).normalize_or_zero().to_array(),
+                k: 1.0,
+            }
+        })
+        .collect();
+    BumpBlendParams {
+        kind: s.kind,
+        lights,
+        l_source: s.l_source,
+        h_source: s.h_source,
+        spec: s.spec,
+        shininess: s.shininess.unwrap_or(scene.material.shininess),
+        state: s.state,
+        color: s.color,
+        dot: s.dot,
+        out: s.out,
+        selective: s.selective,
+        parallel: s.parallel,
+    }
+}
+
+/// Verilog module name for a unit instance.
+fn module_name(unit: &str) -> String {
+    let s: String = unit
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+        .collect();
+    format!("bumpsim_{s}")
+}
+
+/// The generator for one unit; `Ok(None)` for a kind without one.
+fn generate(
+    spec: &UnitSpec,
+    unit: &dyn Unit,
+    scene: &Scene,
+    top: &str,
+) -> Result<Option<Generated>, String> {
+    let ins = unit.inputs();
+    let first = || ins.first().map(|p| p.enc).ok_or("no inputs");
+    let g = match spec {
+        UnitSpec::Dot3(s) => {
+            let p = Dot3Rtl {
+                a: first()?,
+                b: enc_of(ins, "b0").ok_or("no b0")?,
+                k: s.count,
+                parallel: s.parallel,
+                clamp: s.clamp,
+                out: s.out,
+            };
+            Generated {
+                rtl: p.rtl(top),
+                model: Box::new(p.unit()),
+            }
+        }
+        UnitSpec::PowerTable(s) => {
+            let p = PowerTableRtl {
+                input: first()?,
+                k: s.count,
+                index_bits: s.index_bits,
+                value_bits: s.value_bits,
+                shininess: s.shininess.unwrap_or(scene.material.shininess),
+                parallel: s.parallel,
+            };
+            Generated {
+                rtl: p.rtl(top),
+                model: Box::new(p.unit()),
+            }
+        }
+        UnitSpec::Shade(s) => {
+            let m = &scene.material;
+            let p = ShadeRtl {
+                intensity: first()?,
+                has: ShadeInputs {
+                    specular: enc_of(ins, "s0"),
+                    base: enc_of(ins, "base"),
+                    src: enc_of(ins, "src"),
+                },
+                params: ShadeParams {
+                    ambient: m.ambient,
+                    diffuse: m.diffuse,
+                    specular: m.specular,
+                    light_colors: bump_lights(scene)
+                        .into_iter()
+                        .map(|i| scene.lights[i].color)
+                        .collect(),
+                },
+                coef: s.coef,
+                parallel: s.parallel,
+                out: s.out,
+            };
+            Generated {
+                rtl: p.rtl(top),
+                model: Box::new(p.unit()),
+            }
+        }
+        UnitSpec::BumpBlend(s) => {
+            let u = BumpBlend::new(blend_params(s, scene), |n| enc_of(ins, n))?;
+            Generated {
+                rtl: rtl::blend::rtl(&u, top)?,
+                model: Box::new(u),
+            }
+        }
+        _ => return Ok(None),
+    };
+    Ok(Some(g))
+}
+
+fn regs_text(u: &RtlUnit) -> String {
+    let mut s = String::from("# addr width value what (host-loaded registers, cfg_* port)\n");
+    for (i, c) in u.config.iter().enumerate() {
+        let _ = writeln!(s, "{i} {} {:#x} {}", c.width, c.value, c.what);
+    }
+    s
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> Result<(), Failure> {
+    std::fs::write(dir.join(name), text).map_err(|e| {
+        Failure::Input(InputError::new(
+            dir.join(name).display().to_string(),
+            "--out",
+            e.to_string(),
+        ))
+    })
+}
+
+/// Run the command: generate, write, and optionally co-simulate and synthesise.
+pub fn execute(l: &Loaded, out: &Path, cosim: usize, synth_on: bool) -> Result<(), Failure> {
+    let scene = build_scene(l)?;
+    let eng = engine::build(l, &scene)?;
+    std::fs::create_dir_all(out).map_err(|e| {
+        Failure::Input(InputError::new(
+            out.display().to_string(),
+            "--out",
+            e.to_string(),
+        ))
+    })?;
+    let table = &l.config.cost;
+    let mut lines = Vec::new();
+    let mut failures = Vec::new();
+    for (i, uc) in l.config.engine.units.iter().enumerate() {
+        let stage = eng
+            .stages
+            .iter()
+            .find(|s| s.name == uc.name)
+            .ok_or_else(|| Failure::Internal(format!("unit {} not in the engine", uc.name)))?;
+        let unit = stage.unit();
+        let top = module_name(&uc.name);
+        let g = match generate(&uc.unit, unit, &scene, &top) {
+            Ok(Some(g)) => g,
+            Ok(None) => {
+                lines.push(format!("{:<12} {:<14} not generated", uc.name, unit.kind()));
+                continue;
+            }
+            Err(e) => {
+                lines.push(format!(
+                    "{:<12} {:<14} not generated: {e}",
+                    uc.name,
+                    unit.kind()
+                ));
+                continue;
+            }
+        };
+        let model_ge = unit.gates(table).total();
+        if g.model.gates(table) != unit.gates(table) {
+            failures.push(format!(
+                "{}: the unit rebuilt for the RTL has another gate budget than the engine's",
+                uc.name
+            ));
+        }
+        write(out, &format!("{}.v", uc.name), &g.rtl.verilog)?;
+        write(out, &format!("{}.regs", uc.name), &regs_text(&g.rtl))?;
+        let mut line = format!(
+            "{:<12} {:<14} {}.v  latency {}  registers {}  model {:.1} GE",
+            uc.name,
+            unit.kind(),
+            uc.name,
+            g.rtl.latency,
+            g.rtl.config.len(),
+            model_ge
+        );
+        if cosim > 0 {
+            let (ins, outs) = vectors::vectors(g.model.as_ref(), cosim, 0x13_0000 + i as u64);
+            // the engine's own unit on the same words
+            let differ = ins
+                .iter()
+                .zip(&outs)
+                .filter(|(w, o)| {
+                    let mut e = vec![Word::default(); unit.outputs().len()];
+                    unit.eval(Mode::BitAccurate, w, &mut e);
+                    e != **o
+                })
+                .count();
+            if differ > 0 {
+                failures.push(format!(
+                    "{}: the rebuilt unit differs from the engine's on {differ} of {cosim} vectors",
+                    uc.name
+                ));
+            }
+            let dir = out.join("cosim").join(&uc.name);
+            testbench::write(&dir, &g.rtl, &ins, &outs)
+                .map_err(|e| Failure::Internal(format!("{}: {e}", dir.display())))?;
+            match testbench::run_iverilog(&dir) {
+                Ok(r) => {
+                    let _ = write!(
+                        line,
+                        "  cosim {} vectors, {} mismatches",
+                        r.vectors, r.mismatches
+                    );
+                    if r.mismatches > 0 || r.latency_errors > 0 || r.vectors != cosim {
+                        failures.push(format!("{}: co-simulation {r:?}", uc.name));
+                    }
+                }
+                Err(e) => failures.push(format!("{}: {e}", uc.name)),
+            }
+        }
+        if synth_on {
+            match synth::synthesise(&g.rtl, &out.join("synth").join(&uc.name)) {
+                Ok(s) => {
+                    // the model's loadable tables against the ROMs: priced apart
+                    let tables: f64 = unit
+                        .gates(table)
+                        .items
+                        .iter()
+                        .filter(|i| i.what.contains("power table"))
+                        .map(|i| i.ge)
+                        .sum();
+                    let _ = write!(
+                        line,
+                        "  yosys {:.1} GE; logic model {:.1} / yosys {:.1} = {:.3}",
+                        s.ge,
+                        model_ge - tables,
+                        s.ge - s.table_ge,
+                        (model_ge - tables) / (s.ge - s.table_ge),
+                    );
+                    if tables > 0.0 {
+                        let _ = write!(
+                            line,
+                            "; tables model {tables:.1} (loadable) / yosys ROM {:.1}",
+                            s.table_ge
+                        );
+                    }
+                }
+                Err(e) => failures.push(format!("{}: {e}", uc.name)),
+            }
+        }
+        lines.push(line);
+    }
+    for l in &lines {
+        println!("{l}");
+    }
+    println!("wrote {}", out.display());
+    if failures.is_empty() {
+        Ok(())
+    } else {
+        Err(Failure::Internal(failures.join("\n")))
+    }
+}
