@@ -5,6 +5,7 @@ pub mod config;
 pub mod edges;
 pub mod engine;
 pub mod metrics;
+pub mod ndf;
 pub mod output;
 pub mod passes;
 pub mod quantize;

@@ -39,3 +39,6 @@ pub mod texram;
 pub use texram::{TexramForm, TexramFrame};
 pub mod quat_frame;
 pub use quat_frame::QuatFrame;
+pub mod ndf_noise;
+pub mod ndf_turbulence;
+pub use ndf_turbulence::TurbulenceIndex;

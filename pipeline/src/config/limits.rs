@@ -54,6 +54,19 @@ fn side(field: &str, size: u32) -> Result<(), Bad> {
     }
 }
 
+/// The side of an NDF table (`crate::ndf::sources`: L and the NDF texture, at most 1024).
+fn ndf_side(field: &str, size: u32) -> Result<(), Bad> {
+    let max = crate::ndf::sources::MAX_LOOKUP_SIDE;
+    if size.is_power_of_two() && size <= max {
+        Ok(())
+    } else {
+        Err((
+            field.to_string(),
+            format!("size {size}: expected a power of two from 1 to {max} (an NDF table)"),
+        ))
+    }
+}
+
 fn mem_latency(x: u32) -> Result<(), Bad> {
     range("mem_latency", x, 1, MAX_MEM_LATENCY, " cycles")
 }
@@ -78,7 +91,11 @@ fn texture_source(s: &TextureSource) -> Result<(), Bad> {
         | TextureSource::BumpGradient { size }
         | TextureSource::ObjectNormals { size }
         | TextureSource::LightingTable { size, .. }
-        | TextureSource::SphereLighting { size, .. } => side("source.size", size),
+        | TextureSource::SphereLighting { size, .. }
+        | TextureSource::NdfNoise { size, .. } => side("source.size", size),
+        TextureSource::NdfLookup { size, .. }
+        | TextureSource::NdfShading { size, .. }
+        | TextureSource::NdfShading2d { size, .. } => ndf_side("source.size", size),
         TextureSource::ColorTexture => Ok(()),
     }
 }
@@ -119,13 +136,21 @@ fn check_unit(u: &UnitSpec) -> Result<(), Bad> {
         UnitSpec::Normalize(s) => range("table_bits", s.table_bits, 2, MAX_TABLE_BITS, ""),
         UnitSpec::TexramFrame(s) => range("table_bits", s.table_bits, 2, MAX_TABLE_BITS, ""),
         UnitSpec::QuatFrame(s) => range("table_bits", s.table_bits, 2, MAX_TABLE_BITS, ""),
-        UnitSpec::TextureShader(s) => range(
-            "programs",
-            s.programs.len().min(u32::MAX as usize) as u32,
-            1,
-            bumpsim_hw::units::texture_shader::MAX_STAGES as u32,
-            " stages",
-        ),
+        UnitSpec::TextureShader(s) => {
+            for (i, p) in s.programs.iter().enumerate() {
+                if let Some(t) = &p.texture {
+                    texture_source(&t.source)
+                        .map_err(|(f, m)| (format!("programs[{i}].texture.{f}"), m))?;
+                }
+            }
+            range(
+                "programs",
+                s.programs.len().min(u32::MAX as usize) as u32,
+                1,
+                bumpsim_hw::units::texture_shader::MAX_STAGES as u32,
+                " stages",
+            )
+        }
         UnitSpec::BumpBlend(s) => spec_gen("spec", &s.spec),
         UnitSpec::QuantizedNormals(s) => {
             side("size", s.size)?;
@@ -345,7 +370,11 @@ pub fn estimate(c: &Config) -> Estimate {
                     | TextureSource::BumpHeights { size }
                     | TextureSource::BumpGradient { size }
                     | TextureSource::LightingTable { size, .. }
-                    | TextureSource::SphereLighting { size, .. } => f64::from(size),
+                    | TextureSource::SphereLighting { size, .. }
+                    | TextureSource::NdfNoise { size, .. }
+                    | TextureSource::NdfLookup { size, .. }
+                    | TextureSource::NdfShading { size, .. }
+                    | TextureSource::NdfShading2d { size, .. } => f64::from(size),
                     TextureSource::ObjectNormals { size } => {
                         let texels = f64::from(size).powi(2);
                         e.add(

@@ -73,6 +73,9 @@ pub fn shade(n: DVec3, p: DVec3, eye: DVec3, uv: DVec2, scene: &Scene) -> DVec3 
 /// go through the bump unit.
 pub fn shade_with_view(n: DVec3, p: DVec3, v: DVec3, uv: DVec2, scene: &Scene) -> DVec3 {
     let n = n.normalize_or_zero();
+    if let crate::scene::BumpMap::Ndf(s) = &scene.bump {
+        return s.shade_colour(n, p, v, scene);
+    }
     let id = scene.material_id(uv, n);
     let m = scene.material(id);
     let base = base_color(scene.color_texture.as_ref(), uv);

@@ -109,12 +109,32 @@ pub enum BumpSpec {
     /// The face-space normal map baked with the mesh: needs `mesh: Baked(...)`
     /// (`crate::wang::scene`).
     Baked,
+    /// NDF-based bump map synthesis (Kautz et al. 2001): normals from turbulence through the
+    /// inverse CDFs of `ndf`, shaded with the same NDF (`crate::ndf`, `docs/units/ndf.md`;
+    /// the fields are those of [`crate::ndf::SynthesisSpec`]).
+    Ndf {
+        ndf: crate::ndf::NdfSpec,
+        #[serde(default)]
+        normals: crate::ndf::Distribution,
+        octaves: u32,
+        frequency: u32,
+        #[serde(default)]
+        seed: u64,
+        #[serde(default = "ndf_map_size")]
+        map_size: u32,
+    },
+}
+
+fn ndf_map_size() -> u32 {
+    128
 }
 
 /// A built bump map.
 pub enum BumpMap {
     Height(Box<dyn HeightField>),
     Normals(NormalMap),
+    /// A synthesised surface, shaded with its NDF (`crate::ndf`).
+    Ndf(Box<crate::ndf::NdfSurface>),
 }
 
 impl fmt::Debug for BumpMap {
@@ -127,6 +147,7 @@ impl fmt::Debug for BumpMap {
                 field.grad(0.5, 0.5)
             ),
             BumpMap::Normals(m) => write!(f, "BumpMap::Normals({} x {})", m.width, m.height),
+            BumpMap::Ndf(s) => write!(f, "BumpMap::Ndf({:?})", s.spec),
         }
     }
 }
@@ -283,6 +304,24 @@ impl BumpSpec {
                 let full = base_dir.join(path);
                 Ok(BumpMap::Normals(NormalMap::from_png(&full)?))
             }
+            BumpSpec::Ndf {
+                ndf,
+                normals,
+                octaves,
+                frequency,
+                seed,
+                map_size,
+            } => Ok(BumpMap::Ndf(Box::new(
+                crate::ndf::SynthesisSpec {
+                    ndf: ndf.clone(),
+                    normals: *normals,
+                    octaves: *octaves,
+                    frequency: *frequency,
+                    seed: *seed,
+                    map_size: *map_size,
+                }
+                .build(base_dir)?,
+            ))),
         }
     }
 }
@@ -295,6 +334,7 @@ impl BumpMap {
         match self {
             BumpMap::Height(f) => normal_from_grad(f.grad(u, v)),
             BumpMap::Normals(m) => m.sample_bilinear(u, v),
+            BumpMap::Ndf(s) => s.normal(u, v),
         }
     }
 
@@ -302,7 +342,7 @@ impl BumpMap {
     pub fn grad(&self, u: f64, v: f64) -> Option<DVec2> {
         match self {
             BumpMap::Height(f) => Some(f.grad(u, v)),
-            BumpMap::Normals(_) => None,
+            BumpMap::Normals(_) | BumpMap::Ndf(_) => None,
         }
     }
 
@@ -317,7 +357,7 @@ impl BumpMap {
                 }
                 Some(out)
             }
-            BumpMap::Normals(_) => None,
+            BumpMap::Normals(_) | BumpMap::Ndf(_) => None,
         }
     }
 
@@ -342,6 +382,11 @@ impl BumpMap {
                     NormalMap::from_heights(&heights, w, h, method)
                 }
             }
+            BumpMap::Ndf(s) => NormalMap {
+                width: w,
+                height: h,
+                texels: texel_centres(w, h).map(|(u, v)| s.normal(u, v)).collect(),
+            },
             BumpMap::Normals(m) => {
                 if m.width == w && m.height == h {
                     m.clone()
@@ -840,7 +885,7 @@ mod tests {
     fn field(spec: &BumpSpec) -> Box<dyn HeightField> {
         match build(spec) {
             BumpMap::Height(f) => f,
-            BumpMap::Normals(_) => panic!("not a height field"),
+            BumpMap::Normals(_) | BumpMap::Ndf(_) => panic!("not a height field"),
         }
     }
 

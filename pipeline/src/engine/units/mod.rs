@@ -22,6 +22,7 @@ mod dot3;
 mod emboss_filter;
 mod fb_blend;
 mod modulate;
+mod ndf_turbulence;
 mod normalize;
 mod palette_lighting;
 mod perturb;
@@ -43,6 +44,7 @@ pub use dot3::Dot3Spec;
 pub use emboss_filter::EmbossFilterSpec;
 pub use fb_blend::FbBlendSpec;
 pub use modulate::ModulateSpec;
+pub use ndf_turbulence::TurbulenceSpec;
 pub use normalize::NormalizeSpec;
 pub use perturb::PerturbSpec;
 pub use power_table::PowerTableSpec;
@@ -180,6 +182,7 @@ unit_specs! {
     TexramFrame(TexramFrameSpec),
     QuatFrame(QuatFrameSpec),
     TextureShader(TextureShaderSpec),
+    Turbulence(TurbulenceSpec),
 }
 
 impl UnitSpec {

@@ -46,6 +46,23 @@ pub enum TextureSource {
     /// coordinates, with `address: Clamp`. The map holds the light: it must be rebuilt when
     /// the light or the material changes.
     SphereLighting { size: u32, light: usize },
+    /// Mip level `level` of the noise texture of the scene's `bump: Ndf(...)` whose finest
+    /// level is `size` texels a side (Kautz et al. §5.2.2: "the finest mipmap level contains
+    /// the most octaves, every coarser mipmap level contains one octave less"): 3 lanes
+    /// `(0, r1, r2)`. A texture-shader stage reads its texture's level 0, so a config binds
+    /// the level its distance needs (`docs/units/ndf.md`).
+    NdfNoise { size: u32, level: u32 },
+    /// The lookup table `L(r1, r2)` of the scene's NDF bump (§4), `size` x `size` entries
+    /// stored as `entry` (`crate::ndf::sources::LookupEntry`).
+    NdfLookup {
+        size: u32,
+        entry: crate::ndf::sources::LookupEntry,
+    },
+    /// The isotropic NDF of the scene's NDF bump as a 1-D texture of `size` texels at
+    /// `n_m · h`, coloured for light `light` (§5.2.2); an anisotropic NDF is an error.
+    NdfShading { size: u32, light: usize },
+    /// The NDF as a 2-D texture at `(n_m · h, |t_m · h|)` (the anisotropic variant).
+    NdfShading2d { size: u32, light: usize },
 }
 
 /// The texels of `source` (its size checked).
@@ -163,6 +180,18 @@ pub(super) fn texels(source: &TextureSource, ctx: &BuildCtx) -> Result<Texels, S
                 })
                 .collect();
             Ok(square(size, 3, values))
+        }
+        TextureSource::NdfNoise { size, level } => {
+            crate::ndf::sources::noise(ctx.scene, size, level)
+        }
+        TextureSource::NdfLookup { size, entry } => {
+            crate::ndf::sources::lookup(ctx.scene, size, entry)
+        }
+        TextureSource::NdfShading { size, light } => {
+            crate::ndf::sources::shading_1d(ctx.scene, size, light)
+        }
+        TextureSource::NdfShading2d { size, light } => {
+            crate::ndf::sources::shading_2d(ctx.scene, size, light)
         }
         TextureSource::ColorTexture => {
             let img =
