@@ -267,7 +267,11 @@ fn main() {
     let (e12, e30, e0) = (at(12).1.normal8, at(30).1.normal8, at(0).1.normal8);
     let (b12e, b30e) = (at(12).2.normal8, at(30).2.normal8);
     let (gain_d, gain_b) = ((e12 - e30) / e12, (b12e - b30e) / b12e);
-    let verdict = if gain_d < 0.05 && gain_b < 0.05 { "**Holds**" } else { "**Does not hold**" };
+    let verdict = if gain_d < 0.05 && gain_b < 0.05 {
+        "**Holds**"
+    } else {
+        "**Does not hold**"
+    };
     writeln!(s, "\nDragon: {e0:.2} with no view, {e12:.2} with 12, {e30:.2} with 30: the 18 views beyond twelve remove {:.1} % of the error that twelve leave, while twelve remove {:.1} % of the initial error; bunny: {b12e:.2} with 12, {b30e:.2} with 30 ({:.1} %). {verdict} (criterion: views beyond twelve remove less than 5 % of what remains): the curve flattens after about twelve, as the paper's Fig. 3a. The floor is the geometric error of the simplified mesh (the two meshes put different surface points on a pixel), which the paper also notes (\"the normal errors cannot drop far below 5 or 10 for bunny or budda model because of geometrical error\"); the bundled bunny's floor is {b30e:.1}. The dragon keeps {:.1} % of its samples unseen at 30 views (deep folds between the scales and under the body).\n", 100.0 * gain_d, 100.0 * (e0 - e12) / e0, 100.0 * gain_b, 100.0 * (1.0 - at(30).3)).unwrap();
 
     writeln!(s, "## 8-bit colour buffer against the item buffer, and the map's precision (§2, \"Improving normal vector precision\")\n").unwrap();

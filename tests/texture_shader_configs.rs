@@ -84,7 +84,7 @@ fn texture_shader_programs_are_checked_with_the_stage_and_the_rule() {
     // more than 8 stages
     let nine = format!(
         "engine.units.shader.unit.programs=[{}]",
-        vec!["(program: None)"; 9].join(", ")
+        ["(program: None)"; 9].join(", ")
     );
     let e = error("d3d6-embm-quad", &[&nine]);
     assert!(e.contains("programs"), "{e}");

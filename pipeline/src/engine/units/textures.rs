@@ -38,8 +38,9 @@ pub enum TextureSource {
     BumpGradient { size: u32 },
     /// A diffuse and specular lighting map of light `light` in sphere-map form, for Direct3D
     /// 6 environment-mapped bump mapping (Ernst et al. §3.3: "the lighting environment of the
-    /// scene ... represented in an image environment map"): texel `(i, j)` at `(x, y) = (2 (i
-    /// + 1/2) / size - 1, 2 (j + 1/2) / size - 1)` (moved to the unit circle where outside it)
+    /// scene ... represented in an image environment map"): texel `(i, j)` at
+    /// `(x, y) = (2 (i + 1/2) / size - 1, 2 (j + 1/2) / size - 1)` (moved to the unit circle
+    /// where outside it)
     /// holds the scene material's Blinn-Phong colour for the view-space normal `(x, y,
     /// sqrt(1 - x² - y²))`, a parallel viewer along +z and the light's direction from the
     /// camera's target, each channel clamped to [0, 1]. Read at `AttrSource::SphereMap`
