@@ -87,6 +87,7 @@ fn spec_gen(field: &str, g: &SpecGen) -> Result<(), Bad> {
 fn texture_source(s: &TextureSource) -> Result<(), Bad> {
     match *s {
         TextureSource::BumpNormals { size, .. }
+        | TextureSource::BumpHilo { size, .. }
         | TextureSource::BumpHeights { size }
         | TextureSource::BumpGradient { size }
         | TextureSource::ObjectNormals { size }
@@ -367,6 +368,7 @@ pub fn estimate(c: &Config) -> Estimate {
             UnitSpec::TexFetch(t) => {
                 let size = match t.source {
                     TextureSource::BumpNormals { size, .. }
+        | TextureSource::BumpHilo { size, .. }
                     | TextureSource::BumpHeights { size }
                     | TextureSource::BumpGradient { size }
                     | TextureSource::LightingTable { size, .. }

@@ -15,6 +15,10 @@ pub enum TextureSource {
     /// The scene's bump map as a tangent-space normal map of `size` x `size` texels, baked by
     /// `method` (from heights) or resampled (from a normal PNG).
     BumpNormals { size: u32, method: NormalMethod },
+    /// [`TextureSource::BumpNormals`] as a HILO texture: 2 lanes `(x, y)` of the tangent-space
+    /// normal, `z` left to the reader (SIGNED_HILO16 with a hemisphere dot mapping, Wang et
+    /// al. §3: "Such a 2D vector corresponds to a 3D vector (HI, LO, sqrt(1 - HI² - LO²))").
+    BumpHilo { size: u32, method: NormalMethod },
     /// The scene's bump map as heights in [0, 1] (normalised to the map's range).
     BumpHeights { size: u32 },
     /// The scene's colour texture (RGB in [0, 1]); its sides must be powers of two.
@@ -74,6 +78,12 @@ pub(super) fn texels(source: &TextureSource, ctx: &BuildCtx) -> Result<Texels, S
             let nm = ctx.scene.bump.bake_normals(size, size, method);
             let values = nm.texels.iter().map(|n| [n.x, n.y, n.z, 0.0]).collect();
             Ok(square(size, 3, values))
+        }
+        TextureSource::BumpHilo { size, method } => {
+            check_size(size)?;
+            let nm = ctx.scene.bump.bake_normals(size, size, method);
+            let values = nm.texels.iter().map(|n| [n.x, n.y, 0.0, 0.0]).collect();
+            Ok(square(size, 2, values))
         }
         TextureSource::BumpHeights { size } => {
             check_size(size)?;
