@@ -368,7 +368,7 @@ pub fn estimate(c: &Config) -> Estimate {
             UnitSpec::TexFetch(t) => {
                 let size = match t.source {
                     TextureSource::BumpNormals { size, .. }
-        | TextureSource::BumpHilo { size, .. }
+                    | TextureSource::BumpHilo { size, .. }
                     | TextureSource::BumpHeights { size }
                     | TextureSource::BumpGradient { size }
                     | TextureSource::LightingTable { size, .. }
