@@ -5,11 +5,8 @@
 
 mod common;
 
-use bumpsim_pipeline::config;
 use bumpsim_pipeline::ndf::tables::{binned, fit, histogram};
 use bumpsim_pipeline::ndf::{Distribution, NdfSpec, NdfSurface, SynthesisSpec};
-use bumpsim_pipeline::report::Report;
-use bumpsim_pipeline::run;
 use common::*;
 use std::path::Path;
 
@@ -124,30 +121,12 @@ fn inverse_cdfs_sample_the_map() {
     assert!(chi < 1.5 && kl < 0.002, "chi2/dof {chi} KL {kl}");
 }
 
-fn report(stem: &str, sets: &[&str]) -> Report {
-    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    let l = config::load(&config(stem), &sets).unwrap_or_else(|e| panic!("{stem}: {e}"));
-    run::run(&l, None)
-        .unwrap_or_else(|e| panic!("{stem}: {e}"))
-        .report
-}
-
-fn error(stem: &str, sets: &[&str]) -> String {
-    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    config::load(&config(stem), &sets)
-        .and_then(|l| run::run(&l, None).map(|_| ()))
-        .expect_err("the config is rejected")
-        .to_string()
-}
-
-const SMALL: [&str; 2] = ["scene.width=128", "scene.height=128"];
-
 /// The 4-stage program follows the float reference of the same synthesised surface (at the
 /// bundled 256 x 256: algorithm 43.3 dB, quantization 43.2 dB); with the index quantization
 /// of the noise texels at 16 bits instead of 8 the quantization error falls.
 #[test]
 fn hardware_path_follows_the_reference() {
-    let r = report("ndf-sphere-hw", &SMALL);
+    let r = config_report("ndf-sphere-hw", &SMALL);
     println!("{:?}", r.error);
     assert!(r.error.algorithm.psnr_db > 38.0, "{:?}", r.error);
     assert!(r.error.quantization.psnr_db > 38.0, "{:?}", r.error);
@@ -155,7 +134,7 @@ fn hardware_path_follows_the_reference() {
     wide.push(
         "engine.units.shader.unit.programs[0].texture.texel=(format: (signed: false, width: 16, frac: 0), codec: UnitUnsigned)",
     );
-    let w = report("ndf-sphere-hw", &wide);
+    let w = config_report("ndf-sphere-hw", &wide);
     println!("16-bit indices: {:?}", w.error);
     assert!(
         w.error.quantization.psnr_db > r.error.quantization.psnr_db,
@@ -170,7 +149,7 @@ fn hardware_path_follows_the_reference() {
 #[test]
 fn anisotropic_ndf_needs_a_fifth_stage() {
     let set = "scene.bump=Ndf(ndf: Ward(alpha_x: 0.1, alpha_y: 0.4), octaves: 4, frequency: 8)";
-    let e = error("ndf-sphere-hw", &[SMALL[0], SMALL[1], set]);
+    let e = config_error("ndf-sphere-hw", &[SMALL[0], SMALL[1], set]);
     assert!(
         e.contains("programs[3].texture") && e.contains("anisotropic") && e.contains("four stages"),
         "{e}"
@@ -179,7 +158,7 @@ fn anisotropic_ndf_needs_a_fifth_stage() {
     let o = bumpsim(&["check", cfg.to_str().unwrap(), "--set", set]);
     o.expect_code(2, "anisotropic NDF on 4 stages");
     assert!(o.stderr.contains("anisotropic"), "{}", o.stderr);
-    let r = report("ndf-teapot-aniso-hw5", &SMALL);
+    let r = config_report("ndf-teapot-aniso-hw5", &SMALL);
     assert!(r.error.quantization.psnr_db > 30.0, "{:?}", r.error);
 }
 
@@ -187,7 +166,7 @@ fn anisotropic_ndf_needs_a_fifth_stage() {
 /// projected, the anisotropic NDF; bit-accurate against exact mode 39.3 dB at 256 x 256.
 #[test]
 fn software_path_runs_in_both_modes() {
-    let r = report("ndf-teapot-aniso-sw", &SMALL);
+    let r = config_report("ndf-teapot-aniso-sw", &SMALL);
     assert!(r.error.quantization.psnr_db > 33.0, "{:?}", r.error);
     assert!(
         r.gates.per_unit.contains_key("noise"),
@@ -226,16 +205,16 @@ fn bad_input_is_a_config_error() {
         ),
     ];
     for (set, want) in cases {
-        let e = error("ndf-sphere-hw", &[SMALL[0], SMALL[1], set]);
+        let e = config_error("ndf-sphere-hw", &[SMALL[0], SMALL[1], set]);
         assert!(e.contains(want), "{set}: {e}");
     }
     // the software path's noise unit
-    let e = error(
+    let e = config_error(
         "ndf-teapot-aniso-sw",
         &[SMALL[0], SMALL[1], "engine.units.noise.unit.frac=30"],
     );
     assert!(e.contains("frac 30") && e.contains("4 to 24"), "{e}");
-    let e = error(
+    let e = config_error(
         "ndf-teapot-aniso-sw",
         &[
             SMALL[0],
@@ -245,7 +224,7 @@ fn bad_input_is_a_config_error() {
     );
     assert!(e.contains("unsigned"), "{e}");
     // unknown keys
-    let e = error(
+    let e = config_error(
         "ndf-sphere-hw",
         &["scene.bump=Ndf(ndf: BlinnPhong(exponent: 20.0), octaves: 4, frequency: 8, bogus: 1)"],
     );
@@ -268,7 +247,7 @@ fn bad_input_is_a_config_error() {
             "scene.bump=Ndf(ndf: Png(path: {:?}), octaves: 4, frequency: 8)",
             p.display().to_string()
         );
-        let e = error("ndf-sphere-hw", &[SMALL[0], SMALL[1], &set]);
+        let e = config_error("ndf-sphere-hw", &[SMALL[0], SMALL[1], &set]);
         assert!(
             e.contains("bump.Ndf.ndf.Png.path") && e.contains(want),
             "{e}"
@@ -280,6 +259,6 @@ fn bad_input_is_a_config_error() {
         "scene.bump=Ndf(ndf: Png(path: {:?}, isotropic: true), octaves: 4, frequency: 8)",
         p.display().to_string()
     );
-    report("ndf-sphere-hw", &[SMALL[0], SMALL[1], &set]);
+    config_report("ndf-sphere-hw", &[SMALL[0], SMALL[1], &set]);
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -4,28 +4,8 @@
 
 mod common;
 
-use bumpsim_pipeline::config;
 use bumpsim_pipeline::report::Report;
-use bumpsim_pipeline::run;
 use common::*;
-
-fn report(stem: &str, sets: &[&str]) -> Report {
-    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    let l = config::load(&config(stem), &sets).unwrap_or_else(|e| panic!("{stem}: {e}"));
-    run::run(&l, None)
-        .unwrap_or_else(|e| panic!("{stem}: {e}"))
-        .report
-}
-
-fn error(stem: &str, sets: &[&str]) -> String {
-    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    config::load(&config(stem), &sets)
-        .and_then(|l| run::run(&l, None).map(|_| ()))
-        .expect_err("the config is rejected")
-        .to_string()
-}
-
-const SMALL: [&str; 2] = ["scene.width=128", "scene.height=128"];
 
 #[test]
 fn bump_env_map_follows_the_reference_where_its_one_matrix_fits_the_surface() {
@@ -33,13 +13,13 @@ fn bump_env_map_follows_the_reference_where_its_one_matrix_fits_the_surface() {
     // quad facing the viewer 31.4, without bumps 48.8 (what the lighting map and the
     // near-parallel viewer cost), the same bricks on a sphere 27.7: one offset matrix per
     // draw is right only where the surface's (T, B) is the view's (x, y)
-    let quad = report("d3d6-embm-quad", &SMALL);
+    let quad = config_report("d3d6-embm-quad", &SMALL);
     let mut flat = SMALL.to_vec();
     flat.push("scene.bump=Flat");
-    let flat = report("d3d6-embm-quad", &flat);
+    let flat = config_report("d3d6-embm-quad", &flat);
     let mut sphere = SMALL.to_vec();
     sphere.push("scene.mesh=Sphere(radius: 1.0, slices: 64, stacks: 32, uv_repeat: (4.0, 2.0))");
-    let sphere = report("d3d6-embm-quad", &sphere);
+    let sphere = config_report("d3d6-embm-quad", &sphere);
     let a = |r: &Report| r.error.algorithm.psnr_db;
     assert!(a(&quad) > 29.0, "{}", a(&quad));
     assert!(a(&flat) > a(&quad) + 10.0, "{} {}", a(&flat), a(&quad));
@@ -47,7 +27,7 @@ fn bump_env_map_follows_the_reference_where_its_one_matrix_fits_the_surface() {
     // the bit-accurate offsets and lighting map add little (8-bit texels, s16.16 coordinates)
     assert!(quad.error.quantization.psnr_db > 50.0, "{:?}", quad.error);
     // the matrix that the derivation gives beats its sign flips
-    let flipped = report(
+    let flipped = config_report(
         "d3d6-embm-quad",
         &[
             SMALL[0],
@@ -64,19 +44,19 @@ fn bump_env_map_follows_the_reference_where_its_one_matrix_fits_the_surface() {
 #[test]
 fn texture_shader_programs_are_checked_with_the_stage_and_the_rule() {
     // stage 1 reads itself: a broken consistency rule, named with its stage
-    let e = error(
+    let e = config_error(
         "d3d6-embm-quad",
         &["engine.units.shader.unit.programs[1].program.prev=1"],
     );
     assert!(e.contains("stage 1"), "{e}");
     // every stage of a part has one coordinate format
-    let e = error(
+    let e = config_error(
         "d3d6-embm-quad",
         &["engine.attributes[1].enc=(format: (signed: true, width: 24, frac: 12))"],
     );
     assert!(e.contains("coord1") && e.contains("coord0"), "{e}");
     // fixed-point texels are not a texture-shader format
-    let e = error(
+    let e = config_error(
         "d3d6-embm-quad",
         &["engine.units.shader.unit.programs[0].texture.texel=(format: (signed: true, width: 8, frac: 6))"],
     );
@@ -86,10 +66,10 @@ fn texture_shader_programs_are_checked_with_the_stage_and_the_rule() {
         "engine.units.shader.unit.programs=[{}]",
         ["(program: None)"; 9].join(", ")
     );
-    let e = error("d3d6-embm-quad", &[&nine]);
+    let e = config_error("d3d6-embm-quad", &[&nine]);
     assert!(e.contains("programs"), "{e}");
     // unknown keys inside a program's fields are errors
-    let e = error(
+    let e = config_error(
         "d3d6-embm-quad",
         &["engine.units.shader.unit.programs[1].program.offset.skew=1.0"],
     );

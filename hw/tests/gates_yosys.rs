@@ -7,7 +7,7 @@
 //!
 //! * **NAND**: `abc -g NAND`, priced `NAND + 0.67 NOT` (1 GE = NAND2 by definition).
 //! * **cell**: `abc -g AND,NAND,OR,NOR,XOR,XNOR,MUX`, priced with the cell areas of the
-//!   public 45 nm library (`shared/facts/hardware-facts.md`, table [`LIB_GE`]).
+//!   public 45 nm library (`shared/facts/hardware-facts.md`, table `LIB_GE` of `bumpsim_hw::rtl::synth`).
 //!
 //! Flip-flops are not mapped by abc; they are priced at the library's D flip-flop, 5.67 GE.
 //! The cell mapping is the reference the bands are chosen for (the model's figures are
@@ -32,21 +32,12 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-/// Cell areas in GE of the public 45 nm library (cell area / NAND2 area), from
-/// `shared/facts/hardware-facts.md`. NOR2, OR2 and XNOR2 are not in the facts: they are taken
-/// equal to their CMOS duals NAND2, AND2 and XOR2. Deliberately independent of `CostTable`,
-/// so that changing a default in `gates.rs` moves the model and not the yardstick.
-const LIB_GE: &[(&str, f64)] = &[
-    ("$_NOT_", 0.67),
-    ("$_NAND_", 1.0),
-    ("$_NOR_", 1.0),
-    ("$_AND_", 1.33),
-    ("$_OR_", 1.33),
-    ("$_XOR_", 2.0),
-    ("$_XNOR_", 2.0),
-    ("$_MUX_", 2.33),
-    ("$_DFF_P_", 5.67),
-];
+// Cell areas in GE of the public 45 nm library (cell area / NAND2 area), from
+// `shared/facts/hardware-facts.md`. NOR2, OR2 and XNOR2 are not in the facts: they are taken
+// equal to their CMOS duals NAND2, AND2 and XOR2. One table with the synthesis of the
+// generated RTL (`bumpsim_hw::rtl::synth::LIB_GE`), deliberately independent of `CostTable`,
+// so that changing a default in `gates.rs` moves the model and not the yardstick.
+use bumpsim_hw::rtl::synth::LIB_GE;
 
 /// Accepted `model / yosys` ratio with the cell mapping. Measured: 0.74 (24-bit adder: the
 /// model's 5.33 GE full-adder cell against ~7.2 GE/bit of separate gates) to 1.83 (clamp: the

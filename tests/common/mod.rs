@@ -174,3 +174,25 @@ pub fn expect_rejected(cfg: &Path, set: &str, needles: &[&str]) -> String {
     }
     o.stderr.clone()
 }
+
+/// The report of a bundled config run with `--set` overrides `sets` (through the library).
+pub fn config_report(stem: &str, sets: &[&str]) -> bumpsim_pipeline::report::Report {
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    let l = bumpsim_pipeline::config::load(&config(stem), &sets)
+        .unwrap_or_else(|e| panic!("{stem}: {e}"));
+    bumpsim_pipeline::run::run(&l, None)
+        .unwrap_or_else(|e| panic!("{stem}: {e}"))
+        .report
+}
+
+/// The error message of a bundled config that `sets` make invalid (loading or running).
+pub fn config_error(stem: &str, sets: &[&str]) -> String {
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    bumpsim_pipeline::config::load(&config(stem), &sets)
+        .and_then(|l| bumpsim_pipeline::run::run(&l, None).map(|_| ()))
+        .expect_err("the config is rejected")
+        .to_string()
+}
+
+/// `--set` overrides for a 128 x 128 image (fast end-to-end runs).
+pub const SMALL: [&str; 2] = ["scene.width=128", "scene.height=128"];

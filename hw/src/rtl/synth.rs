@@ -18,8 +18,8 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::process::Command;
 
-/// Cell areas in GE (cell area / NAND2 area) of the public 45 nm library, the same table as
-/// `hw/tests/gates_yosys.rs`. NOR2, OR2 and XNOR2 are taken equal to their CMOS duals.
+/// Cell areas in GE (cell area / NAND2 area) of the public 45 nm library
+/// (`shared/facts/hardware-facts.md`), also the yardstick of `hw/tests/gates_yosys.rs`. NOR2, OR2 and XNOR2 are taken equal to their CMOS duals.
 pub const LIB_GE: &[(&str, f64)] = &[
     ("$_NOT_", 0.67),
     ("$_NAND_", 1.0),
