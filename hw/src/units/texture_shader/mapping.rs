@@ -118,13 +118,16 @@ pub fn hilo_bits(m: DotMapping, hi: i64, lo: i64, frac: u32) -> [i64; 3] {
 
 /// The real code of a texel lane of encoding `enc` holding value `v` (exact mode): the
 /// unsigned code `(2^n - 1) v`, or the two's-complement code of a signed lane, taken
-/// modulo `2^n`.
-fn real_code(v: f64, enc: &Encoding) -> f64 {
+/// modulo `2^n`. A `UnitSigned` lane's code `2^(n-1) v` saturates to
+/// `[-2^(n-1), 2^(n-1) - 1]` as the texel's encoder does, so that an unquantized 1.0 (the
+/// z of a flat face-space normal) reads as the largest positive code, never as the
+/// negative code `2^(n-1)` that the sign test of the mappings would take it for.
+pub(crate) fn real_code(v: f64, enc: &Encoding) -> f64 {
     let n = enc.width() as i32;
     let m = (1u64 << n) as f64;
     let c = match enc.codec {
         Codec::UnitUnsigned => v * (m - 1.0),
-        Codec::UnitSigned => v * m / 2.0,
+        Codec::UnitSigned => (v * m / 2.0).clamp(-m / 2.0, m / 2.0 - 1.0),
         Codec::UnitSymmetric => (v * (m - 1.0) - 1.0) / 2.0,
         Codec::Fixed => v * 2f64.powi(enc.format.frac as i32),
     };

@@ -142,6 +142,47 @@ fn every_16_bit_hi_code_maps_and_the_hemisphere_z_is_the_floor_root() {
 }
 
 #[test]
+fn a_signed_lane_reads_the_same_vector_in_both_modes_up_to_full_scale() {
+    // Exact mode reads a signed lane's value as its real code; bit-accurate mode reads the
+    // encoder's code. On every code and at +-1.0 (which the encoder saturates to the largest
+    // code) the two agree; before the saturation, exact mode read 1.0 as the code 2^(n-1),
+    // i.e. as -1.
+    let s16 = Encoding::texel(Codec::UnitSigned, true, 16);
+    for (enc, m, lanes) in [
+        (S8, DotMapping::Minus1To1, 4u8),
+        (s16, DotMapping::HiloHemisphere, 2u8),
+    ] {
+        let n = enc.width() as i32;
+        let half = 1i64 << (n - 1);
+        let values = (-half..half)
+            .step_by(if n == 8 { 1 } else { 37 })
+            .map(|c| c as f64 / half as f64)
+            .chain([1.0, -1.0, 0.99999, -0.99999]);
+        for v in values {
+            let xs = [v, 0.0, 0.0, 0.0];
+            let e = vector_exact(m, &xs, &enc, lanes);
+            let raws = xs.map(|x| enc.encode(x));
+            let b = vector_bits(m, &raws, &enc, lanes, 16).map(|w| w as f64 / 65536.0);
+            // the real code and the rounded code differ by at most half a code
+            let bound = 0.5 / (half - 1) as f64 + 0.5 / 65536.0 + 1e-12;
+            assert!(
+                (e[0] - b[0]).abs() <= bound,
+                "{m:?} {v}: {} vs {}",
+                e[0],
+                b[0]
+            );
+            assert!(
+                b[0] == 0.0 || e[0].signum() == b[0].signum(),
+                "{m:?} {v}: sign"
+            );
+        }
+        let one = vector_exact(m, &[1.0, -1.0, 0.0, 0.0], &enc, lanes);
+        assert!((one[0] - 1.0).abs() < 1e-12, "{m:?}: 1.0 reads {}", one[0]);
+        assert!(one[1] < -1.0 + 1e-12, "{m:?}: -1.0 reads {}", one[1]);
+    }
+}
+
+#[test]
 fn pass_through_and_texture_2d_read_the_coordinates_and_texels() {
     let t = tex2d("grad", U8, 4, 4, |x, y| {
         [x as f64 / 3.0, y as f64 / 3.0, 0.0, 1.0]
