@@ -11,19 +11,16 @@
 //! from the library: `ndf::*` for the tables, `config::load` + `run::run` of the bundled
 //! `configs/ndf-*.ron` with `--set` overrides for the renderings.
 
-use bumpsim_hw::Mode;
 use bumpsim_pipeline::config;
 use bumpsim_pipeline::ndf::tables::{binned, fit, histogram};
 use bumpsim_pipeline::ndf::{Distribution, NdfSpec, SynthesisSpec};
-use bumpsim_pipeline::rop;
-use bumpsim_pipeline::run::{self, run, RunResult};
+use bumpsim_pipeline::run::{run, RunResult};
 use rayon::prelude::*;
 use std::fmt::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+mod common;
+use common::root;
 
 fn load(name: &str, sets: &[String]) -> Result<RunResult, String> {
     let path = root().join("configs").join(format!("{name}.ron"));
@@ -205,15 +202,7 @@ fn flicker(bits: &[image::RgbImage], refs: &[image::RgbImage]) -> (f64, f64, f64
 
 /// The framebuffers (8-bit) of a config in bit-accurate and exact mode.
 fn both_modes(name: &str, sets: &[String]) -> (image::RgbImage, image::RgbImage) {
-    let path = root().join("configs").join(format!("{name}.ron"));
-    let l = config::load(&path, sets).unwrap_or_else(|e| panic!("{name} {sets:?}: {e}"));
-    let p = run::prepare(&l).unwrap_or_else(|e| panic!("{name}: {e}"));
-    let (w, h) = (p.scene.width, p.scene.height);
-    let bit = p.simulate_lanes(None);
-    let exact = p.evaluate_exact();
-    let frags = &p.raster.fragments;
-    let b = rop::write(&p.engine.rop, Mode::BitAccurate, w, h, frags, &bit.outputs);
-    let e = rop::write(&p.engine.rop, Mode::Exact, w, h, frags, &exact);
+    let (b, e) = common::framebuffers(name, sets);
     (b.rgb8, e.rgb8)
 }
 

@@ -156,21 +156,52 @@ fn the_dragon_at_871k_faces_loads_simplifies_and_bakes() {
 }
 
 #[test]
-fn the_baked_map_as_signed_hilo16_through_texture_shaders_loses_almost_nothing_to_quantization() {
+fn wang_fig2_16_bit_internal_precision_hides_an_8_bit_normal_map_and_8_bits_inside_do_not() {
+    // Wang et al. §3, Fig. 2: (c) SIGNED_HILO16 texels and 16-bit dot products, (a) the same
+    // with the map handed over as GL_BYTE, (b) 8-bit signed RGB texels and 8-bit dot products.
+    // The claim is about precision, so it is judged on quantization (bit-accurate against
+    // exact mode of the same config): the algorithm is the same for (a) and (c).
     let scratch = Scratch::new("baking-hilo");
-    let out = scratch.join("hilo");
-    let o = bumpsim(&[
-        "render",
-        &config("wang-bunny-hilo").display().to_string(),
-        "--out",
-        &out.display().to_string(),
-    ]);
-    o.expect_code(0, "wang-bunny-hilo");
-    let r = json(&std::fs::read_to_string(out.join("report.json")).unwrap());
-    // measured: quantization 57.9 dB (16-bit HILO texels and dot products), algorithm 40.9 dB
-    // (the 256x256 lighting table)
-    let q = num(&r, "error.quantization.psnr_db");
-    let a = num(&r, "error.algorithm.psnr_db");
-    assert!(q > 55.0, "{q}");
-    assert!(a > 38.0, "{a}");
+    let render = |name: &str| {
+        let out = scratch.join(name);
+        let o = bumpsim(&[
+            "render",
+            &config(name).display().to_string(),
+            "--out",
+            &out.display().to_string(),
+        ]);
+        o.expect_code(0, name);
+        json(&std::fs::read_to_string(out.join("report.json")).unwrap())
+    };
+    let (c, a, b) = (
+        render("wang-bunny-hilo"),
+        render("wang-bunny-hilo-byte"),
+        render("wang-bunny-rgb8"),
+    );
+    let q = |r: &serde_json::Value| num(r, "error.quantization.psnr_db");
+    let band = |r: &serde_json::Value| num(r, "artifacts.quantization.banding");
+    // measured: quantization 57.9 / 55.3 / 44.5 dB; false-contour edges per covered pixel
+    // 0.0025 / 0.0057 / 0.0148; algorithm 40.9 dB for (a) and (c) (the 256x256 lighting
+    // table), 35.3 dB for (b) (filtered RGB normals are not renormalised; HILO's z is)
+    assert!(
+        q(&c) > 56.0 && q(&a) > 53.0 && q(&b) < 47.0,
+        "{} {} {}",
+        q(&c),
+        q(&a),
+        q(&b)
+    );
+    assert!(
+        q(&a) - q(&b) > 8.0,
+        "the 8-bit map with 16 bits inside is far closer to exact"
+    );
+    assert!(
+        band(&b) > 2.0 * band(&a) && band(&a) > band(&c),
+        "{} {} {}",
+        band(&c),
+        band(&a),
+        band(&b)
+    );
+    let alg = |r: &serde_json::Value| num(r, "error.algorithm.psnr_db");
+    assert_eq!(alg(&a), alg(&c), "the upload type changes codes only");
+    assert!(alg(&c) > 38.0, "{}", alg(&c));
 }

@@ -174,6 +174,26 @@ impl Texture {
         Ok(self)
     }
 
+    /// The texels as the application hands them over in `external` (OpenGL's `type` of
+    /// `glTexImage2D`: GL_BYTE into a SIGNED_HILO16 texture is Wang et al.'s Fig. 2a): each
+    /// value is rounded to an `external` code, and the internal code is the `texel` encoding
+    /// of that code's value (the driver's conversion). Only the codes change, which
+    /// bit-accurate mode reads; exact mode reads the values as given.
+    pub fn with_upload(mut self, external: &Encoding) -> Result<Self, String> {
+        external
+            .validate()
+            .map_err(|m| format!("texture {} upload type: {m}", self.name))?;
+        let (texel, lanes) = (self.texel, self.lanes as usize);
+        for level in &mut self.levels {
+            for (v, c) in level.values.iter().zip(level.codes.iter_mut()) {
+                for l in 0..lanes {
+                    c[l] = texel.encode(external.decode(external.encode(v[l])));
+                }
+            }
+        }
+        Ok(self)
+    }
+
     /// Store the texels as indices into a palette of `entries` texels (Ernst et al. §6): the
     /// texels given must already be palette entries; a texel then takes `ceil(log2 entries)`
     /// bits of memory.
@@ -279,6 +299,31 @@ mod tests {
                 .map(|k| [k as f64 / (w * h) as f64, -0.5, 0.25, 1.0])
                 .collect(),
         }
+    }
+
+    #[test]
+    fn an_upload_type_rounds_the_codes_and_leaves_the_values() {
+        // GL_BYTE ((2c + 1) / 255) into a 16-bit signed texel: every internal code is the
+        // conversion of one of the 256 byte codes, and exact mode's values are untouched
+        let byte = Encoding::texel(Codec::UnitSymmetric, true, 8);
+        let hilo = Encoding::texel(Codec::UnitSigned, true, 16);
+        let t = Texture::new("t", hilo, flat(8, 4, 3))
+            .unwrap()
+            .with_upload(&byte)
+            .unwrap();
+        let direct = Texture::new("d", hilo, flat(8, 4, 3)).unwrap();
+        let grid: Vec<i64> = (-128..128).map(|c| hilo.encode(byte.decode(c))).collect();
+        let (l, d) = (t.level_at(0), direct.level_at(0));
+        let mut moved = 0;
+        for i in 0..32 {
+            for lane in 0..3 {
+                assert!(grid.contains(&l.code(i)[lane]), "texel {i} lane {lane}");
+                assert_eq!(l.value(i)[lane], d.value(i)[lane]);
+                moved += (l.code(i)[lane] != d.code(i)[lane]) as u32;
+            }
+        }
+        assert!(moved > 16, "{moved} codes moved");
+        assert_eq!(t.stored_bits(), direct.stored_bits());
     }
 
     #[test]

@@ -64,6 +64,15 @@ pub struct StageTexture {
     pub weight_bits: u32,
     #[serde(default)]
     pub address: Address,
+    /// The texel type the application uploads (OpenGL's `type` of `glTexImage2D`), when it
+    /// is not `texel` itself: bit-accurate mode reads the `texel` codes of values first
+    /// rounded to `upload` (e.g. GL_BYTE, `(format: (signed: true, width: 8, frac: 0),
+    /// codec: UnitSymmetric)`, into a SIGNED_HILO16 `texel`: Wang et al. Fig. 2a). `None`
+    /// (the default): the values are encoded as `texel` directly.
+    /// (Left out of the serialised config when `None`, so that the hash of a config
+    /// without it is what it was before the field existed.)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub upload: Option<Encoding>,
 }
 
 fn dot_frac() -> u32 {
@@ -109,13 +118,19 @@ impl Spec for TextureShaderSpec {
                 stages.push(StageSpec::new(s.program, None));
                 continue;
             };
+            let mut memory_key = key(&t.source, &t.texel, None);
+            if let Some(u) = &t.upload {
+                memory_key += &format!(" upload {u:?}");
+            }
             let tex = ctx
                 .memory
-                .get_or_build(
-                    &key(&t.source, &t.texel, None),
-                    &format!("{}.tex{i}", ctx.unit),
-                    |name| Texture::new(name, t.texel, texels(&t.source, ctx)?),
-                )
+                .get_or_build(&memory_key, &format!("{}.tex{i}", ctx.unit), |name| {
+                    let tex = Texture::new(name, t.texel, texels(&t.source, ctx)?)?;
+                    match &t.upload {
+                        Some(u) => tex.with_upload(u),
+                        None => Ok(tex),
+                    }
+                })
                 .map_err(|m| format!("programs[{i}].texture: {m}"))?;
             let sampler = Sampler::new(t.filter, t.weight_bits)
                 .map_err(|m| format!("programs[{i}].texture.weight_bits: {m}"))?
