@@ -383,9 +383,14 @@ impl Sweep {
             .iter()
             .filter(|p| opts.shard.is_none_or(|s| s.contains(p.index)))
             .collect();
+        let progress = crate::progress::bar(todo.len() as u64, "sweep");
         let work = || -> Vec<Row> {
             todo.par_iter()
-                .map(|p| self.run_point(p, opts.force))
+                .map(|p| {
+                    let row = self.run_point(p, opts.force);
+                    progress.inc(1);
+                    row
+                })
                 .collect()
         };
         let rows = match opts.threads {

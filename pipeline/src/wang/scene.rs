@@ -95,8 +95,14 @@ pub fn build(spec: &BakeSpec, base_dir: &Path) -> Result<(Mesh, NormalMap, BakeS
         bad(f, rest.to_string())
     })?;
     let full = base_dir.join(&spec.path);
+    // load, simplify, one step per view, and the face-space conversion
+    let progress = crate::progress::bar(spec.views as u64 + 3, &format!("baking {}", spec.path));
+    progress.set_message("loading");
     let detailed = Surface::load(&full)?;
+    progress.inc(1);
+    progress.set_message(format!("simplifying {} faces", detailed.triangles.len()));
     let simple = simplify(&detailed, spec.faces).map_err(|m| bad("faces", m))?;
+    progress.inc(1);
     let s = &simple.surface;
     let mut baker = Baker::new(&detailed, s, cfg).map_err(|m| {
         let f = if m.contains("widening") && !m.contains("map") {
@@ -106,9 +112,12 @@ pub fn build(spec: &BakeSpec, base_dir: &Path) -> Result<(Mesh, NormalMap, BakeS
         };
         bad(f, m)
     })?;
-    for d in directions(spec.views) {
+    for (k, d) in directions(spec.views).into_iter().enumerate() {
+        progress.set_message(format!("view {} of {}", k + 1, spec.views));
         baker.add_view(d);
+        progress.inc(1);
     }
+    progress.set_message("face space");
     let mesh = face_mesh(s, &baker.packing.uv);
     let (texels, below) = face_space(&baker, &mesh);
     let stats = BakeStats {
