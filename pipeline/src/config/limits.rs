@@ -266,6 +266,15 @@ mod cost {
     /// Per mesh vertex (vertices, geometry, packets).
     pub const VERTEX_BYTES: f64 = 600.0;
     pub const VERTEX_S: f64 = 2e-6;
+    /// Per sample of a baked map (`MeshSpec::Baked`) and view: the projection, the depth
+    /// test and the update (measured on the bunny at 2048² samples: about 85 ns a sample and
+    /// view on a loaded 2-core machine), and the sample's state.
+    pub const BAKE_SAMPLE_VIEW_S: f64 = 100e-9;
+    pub const BAKE_SAMPLE_BYTES: f64 = 128.0;
+    /// Per pixel of a baking view and view: clearing, rasterising the detailed mesh, reading
+    /// back (about 180 ns on the bunny at 2048² a view), and the view's buffers.
+    pub const BAKE_VIEW_PIXEL_S: f64 = 200e-9;
+    pub const BAKE_VIEW_PIXEL_BYTES: f64 = 48.0;
 }
 
 /// The mesh's vertex count and its uv area (in periods of the bump map) as far as the config
@@ -354,6 +363,25 @@ pub fn estimate(c: &Config) -> Estimate {
         vertices * cost::VERTEX_S,
         vertices * cost::VERTEX_BYTES,
     );
+    if let MeshSpec::Baked {
+        map_size,
+        views,
+        view_size,
+        ..
+    } = &s.mesh
+    {
+        // the detailed mesh itself is bounded by the file cap of the mesh readers
+        let (samples, view_px) = (f64::from(*map_size).powi(2), f64::from(*view_size).powi(2));
+        let views = *views as f64;
+        e.add(
+            format!(
+                "scene.mesh.Baked: map_size^2 = {samples} samples x {views} views, view_size^2 \
+                 = {view_px} pixels a view"
+            ),
+            views * (samples * cost::BAKE_SAMPLE_VIEW_S + view_px * cost::BAKE_VIEW_PIXEL_S),
+            samples * cost::BAKE_SAMPLE_BYTES + view_px * cost::BAKE_VIEW_PIXEL_BYTES,
+        );
+    }
     if let Some(crate::config::TextureSpec::Checker { size, .. }) = &s.color_texture {
         let t = f64::from(*size).powi(2);
         e.add(
@@ -499,6 +527,36 @@ pub fn check_budget(l: &Loaded, force: bool) -> Result<(), InputError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_bake_is_priced_by_samples_views_and_view_pixels_and_its_caps_fit_the_budget() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../configs");
+        let bake = |sets: &[&str]| {
+            let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+            let l = crate::config::load(&dir.join("wang-bunny.ron"), &sets)
+                .unwrap_or_else(|e| panic!("{e}"));
+            let e = estimate(&l.config);
+            let t = e
+                .terms
+                .iter()
+                .find(|t| t.what.starts_with("scene.mesh.Baked"))
+                .unwrap_or_else(|| panic!("no bake term: {:?}", e.terms))
+                .clone();
+            (t.seconds, t.bytes)
+        };
+        // wang-bunny: 512² samples, 12 views of 512²: 0.94 s, 44 MB
+        let (s0, b0) = bake(&[]);
+        assert!((s0 - 12.0 * 262144.0 * 300e-9).abs() < 1e-9, "{s0}");
+        assert!((b0 - 262144.0 * 176.0).abs() < 1e-3, "{b0}");
+        // the caps (4096² map, 64 views of 4096²): 322 s and 2.8 GB, inside the budget
+        let (s1, b1) = bake(&[
+            "scene.mesh.map_size=4096",
+            "scene.mesh.view_size=4096",
+            "scene.mesh.views=64",
+        ]);
+        assert!(s1 > 300.0 && s1 < BUDGET_SECONDS, "{s1}");
+        assert!(b1 > 2.5e9 && b1 < BUDGET_BYTES, "{b1}");
+    }
 
     #[test]
     fn every_bundled_config_is_within_the_budget() {
