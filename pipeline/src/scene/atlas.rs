@@ -26,12 +26,10 @@
 //!   `(1, 1)` for a normal map baked in uv space: larger values make the charts overlap).
 
 use std::f64::consts::FRAC_1_SQRT_2;
-use std::path::Path;
 
 use glam::{DVec2, DVec3};
 
 use super::mesh::{Mesh, Vertex};
-use super::SceneError;
 
 /// The texture resolution the gutter is stated at.
 pub const ATLAS_TEXELS: u32 = 1024;
@@ -165,109 +163,15 @@ pub fn atlas_mesh(
     Ok(mesh)
 }
 
-/// Load an OBJ file's positions, faces (triangulated; all objects merged) and normals if
-/// every face has them, and lay it out with [`atlas_mesh`]. Texture coordinates are ignored.
-pub fn load_obj(path: &Path, rep: DVec2) -> Result<Mesh, SceneError> {
-    let fail = |message: String| SceneError::file(path.display(), message);
-    let file = super::obj::read_obj(path)?;
-    let models = &file.models;
-    let mut positions: Vec<DVec3> = Vec::new();
-    let mut triangles: Vec<[u32; 3]> = Vec::new();
-    let mut normals: Vec<DVec3> = Vec::new();
-    let mut all_normals = true;
-    // tobj gives each object its own positions: smooth normals are shared within an object.
-    for model in models {
-        let m = &model.mesh;
-        if m.indices.is_empty() {
-            continue;
-        }
-        let name = &model.name;
-        let base = positions.len();
-        if m.positions.len() % 3 != 0 {
-            return Err(fail(format!("object '{name}': truncated positions")));
-        }
-        let offset = u32::try_from(base)
-            .map_err(|_| fail(format!("object '{name}': too many positions")))?;
-        positions.extend(
-            m.positions
-                .chunks_exact(3)
-                .map(|c| DVec3::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2]))),
-        );
-        let has_normals = !m.normals.is_empty() && m.normal_indices.len() == m.indices.len();
-        all_normals &= has_normals;
-        for (c, tri) in m.indices.chunks_exact(3).enumerate() {
-            for &k in tri {
-                if k as usize >= m.positions.len() / 3 {
-                    return Err(fail(format!(
-                        "object '{name}': face {c}: position index {k} out of range"
-                    )));
-                }
-            }
-            triangles.push([tri[0] + offset, tri[1] + offset, tri[2] + offset]);
-            if has_normals {
-                for &ni in &m.normal_indices[3 * c..3 * c + 3] {
-                    let k = ni as usize * 3;
-                    let v = m.normals.get(k..k + 3).ok_or_else(|| {
-                        fail(format!("object '{name}': normal index out of range"))
-                    })?;
-                    normals.push(DVec3::new(
-                        f64::from(v[0]),
-                        f64::from(v[1]),
-                        f64::from(v[2]),
-                    ));
-                }
-            }
-        }
-    }
-    if triangles.is_empty() {
-        return Err(fail("expected at least one face, found none".into()));
-    }
-    let corner_normals = all_normals && normals.len() == 3 * triangles.len();
-    // the faces kept (zero-area faces and repeats of a face dropped, `obj::kept_faces`)
-    let kept = super::obj::kept_faces(
-        &triangles
-            .iter()
-            .map(|t| t.map(|k| positions[k as usize]))
-            .collect::<Vec<_>>(),
-    );
-    let total = triangles.len();
-    let mut i = 0;
-    triangles.retain(|_| {
-        i += 1;
-        kept[i - 1]
-    });
-    if corner_normals {
-        let mut i = 0;
-        normals.retain(|_| {
-            i += 1;
-            kept[(i - 1) / 3]
-        });
-    }
-    if triangles.is_empty() {
-        return Err(fail(format!(
-            "expected at least one face of non-zero area, found none ({total} faces, all of \
-             zero area or duplicates)"
-        )));
-    }
-    let corner_normals = corner_normals.then_some(&normals);
-    atlas_mesh(
-        &positions,
-        &triangles,
-        corner_normals.map(|v| v.as_slice()),
-        rep,
-    )
-    .map_err(fail)
-}
-
 #[cfg(test)]
 mod tests {
     use std::collections::HashMap;
-    use std::path::PathBuf;
+    use std::path::{Path, PathBuf};
 
     use super::*;
     use crate::scene::bake::{bake, BakeSpace};
     use crate::scene::perturb::Perturbation;
-    use crate::scene::{BumpSpec, MeshSpec};
+    use crate::scene::{BumpSpec, MeshSpec, SceneError};
 
     /// Distance from `p` to the segment `ab`.
     fn point_segment(p: DVec2, a: DVec2, b: DVec2) -> f64 {

@@ -1,12 +1,12 @@
 //! OBJ files: the reader of `MeshSpec::Obj` ([`read`], one pass, every error with its line),
 //! giving a [`FileMesh`] that `super::mesh` builds by the rule for scan defects
-//! (`docs/assets.md`). [`read_obj`] (tobj) is kept for `super::atlas::load_obj`.
+//! (`docs/assets.md`).
 
 use std::path::Path;
 
 use glam::{DVec2, DVec3};
 
-use super::mesh::{kept_faces_counted, Corners, FileMesh, Place, NONE};
+use super::mesh::{Corners, FileMesh, Place, NONE};
 use super::SceneError;
 
 pub(crate) use super::mesh::smooth_normals;
@@ -218,43 +218,6 @@ pub(crate) fn parse(text: &str) -> Result<FileMesh, String> {
         index: normal_index,
     });
     Ok(m)
-}
-
-/// The faces kept of triangles given by their corner positions (`docs/assets.md`, "Meshes
-/// from files"): [`kept_faces_counted`] without the counts.
-pub(crate) fn kept_faces(corners: &[[DVec3; 3]]) -> Vec<bool> {
-    kept_faces_counted(corners.len(), |t| corners[t]).0
-}
-
-/// An OBJ file read by tobj, for `super::atlas::load_obj` (`MeshSpec::Obj` reads with
-/// [`read`] instead).
-pub(crate) struct ObjFile {
-    pub models: Vec<tobj::Model>,
-}
-
-/// Read an OBJ file with tobj (triangulated, points and lines ignored), after the checks of
-/// [`parse`] (numbers, indices: errors with their line).
-pub(crate) fn read_obj(path: &Path) -> Result<ObjFile, SceneError> {
-    let fail = |message: String| SceneError::file(path.display(), message);
-    let bytes = super::files::read_bounded(path, super::files::MAX_OBJ_BYTES, "OBJ")?;
-    if let Ok(text) = std::str::from_utf8(&bytes) {
-        parse(text).map_err(|m| fail(format!("could not load OBJ: {m}")))?;
-    }
-    // `..Default::default()` covers the options of tobj's optional features.
-    #[allow(clippy::needless_update)]
-    let options = tobj::LoadOptions {
-        triangulate: true,
-        single_index: false,
-        ignore_points: true,
-        ignore_lines: true,
-        ..Default::default()
-    };
-    let mut reader = std::io::BufReader::new(bytes.as_slice());
-    let (models, _materials) = tobj::load_obj_buf(&mut reader, &options, |_| {
-        Err(tobj::LoadError::OpenFileFailed)
-    })
-    .map_err(|e| fail(format!("could not load OBJ: {e}")))?;
-    Ok(ObjFile { models })
 }
 
 #[cfg(test)]
