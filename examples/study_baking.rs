@@ -378,7 +378,7 @@ fn main() {
     )
     .unwrap();
     writeln!(s, "The baked map's top-left {CROP}x{CROP} texels (object-space normals as colours; squares of two right-angled patches, {} texels a side):\n\n![map](baking/dragon-map.png)\n", b12.packing.cell).unwrap();
-    writeln!(s, "## Measured elsewhere, and not measured\n\n- Rendering through SIGNED_HILO16 texture shaders (§3) and Fig. 2, 8-bit against 16-bit precision outside and inside: measured in [wang-precision.md](wang-precision.md) (`configs/wang-bunny-hilo.ron`, `wang-bunny-hilo-byte.ron`, `wang-bunny-rgb8.ron`).\n- The Buddha is not in the npm registry; the dragon stands in for the paper's large model.").unwrap();
+    writeln!(s, "## Measured elsewhere, and not measured\n\n- Rendering through SIGNED_HILO16 texture shaders (§3) and Fig. 2, 8-bit against 16-bit precision outside and inside: measured in [hilo-precision.md](hilo-precision.md) (`configs/wang-bunny-hilo.ron`, `wang-bunny-hilo-byte.ron`, `wang-bunny-rgb8.ron`).\n- The Buddha is not in the npm registry; the dragon stands in for the paper's large model.").unwrap();
     std::fs::write(root().join("docs/studies/normal-map-baking.md"), s).expect("write the page");
     eprintln!("wrote docs/studies/normal-map-baking.md");
 }
