@@ -639,43 +639,9 @@ impl HeightField for SphereCaps {
     }
 }
 
-/// Ken Perlin's reference permutation (improved noise, 2002).
-const PERLIN_PERMUTATION: [u8; 256] = [
-    151, 160, 137, 91, 90, 15, 131, 13, 201, 95, 96, 53, 194, 233, 7, 225, 140, 36, 103, 30, 69,
-    142, 8, 99, 37, 240, 21, 10, 23, 190, 6, 148, 247, 120, 234, 75, 0, 26, 197, 62, 94, 252, 219,
-    203, 117, 35, 11, 32, 57, 177, 33, 88, 237, 149, 56, 87, 174, 20, 125, 136, 171, 168, 68, 175,
-    74, 165, 71, 134, 139, 48, 27, 166, 77, 146, 158, 231, 83, 111, 229, 122, 60, 211, 133, 230,
-    220, 105, 92, 41, 55, 46, 245, 40, 244, 102, 143, 54, 65, 25, 63, 161, 1, 216, 80, 73, 209, 76,
-    132, 187, 208, 89, 18, 169, 200, 196, 135, 130, 116, 188, 159, 86, 164, 100, 109, 198, 173,
-    186, 3, 64, 52, 217, 226, 250, 124, 123, 5, 202, 38, 147, 118, 126, 255, 82, 85, 212, 207, 206,
-    59, 227, 47, 16, 58, 17, 182, 189, 28, 42, 223, 183, 170, 213, 119, 248, 152, 2, 44, 154, 163,
-    70, 221, 153, 101, 155, 167, 43, 172, 9, 129, 22, 39, 253, 19, 98, 108, 110, 79, 113, 224, 232,
-    178, 185, 112, 104, 218, 246, 97, 228, 251, 34, 242, 193, 238, 210, 144, 12, 191, 179, 162,
-    241, 81, 51, 145, 235, 249, 14, 239, 107, 49, 192, 214, 31, 181, 199, 106, 157, 184, 84, 204,
-    176, 115, 121, 50, 45, 127, 4, 150, 254, 138, 236, 205, 93, 222, 114, 67, 29, 24, 72, 243, 141,
-    128, 195, 78, 66, 215, 61, 156, 180,
-];
-
-/// The permutation for `seed`: Perlin's for 0, else a Fisher-Yates shuffle of it driven by
-/// SplitMix64 seeded with `seed`.
-fn permutation(seed: u64) -> [u8; 256] {
-    let mut p = PERLIN_PERMUTATION;
-    if seed != 0 {
-        let mut state = seed;
-        let mut next = || {
-            state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = state;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            z ^ (z >> 31)
-        };
-        for i in (1..256usize).rev() {
-            let j = (next() % (i as u64 + 1)) as usize;
-            p.swap(i, j);
-        }
-    }
-    p
-}
+// Perlin's permutation for `seed` 0, else a Fisher-Yates shuffle of it driven by SplitMix64:
+// the one the NDF noise unit uses.
+use bumpsim_hw::units::ndf_noise::permutation;
 
 /// fBm of periodic 2-D Perlin improved noise.
 struct Noise {
@@ -1071,9 +1037,7 @@ mod tests {
 
     /// A literal port of Perlin's 2002 reference `noise(x, y, z)` for comparison.
     fn perlin_reference(x: f64, y: f64, z: f64) -> f64 {
-        let p: Vec<usize> = (0..512)
-            .map(|i| PERLIN_PERMUTATION[i % 256] as usize)
-            .collect();
+        let p: Vec<usize> = (0..512).map(|i| permutation(0)[i % 256] as usize).collect();
         let (xi, yi, zi) = (
             (x.floor() as i64 & 255) as usize,
             (y.floor() as i64 & 255) as usize,
@@ -1129,11 +1093,11 @@ mod tests {
 
     #[test]
     fn noise_matches_perlin_reference_on_z0() {
-        let mut sorted = PERLIN_PERMUTATION;
+        let mut sorted = permutation(0);
         sorted.sort_unstable();
         assert!(sorted.iter().enumerate().all(|(i, &x)| x as usize == i));
         let mut shuffled = permutation(42);
-        assert_ne!(shuffled, PERLIN_PERMUTATION);
+        assert_ne!(shuffled, permutation(0));
         shuffled.sort_unstable();
         assert_eq!(shuffled, sorted);
 
@@ -1141,7 +1105,7 @@ mod tests {
             octaves: 1,
             frequency: 256,
             depth: 1.0,
-            perm: PERLIN_PERMUTATION,
+            perm: permutation(0),
         };
         let mut rng = Lcg(5);
         let mut max_abs: f64 = 0.0;
