@@ -52,8 +52,9 @@ enum Command {
         args: ConfigArgs,
         #[arg(long)]
         out: PathBuf,
-        /// Print each phase's wall time to stderr (scene and assets, simulation, exact mode,
-        /// reference, metrics, writing).
+        /// Print each phase's wall time to stderr: scene and assets; paths (concurrent), with
+        /// the overlapping wall times of its three paths under it (simulation, exact mode,
+        /// reference); ROP; metrics; writing; and the total.
         #[arg(long)]
         timings: bool,
     },

@@ -53,43 +53,66 @@ pub struct ArtifactStats {
     pub half_ssim: f64,
 }
 
-/// Two images on a common grid, in LSBs, with the pixels covered in both.
-struct Pair {
+/// Two images on a common grid with the pixels covered in both. The values are read from
+/// the images where they lie, in LSBs, as they are needed (no copy of either image is made:
+/// the working memory of every measure is a few rows, and the masks).
+struct Pair<'a> {
     w: usize,
     h: usize,
-    a: Vec<[f64; 3]>,
-    r: Vec<[f64; 3]>,
+    a: &'a Rgb64,
+    r: &'a Rgb64,
     cov: Vec<bool>,
 }
 
-impl Pair {
-    fn new(a: &Rgb64, a_mask: &[bool], r: &Rgb64, r_mask: &[bool]) -> Pair {
+impl<'a> Pair<'a> {
+    fn new(a: &'a Rgb64, a_mask: &[bool], r: &'a Rgb64, r_mask: &[bool]) -> Pair<'a> {
         let (w, h) = (a.width.min(r.width), a.height.min(r.height));
         let n = w as usize * h as usize;
-        let (mut pa, mut pr, mut cov) = (vec![[0.0; 3]; n], vec![[0.0; 3]; n], vec![false; n]);
+        let mut cov = vec![false; n];
         for y in 0..h {
             for x in 0..w {
                 let i = y as usize * w as usize + x as usize;
                 let (Some(ia), Some(ir)) = (a.index(x, y), r.index(x, y)) else {
                     continue;
                 };
-                let c = a_mask.get(ia).copied().unwrap_or(false)
+                cov[i] = a_mask.get(ia).copied().unwrap_or(false)
                     && r_mask.get(ir).copied().unwrap_or(false);
-                cov[i] = c;
-                pa[i] = a.px[ia].map(|v| unit(v) * 255.0);
-                pr[i] = r.px[ir].map(|v| unit(v) * 255.0);
             }
         }
         Pair {
             w: w as usize,
             h: h as usize,
-            a: pa,
-            r: pr,
+            a,
+            r,
             cov,
         }
     }
 
+    /// The index in `img` of grid pixel `i` (a covered pixel lies inside both images).
+    #[inline]
+    fn index_in(&self, img: &Rgb64, i: usize) -> usize {
+        let iw = img.width as usize;
+        if iw == self.w {
+            i
+        } else {
+            i / self.w * iw + i % self.w
+        }
+    }
+
+    /// The test image at covered grid pixel `i`, in LSBs.
+    #[inline]
+    fn pa(&self, i: usize) -> [f64; 3] {
+        self.a.px[self.index_in(self.a, i)].map(|v| unit(v) * 255.0)
+    }
+
+    /// The reference at covered grid pixel `i`, in LSBs.
+    #[inline]
+    fn pr(&self, i: usize) -> [f64; 3] {
+        self.r.px[self.index_in(self.r, i)].map(|v| unit(v) * 255.0)
+    }
+
     /// Index of `(x, y)` if inside and covered.
+    #[inline]
     fn at(&self, x: i64, y: i64) -> Option<usize> {
         if x < 0 || y < 0 || x >= self.w as i64 || y >= self.h as i64 {
             return None;
@@ -137,13 +160,15 @@ fn banding(p: &Pair) -> (u64, f64) {
                 ) else {
                     continue;
                 };
+                let (a0, a1, a2, a3) = (p.pa(i0), p.pa(i1), p.pa(i2), p.pa(i3));
+                let (r1, r2) = (p.pr(i1), p.pr(i2));
                 let hit = (0..3).any(|c| {
-                    let dr = p.r[i2][c] - p.r[i1][c];
-                    let da = p.a[i2][c] - p.a[i1][c];
+                    let dr = r2[c] - r1[c];
+                    let da = a2[c] - a1[c];
                     dr.abs() <= SMOOTH_LSB
                         && (da - dr).abs() > FALSE_STEP_LSB
-                        && (p.a[i1][c] - p.a[i0][c]).abs() < FLAT_LSB
-                        && (p.a[i3][c] - p.a[i2][c]).abs() < FLAT_LSB
+                        && (a1[c] - a0[c]).abs() < FLAT_LSB
+                        && (a3[c] - a2[c]).abs() < FLAT_LSB
                 });
                 edges += u64::from(hit);
             }
@@ -160,48 +185,133 @@ fn banding(p: &Pair) -> (u64, f64) {
     )
 }
 
-/// A masked blur: the weighted mean over covered pixels of `img` with the separable kernel
-/// `k` (odd length), renormalised over the covered taps; uncovered pixels stay 0.
-fn blur(p: &Pair, img: &[[f64; 3]], k: &[f64]) -> Vec<[f64; 3]> {
-    let rad = (k.len() / 2) as i64;
-    let mut out = vec![[0.0; 3]; img.len()];
-    for y in 0..p.h as i64 {
-        for x in 0..p.w as i64 {
-            let Some(i) = p.at(x, y) else { continue };
-            let (mut s, mut wsum) = ([0.0; 3], 0.0);
-            for (ky, wy) in k.iter().enumerate() {
-                for (kx, wx) in k.iter().enumerate() {
-                    if let Some(j) = p.at(x + kx as i64 - rad, y + ky as i64 - rad) {
-                        let wgt = wx * wy;
-                        wsum += wgt;
-                        for c in 0..3 {
-                            s[c] += wgt * img[j][c];
-                        }
-                    }
-                }
-            }
-            out[i] = s.map(|v| v / wsum);
+/// The values of both sides of a [`Pair`] in LSBs for a band of consecutive rows (row `y` in
+/// slot `y mod rows`), each pixel converted once for all the taps that read it.
+struct Band {
+    w: usize,
+    rows: usize,
+    a: Vec<[f64; 3]>,
+    r: Vec<[f64; 3]>,
+    /// The row each slot holds (`i64::MIN`: none yet).
+    held: Vec<i64>,
+}
+
+impl Band {
+    fn new(p: &Pair, rows: usize) -> Band {
+        let n = p.w * rows;
+        Band {
+            w: p.w,
+            rows,
+            a: vec![[0.0; 3]; n],
+            r: vec![[0.0; 3]; n],
+            held: vec![i64::MIN; rows],
         }
     }
-    out
+
+    /// Make rows `y0..=y1` (those inside the grid) held; rows must be asked for in
+    /// increasing order, at most `rows` at a time.
+    fn hold(&mut self, p: &Pair, y0: i64, y1: i64) {
+        for y in y0.max(0)..=y1.min(p.h as i64 - 1) {
+            let slot = y as usize % self.rows;
+            if self.held[slot] == y {
+                continue;
+            }
+            self.held[slot] = y;
+            for x in 0..p.w {
+                if let Some(i) = p.at(x as i64, y) {
+                    self.a[slot * self.w + x] = p.pa(i);
+                    self.r[slot * self.w + x] = p.pr(i);
+                }
+            }
+        }
+    }
+
+    /// Both sides at held, covered `(x, y)`.
+    #[inline]
+    fn at(&self, x: usize, y: usize) -> ([f64; 3], [f64; 3]) {
+        let k = (y % self.rows) * self.w + x;
+        (self.a[k], self.r[k])
+    }
+}
+
+/// The masked blur of both sides of `p` at covered pixel `(x, y)`: for each, the weighted
+/// mean over covered pixels with the separable kernel `k` (odd length), renormalised over the
+/// covered taps. The two sides share the taps (and their weight sum); each side's sum runs
+/// in the same order as alone. `band` holds rows `y - k.len() / 2 ..= y + k.len() / 2`.
+#[inline]
+fn blur_at(p: &Pair, band: &Band, k: &[f64], x: i64, y: i64) -> ([f64; 3], [f64; 3]) {
+    let rad = (k.len() / 2) as i64;
+    let (mut sa, mut sr, mut wsum) = ([0.0; 3], [0.0; 3], 0.0);
+    for (ky, wy) in k.iter().enumerate() {
+        for (kx, wx) in k.iter().enumerate() {
+            let (u, v) = (x + kx as i64 - rad, y + ky as i64 - rad);
+            if p.at(u, v).is_some() {
+                let wgt = wx * wy;
+                wsum += wgt;
+                let (va, vr) = band.at(u as usize, v as usize);
+                for c in 0..3 {
+                    sa[c] += wgt * va[c];
+                    sr[c] += wgt * vr[c];
+                }
+            }
+        }
+    }
+    (sa.map(|v| v / wsum), sr.map(|v| v / wsum))
+}
+
+/// Row `y` of the masked blur of both sides of `p` into `a` and `r` (0 where not covered;
+/// nothing outside the grid), holding the rows it reads in `band`.
+fn blur_row(p: &Pair, band: &mut Band, k: &[f64], y: i64, a: &mut [[f64; 3]], r: &mut [[f64; 3]]) {
+    if y < 0 || y >= p.h as i64 {
+        a.fill([0.0; 3]);
+        r.fill([0.0; 3]);
+        return;
+    }
+    let rad = (k.len() / 2) as i64;
+    band.hold(p, y - rad, y + rad);
+    for (x, (oa, or)) in a.iter_mut().zip(r.iter_mut()).enumerate() {
+        (*oa, *or) = if p.at(x as i64, y).is_some() {
+            blur_at(p, band, k, x as i64, y)
+        } else {
+            ([0.0; 3], [0.0; 3])
+        };
+    }
 }
 
 /// Faceting: `sqrt(mean((L(Ba) - L(Br))^2))` over the pixels whose 4 neighbours are covered
 /// and every channel, where `B` is the masked 3x3 box blur and `L` the 5-point Laplacian.
+/// The blurred images are kept as three rows each (above, at and below the pixel).
 fn faceting(p: &Pair) -> f64 {
     let k = [1.0, 1.0, 1.0];
-    let (ba, br) = (blur(p, &p.a, &k), blur(p, &p.r, &k));
+    let row = || vec![[0.0; 3]; p.w];
+    // [above, at, below] for the test image and the reference
+    let (mut ba, mut br) = ([row(), row(), row()], [row(), row(), row()]);
+    let mut band = Band::new(p, k.len());
+    blur_row(p, &mut band, &k, 0, &mut ba[1], &mut br[1]);
+    blur_row(p, &mut band, &k, 1, &mut ba[2], &mut br[2]);
     let (mut sum, mut n) = (0.0, 0u64);
     for y in 0..p.h as i64 {
+        if y > 0 {
+            ba.rotate_left(1);
+            br.rotate_left(1);
+            blur_row(p, &mut band, &k, y + 1, &mut ba[2], &mut br[2]);
+        }
         for x in 0..p.w as i64 {
-            let Some(i) = p.at(x, y) else { continue };
+            if p.at(x, y).is_none() {
+                continue;
+            }
             let nb = [(x - 1, y), (x + 1, y), (x, y - 1), (x, y + 1)].map(|(u, v)| p.at(u, v));
             if nb.iter().any(Option::is_none) {
                 continue;
             }
+            let xu = x as usize;
             for c in 0..3 {
-                let lap = |img: &[[f64; 3]]| {
-                    nb.iter().map(|j| img[j.unwrap()][c]).sum::<f64>() - 4.0 * img[i][c]
+                let lap = |img: &[Vec<[f64; 3]>; 3]| {
+                    [img[1][xu - 1], img[1][xu + 1], img[0][xu], img[2][xu]]
+                        .iter()
+                        .map(|v| v[c])
+                        .sum::<f64>()
+                        - 4.0 * img[1][xu][c]
                 };
                 let d = lap(&ba) - lap(&br);
                 sum += d * d;
@@ -226,9 +336,11 @@ fn ringing(p: &Pair) -> (f64, u64) {
     for y in 0..p.h as i64 {
         for x in 0..p.w as i64 {
             let Some(i) = p.at(x, y) else { continue };
+            let ri = p.pr(i);
             for (u, v) in [(x + 1, y), (x, y + 1)] {
                 if let Some(j) = p.at(u, v) {
-                    if (0..3).any(|c| (p.r[j][c] - p.r[i][c]).abs() >= STRONG_EDGE_LSB) {
+                    let rj = p.pr(j);
+                    if (0..3).any(|c| (rj[c] - ri[c]).abs() >= STRONG_EDGE_LSB) {
                         strong[i] = true;
                         strong[j] = true;
                     }
@@ -241,24 +353,27 @@ fn ringing(p: &Pair) -> (f64, u64) {
     for y in 0..p.h as i64 {
         for x in 0..p.w as i64 {
             let Some(i) = p.at(x, y) else { continue };
-            let mut near = false;
+            // a window without a strong pixel is skipped before any value is read
+            let near = (y - rad..=y + rad)
+                .any(|v| (x - rad..=x + rad).any(|u| p.at(u, v).is_some_and(|j| strong[j])));
+            if !near {
+                continue;
+            }
             let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
             for v in y - rad..=y + rad {
                 for u in x - rad..=x + rad {
                     if let Some(j) = p.at(u, v) {
-                        near |= strong[j];
+                        let rj = p.pr(j);
                         for c in 0..3 {
-                            lo[c] = lo[c].min(p.r[j][c]);
-                            hi[c] = hi[c].max(p.r[j][c]);
+                            lo[c] = lo[c].min(rj[c]);
+                            hi[c] = hi[c].max(rj[c]);
                         }
                     }
                 }
             }
-            if !near {
-                continue;
-            }
+            let ai = p.pa(i);
             let over = (0..3)
-                .map(|c| (p.a[i][c] - hi[c]).max(0.0) + (lo[c] - p.a[i][c]).max(0.0))
+                .map(|c| (ai[c] - hi[c]).max(0.0) + (lo[c] - ai[c]).max(0.0))
                 .fold(0.0, f64::max);
             sum += over;
             count += 1;
@@ -268,15 +383,21 @@ fn ringing(p: &Pair) -> (f64, u64) {
 }
 
 /// PSNR (on the [0, 1] scale) of the two images after the masked 5x5 binomial blur
-/// `[1, 4, 6, 4, 1] / 16` in x and y.
+/// `[1, 4, 6, 4, 1] / 16` in x and y (each blurred pixel computed where it is summed).
 fn lowpass_psnr(p: &Pair) -> f64 {
     let k = [1.0, 4.0, 6.0, 4.0, 1.0].map(|v| v / 16.0);
-    let (ba, br) = (blur(p, &p.a, &k), blur(p, &p.r, &k));
     let (mut sum, mut n) = (0.0, 0u64);
-    for i in 0..ba.len() {
-        if p.cov[i] {
+    let mut band = Band::new(p, k.len());
+    let rad = (k.len() / 2) as i64;
+    for y in 0..p.h as i64 {
+        band.hold(p, y - rad, y + rad);
+        for x in 0..p.w as i64 {
+            if p.at(x, y).is_none() {
+                continue;
+            }
+            let (ba, br) = blur_at(p, &band, &k, x, y);
             for c in 0..3 {
-                let d = (ba[i][c] - br[i][c]) / 255.0;
+                let d = (ba[c] - br[c]) / 255.0;
                 sum += d * d;
                 n += 1;
             }
@@ -293,36 +414,48 @@ fn lowpass_psnr(p: &Pair) -> f64 {
 /// every 7x7 window of defined pixels (stride 1) gives
 /// `(2 mu_a mu_r + C1)(2 cov + C2) / ((mu_a^2 + mu_r^2 + C1)(var_a + var_r + C2))` with
 /// sample (co)variances (divisor 48), `C1 = 0.01^2`, `C2 = 0.03^2`. 1 when there is no window.
+/// The half-resolution lumas are kept as the window's 7 rows.
 fn half_ssim(p: &Pair) -> f64 {
     let (hw, hh) = (p.w / 2, p.h / 2);
-    let luma = |c: [f64; 3]| (0.299 * c[0] + 0.587 * c[1] + 0.114 * c[2]) / 255.0;
-    let mut ya = vec![None; hw * hh];
-    let mut yr = vec![None; hw * hh];
-    for y in 0..hh {
-        for x in 0..hw {
-            let idx: Option<Vec<usize>> = [(0, 0), (1, 0), (0, 1), (1, 1)]
-                .iter()
-                .map(|(dx, dy)| p.at((2 * x + dx) as i64, (2 * y + dy) as i64))
-                .collect();
-            if let Some(idx) = idx {
-                ya[y * hw + x] = Some(idx.iter().map(|&j| luma(p.a[j])).sum::<f64>() / 4.0);
-                yr[y * hw + x] = Some(idx.iter().map(|&j| luma(p.r[j])).sum::<f64>() / 4.0);
-            }
-        }
-    }
     let win = SSIM_WINDOW;
     if hw < win || hh < win {
         return 1.0;
+    }
+    let luma = |c: [f64; 3]| (0.299 * c[0] + 0.587 * c[1] + 0.114 * c[2]) / 255.0;
+    // half-resolution row y into `out`: (test, reference) lumas where the block is covered
+    let half_row = |y: usize, out: &mut [Option<(f64, f64)>]| {
+        for (x, o) in out.iter_mut().enumerate() {
+            let idx: Option<[usize; 4]> = (|| {
+                let at = |dx: usize, dy: usize| p.at((2 * x + dx) as i64, (2 * y + dy) as i64);
+                Some([at(0, 0)?, at(1, 0)?, at(0, 1)?, at(1, 1)?])
+            })();
+            *o = idx.map(|idx| {
+                (
+                    idx.iter().map(|&j| luma(p.pa(j))).sum::<f64>() / 4.0,
+                    idx.iter().map(|&j| luma(p.pr(j))).sum::<f64>() / 4.0,
+                )
+            });
+        }
+    };
+    // row y of the half-resolution image lives in rows[y % win]
+    let mut rows = vec![vec![None; hw]; win];
+    for (y, row) in rows.iter_mut().enumerate() {
+        half_row(y, row);
     }
     let (c1, c2) = (0.01f64.powi(2), 0.03f64.powi(2));
     let nwin = (win * win) as f64;
     let (mut sum, mut count) = (0.0, 0u64);
     for y0 in 0..=hh - win {
+        if y0 > 0 {
+            // the window moved down one row: the row above it makes room for the new one
+            half_row(y0 + win - 1, &mut rows[(y0 + win - 1) % win]);
+        }
         'win: for x0 in 0..=hw - win {
             let (mut sa, mut sr, mut saa, mut srr, mut sar) = (0.0, 0.0, 0.0, 0.0, 0.0);
             for y in y0..y0 + win {
-                for x in x0..x0 + win {
-                    let (Some(va), Some(vr)) = (ya[y * hw + x], yr[y * hw + x]) else {
+                let row = &rows[y % win];
+                for v in &row[x0..x0 + win] {
+                    let Some((va, vr)) = *v else {
                         continue 'win;
                     };
                     sa += va;

@@ -18,6 +18,46 @@ use bumpsim_hw::units::rop::Outcome;
 use bumpsim_hw::units::Rop;
 use bumpsim_hw::Mode;
 
+/// What the ROP reads of a fragment: its pixel, depth code and triangle (16 bytes; a
+/// [`Fragment`] is 40, its barycentrics read only by the paths before the ROP).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RopFragment {
+    pub x: u32,
+    pub y: u32,
+    pub depth: u32,
+    pub tri: u32,
+}
+
+impl From<&Fragment> for RopFragment {
+    fn from(f: &Fragment) -> Self {
+        RopFragment {
+            x: f.x,
+            y: f.y,
+            depth: f.depth,
+            tri: f.tri,
+        }
+    }
+}
+
+/// A fragment as the ROP reads it: [`Fragment`] or [`RopFragment`].
+pub trait AsRopFragment {
+    fn rop_fragment(&self) -> RopFragment;
+}
+
+impl AsRopFragment for Fragment {
+    #[inline]
+    fn rop_fragment(&self) -> RopFragment {
+        self.into()
+    }
+}
+
+impl AsRopFragment for RopFragment {
+    #[inline]
+    fn rop_fragment(&self) -> RopFragment {
+        *self
+    }
+}
+
 /// The frame buffer after the ROP has taken `outputs` (by fragment; `None` = killed).
 pub struct Framebuffer {
     /// The colour that reached each pixel (clamped to [0, 1], blended in f64): what the
@@ -46,7 +86,7 @@ pub fn write(
     mode: Mode,
     w: u32,
     h: u32,
-    frags: &[Fragment],
+    frags: &[impl AsRopFragment],
     outputs: &Outputs,
 ) -> Framebuffer {
     let mut fb = rop.clear(w, h);
@@ -54,6 +94,7 @@ pub fn write(
     let mut tri = vec![crate::edges::NO_TRIANGLE; w as usize * h as usize];
     for (k, f) in frags.iter().enumerate().take(outputs.len()) {
         let Some(o) = outputs.word(k) else { continue };
+        let f = f.rop_fragment();
         tested += 1;
         let i = (f.y as usize) * (w as usize) + f.x as usize;
         match rop.write(&mut fb, mode, i, f.depth, &o) {
@@ -67,16 +108,13 @@ pub fn write(
         }
     }
     let one = (1i64 << rop.params().color_bits) - 1;
-    let to8 = |c: i64| ((2 * c * 255 + one) / (2 * one)) as u8;
+    let to8 = |c: u16| ((2 * i64::from(c) * 255 + one) / (2 * one)) as u8;
     let mut rgb8 = image::RgbImage::new(w, h);
-    for (p, px) in rgb8.pixels_mut().zip(&fb.color) {
-        p.0 = px.code.map(to8);
+    for (p, code) in rgb8.pixels_mut().zip(&fb.code) {
+        p.0 = code.map(to8);
     }
-    drop(fb.depth);
-    // the values out of the pixels (the codes are in rgb8); collected in place where the
-    // standard library can, then shrunk, so a large frame does not hold both
-    let mut px: Vec<[f64; 3]> = fb.color.into_iter().map(|p| p.x).collect();
-    px.shrink_to_fit();
+    // the values are the image as they are (the codes are in rgb8): nothing is copied
+    let px = fb.x;
     Framebuffer {
         image: Rgb64 {
             width: w,

@@ -131,7 +131,7 @@ pub fn prepare(l: &Loaded) -> Result<Prepared, InputError> {
     } else {
         raster::DepthTest::Early
     };
-    let raster = raster::rasterize_with(
+    let mut raster = raster::rasterize_with(
         &vertices.clip,
         &scene.mesh.triangles,
         scene.width,
@@ -139,6 +139,8 @@ pub fn prepare(l: &Loaded) -> Result<Prepared, InputError> {
         &cfg.raster,
         depth,
     );
+    // the list grew by doubling: up to half of it is spare capacity that the whole run holds
+    raster.fragments.shrink_to_fit();
     let snapped = vertices.snapped(&cfg.engine.attributes);
     let interpolator = cfg.engine.interpolator;
     let codes = match interpolator {
@@ -348,14 +350,24 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
     } = paths;
     let (w, h) = (p.scene.width, p.scene.height);
     let (frags, bit) = (&p.raster.fragments, &p.engine);
-    let (fb, fb_exact) = rayon::join(
-        || crate::rop::write(&bit.rop, Mode::BitAccurate, w, h, frags, &result.outputs),
-        || crate::rop::write(&bit.rop, Mode::Exact, w, h, frags, &exact_out),
-    );
-    // the outputs and the fragment list are not read past the ROP: free them before the
-    // metrics, the peak of a large frame
-    drop((result.outputs, exact_out));
+    // The two framebuffers one after the other, each mode's outputs freed once its ROP has
+    // read them (a framebuffer being written holds 39 bytes per pixel: two at once were the
+    // peak of a large frame).
+    // The ROP reads 16 of a fragment's 40 bytes: the list is cut to those before the
+    // framebuffers are built, and the full one freed.
+    let frags: Vec<crate::rop::RopFragment> = frags.iter().map(Into::into).collect();
     p.raster.fragments = Vec::new();
+    let mut fb_exact = crate::rop::write(&bit.rop, Mode::Exact, w, h, &frags, &exact_out);
+    drop(exact_out);
+    let fb = crate::rop::write(&bit.rop, Mode::BitAccurate, w, h, &frags, &result.outputs);
+    drop((result.outputs, frags));
+    // the two modes' triangle maps are one where the same fragments were written (the
+    // usual case): keep one
+    let shared_tri = fb_exact.tri == fb.tri;
+    if shared_tri {
+        fb_exact.tri = Vec::new();
+    }
+    let exact_tri = if shared_tri { &fb.tri } else { &fb_exact.tri };
     timings.lap("ROP");
     let mask = &fb.mask;
     let rimg = Rgb64 {
@@ -364,7 +376,7 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
         px: refimg.px,
     };
     let rmask = &refimg.mask;
-    let measured = measures::measure(&fb, &fb_exact, &rimg, rmask);
+    let measured = measures::measure(&fb, &fb_exact, exact_tri, &rimg, rmask);
     let covered = mask.iter().filter(|&&m| m).count() as u64;
     let mismatch = mask.iter().zip(rmask).filter(|(a, b)| a != b).count() as u64;
 

@@ -155,15 +155,36 @@ pub struct Pixel {
     pub x: [f64; 3],
 }
 
-/// The framebuffer: colour and depth per pixel.
+/// The framebuffer: colour and depth per pixel. The two halves of each [`Pixel`] are kept
+/// apart, the codes in 16 bits (`color_bits` is at most 16), so a caller can take either
+/// whole: 30 bytes of colour per pixel instead of 48.
 #[derive(Debug, Clone)]
 pub struct Framebuffer {
     pub width: u32,
     pub height: u32,
-    pub color: Vec<Pixel>,
+    /// The stored codes ([`Pixel::code`]).
+    pub code: Vec<[u16; 3]>,
+    /// The colour values that reached the pixels ([`Pixel::x`]).
+    pub x: Vec<[f64; 3]>,
     pub depth: Vec<u32>,
     /// Pixels written at least once.
     pub written: Vec<bool>,
+}
+
+impl Framebuffer {
+    /// Pixel `i`.
+    pub fn pixel(&self, i: usize) -> Pixel {
+        Pixel {
+            code: self.code[i].map(i64::from),
+            x: self.x[i],
+        }
+    }
+
+    /// Set pixel `i` (codes from 0 to `2^16 - 1`).
+    pub fn set_pixel(&mut self, i: usize, p: Pixel) {
+        self.code[i] = p.code.map(|c| c as u16);
+        self.x[i] = p.x;
+    }
 }
 
 /// What happened to one fragment at the ROP.
@@ -246,7 +267,8 @@ impl Rop {
         Framebuffer {
             width,
             height,
-            color: vec![Pixel::default(); n],
+            code: vec![[0; 3]; n],
+            x: vec![[0.0; 3]; n],
             depth: vec![(u64::MAX >> (64 - self.depth_bits)) as u32; n],
             written: vec![false; n],
         }
@@ -293,7 +315,7 @@ impl Rop {
         if self.params.depth_write {
             fb.depth[i] = depth;
         }
-        let dst = fb.color[i];
+        let dst = fb.pixel(i);
         let x: [f64; 3] = std::array::from_fn(|l| c.lanes[l].x.clamp(0.0, 1.0));
         let (mut px, one) = (Pixel::default(), self.one());
         match self.params.blend {
@@ -334,7 +356,7 @@ impl Rop {
                 }
             }
         }
-        fb.color[i] = px;
+        fb.set_pixel(i, px);
         fb.written[i] = true;
         Outcome::Written
     }
@@ -415,11 +437,11 @@ mod tests {
             );
             let x = enc.decode(raw).clamp(0.0, 1.0);
             assert_eq!(
-                fb.color[0].code[0],
+                fb.pixel(0).code[0],
                 (x * 255.0 + 0.5).floor() as i64,
                 "raw {raw}"
             );
-            assert_eq!(fb.color[0].x[0], x);
+            assert_eq!(fb.pixel(0).x[0], x);
         }
     }
 
@@ -483,7 +505,7 @@ mod tests {
             rop.write(&mut fb, Mode::BitAccurate, 0, 99, &w),
             Outcome::Written
         );
-        assert_eq!((fb.depth[0], fb.color[0].code), (99, [10, 20, 30]));
+        assert_eq!((fb.depth[0], fb.pixel(0).code), (99, [10, 20, 30]));
         let keep = RopParams {
             depth: Compare::LEqual,
             depth_write: false,
@@ -512,11 +534,11 @@ mod tests {
             for d in (0..=255i64).step_by(7) {
                 for a in (0..=255i64).step_by(3) {
                     let mut fb = rop.clear(1, 1);
-                    fb.color[0].code = [d; 3];
+                    fb.code[0] = [d as u16; 3];
                     let w = Word::from_raw(&enc, &[s, s, s, a]);
                     rop.write(&mut fb, Mode::BitAccurate, 0, 0, &w);
                     let want = ((s * a + d * (255 - a)) as f64 / 255.0 + 0.5).floor() as i64;
-                    assert_eq!(fb.color[0].code[0], want, "s {s} d {d} a {a}");
+                    assert_eq!(fb.pixel(0).code[0], want, "s {s} d {d} a {a}");
                 }
             }
         }
@@ -529,12 +551,12 @@ mod tests {
         let rop = Rop::new(add, enc, None, 16).unwrap();
         let mut fb = rop.clear(1, 1);
         for mode in [Mode::BitAccurate, Mode::Exact] {
-            fb.color[0] = Pixel::default();
+            fb.set_pixel(0, Pixel::default());
             for _ in 0..3 {
                 rop.write(&mut fb, mode, 0, 0, &word(&enc, mode, &[0.4, 0.2, 0.0]));
             }
-            assert_eq!(fb.color[0].code, [255, 153, 0], "{mode:?}");
-            assert!((fb.color[0].x[1] - 0.6).abs() < 1e-12);
+            assert_eq!(fb.pixel(0).code, [255, 153, 0], "{mode:?}");
+            assert!((fb.pixel(0).x[1] - 0.6).abs() < 1e-12);
         }
     }
 

@@ -20,21 +20,29 @@ pub(super) struct Measures {
     pub heatmap: image::RgbImage,
 }
 
-/// Compare the framebuffers `bit` and `exact` with the reference `r` (covered where `r_mask`).
+/// Compare the framebuffers `bit` and `exact` (whose triangle map is `exact_tri`: the
+/// caller may keep one map for both) with the reference `r` (covered where `r_mask`).
 pub(super) fn measure(
     bit: &Framebuffer,
     exact: &Framebuffer,
+    exact_tri: &[u32],
     r: &Rgb64,
     r_mask: &[bool],
 ) -> Measures {
     let (a, am, at) = (&bit.image, &bit.mask[..], &bit.tri[..]);
-    let (e, em, et) = (&exact.image, &exact.mask[..], &exact.tri[..]);
-    // The two artifact measures run one after the other: each holds working images of about
-    // 100 bytes per pixel, the peak of a large frame. The rest runs beside them.
+    let (e, em, et) = (&exact.image, &exact.mask[..], exact_tri);
+    // The artifact measures read the images where they lie (a few rows of working memory
+    // and a mask each), so the two run concurrently, and beside the rest.
     let (artifacts, (edges, (errors, images))) = rayon::join(
-        || Artifacts {
-            total: artifacts::measure(a, am, r, r_mask),
-            quantization: artifacts::measure(a, am, e, em),
+        || {
+            let (total, quantization) = rayon::join(
+                || artifacts::measure(a, am, r, r_mask),
+                || artifacts::measure(a, am, e, em),
+            );
+            Artifacts {
+                total,
+                quantization,
+            }
         },
         || {
             rayon::join(

@@ -369,8 +369,14 @@ impl BumpMap {
         match self {
             BumpMap::Height(f) => {
                 if method == NormalMethod::Analytic {
-                    let texels = texel_centres(w, h)
-                        .map(|(u, v)| normal_from_grad(f.grad(u, v)))
+                    // each texel is its own pure function of its centre: baked in parallel
+                    // (rows in order, so the map is the same at any thread count)
+                    use rayon::prelude::*;
+                    let texels = (0..h)
+                        .into_par_iter()
+                        .flat_map_iter(|j| {
+                            texel_centres_row(w, h, j).map(|(u, v)| normal_from_grad(f.grad(u, v)))
+                        })
                         .collect();
                     NormalMap {
                         width: w,
@@ -407,13 +413,16 @@ impl BumpMap {
 
 /// `(u, v)` of the texel centres of a `w x h` map, row-major.
 fn texel_centres(w: u32, h: u32) -> impl Iterator<Item = (f64, f64)> {
-    (0..h).flat_map(move |j| {
-        (0..w).map(move |i| {
-            (
-                (f64::from(i) + 0.5) / f64::from(w),
-                (f64::from(j) + 0.5) / f64::from(h),
-            )
-        })
+    (0..h).flat_map(move |j| texel_centres_row(w, h, j))
+}
+
+/// `(u, v)` of the texel centres of row `j` of a `w x h` map.
+fn texel_centres_row(w: u32, h: u32, j: u32) -> impl Iterator<Item = (f64, f64)> {
+    (0..w).map(move |i| {
+        (
+            (f64::from(i) + 0.5) / f64::from(w),
+            (f64::from(j) + 0.5) / f64::from(h),
+        )
     })
 }
 
