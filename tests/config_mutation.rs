@@ -536,3 +536,226 @@ fn the_tokenizer_keeps_every_token_of_a_config() {
         .iter()
         .any(|t| t.kind == Kind::Number && &text[t.start..t.end] == "256"));
 }
+
+/// How one run of the real CLI on a mutant ended.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Exit {
+    Code(i32),
+    /// killed by this signal (an abort is SIGABRT, 6; a stack overflow SIGSEGV, 11)
+    Signal(i32),
+    Timeout,
+}
+
+/// Run `bumpsim args` with the release binary this test was built with, its output to files
+/// in `scratch`, killed after `limit`. Returns the exit and stderr.
+fn run_cli(args: &[String], scratch: &Path, limit: Duration) -> (Exit, String) {
+    let err_path = scratch.join("stderr");
+    let err = std::fs::File::create(&err_path).unwrap();
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_bumpsim"))
+        .args(args)
+        .current_dir(scratch)
+        .env("RAYON_NUM_THREADS", "1")
+        .stdout(std::process::Stdio::null())
+        .stderr(err)
+        .spawn()
+        .expect("the bumpsim binary runs");
+    let start = Instant::now();
+    let exit = loop {
+        if let Some(st) = child.try_wait().unwrap() {
+            #[cfg(unix)]
+            if let Some(sig) = std::os::unix::process::ExitStatusExt::signal(&st) {
+                break Exit::Signal(sig);
+            }
+            break Exit::Code(st.code().unwrap_or(-1));
+        }
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            break Exit::Timeout;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    (exit, std::fs::read_to_string(&err_path).unwrap_or_default())
+}
+
+/// Counts of the CLI run over the mutants.
+#[derive(Debug, Default)]
+struct CliTally {
+    mutants: usize,
+    checks: [usize; 3], // exit 0, exit 2, other exit codes
+    renders: [usize; 3],
+    signals: usize,
+    timeouts: usize,
+    failures: Vec<String>,
+}
+
+impl CliTally {
+    /// Count one exit; anything but 0 or 2 with a message that names the file or `--set` is
+    /// a failure (written out whole with the mutant).
+    fn count(&mut self, render: bool, exit: Exit, stderr: &str, file: &str, what: &str) {
+        let slot = if render {
+            &mut self.renders
+        } else {
+            &mut self.checks
+        };
+        let bad = match exit {
+            Exit::Code(0) => {
+                slot[0] += 1;
+                None
+            }
+            Exit::Code(2) => {
+                slot[1] += 1;
+                (!stderr.contains(file) && !stderr.contains("--set"))
+                    .then(|| format!("exit 2 without the file's name ({})", stderr.trim()))
+            }
+            Exit::Code(c) => {
+                slot[2] += 1;
+                Some(format!("exit {c} ({})", stderr.trim()))
+            }
+            Exit::Signal(s) => {
+                self.signals += 1;
+                Some(format!("killed by signal {s} ({})", stderr.trim()))
+            }
+            Exit::Timeout => {
+                self.timeouts += 1;
+                Some("over the time limit".to_string())
+            }
+        };
+        if let Some(b) = bad {
+            let cmd = if render { "render" } else { "check" };
+            self.failures.push(format!("{cmd}: {b}: {what}"));
+        }
+    }
+    fn add(&mut self, o: CliTally) {
+        self.mutants += o.mutants;
+        for i in 0..3 {
+            self.checks[i] += o.checks[i];
+            self.renders[i] += o.renders[i];
+        }
+        self.signals += o.signals;
+        self.timeouts += o.timeouts;
+        self.failures.extend(o.failures);
+    }
+}
+
+fn env_or<T: std::str::FromStr>(name: &str, default: T) -> T {
+    std::env::var(name)
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(default)
+}
+
+/// The mutants through the real CLI, as a user meets them: `bumpsim check MUTANT` for every
+/// mutant and `bumpsim render MUTANT --out DIR` for the first few of each config that check
+/// and whose estimate is not above the original's. Exit codes, signals (aborts, stack
+/// overflows) and time-outs are counted; anything but exit 0, or exit 2 naming the file, fails.
+/// Not in the suite (a process per mutant): run against the release binary with
+///
+/// ```sh
+/// BUMPSIM_MUTANTS=60 BUMPSIM_MUTATION_RENDERS=2 BUMPSIM_MUTATION_SEED=11 \
+///     cargo test --release --test config_mutation -- --ignored --nocapture cli
+/// ```
+#[test]
+#[ignore = "a process per mutant: run by hand against the release binary (docs/fuzzing.md)"]
+fn cli_mutants_exit_0_or_2() {
+    let per_config: usize = env_or("BUMPSIM_MUTANTS", 20);
+    let renders: usize = env_or("BUMPSIM_MUTATION_RENDERS", 1);
+    let seed: u64 = env_or("BUMPSIM_MUTATION_SEED", 0x6275_6d70);
+    let limit = Duration::from_secs(env_or("BUMPSIM_MUTATION_TIMEOUT", 120));
+    let scratch = Scratch::new("cli-mutation");
+    let start = Instant::now();
+    let srcs = sources();
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let total = std::thread::scope(|s| {
+        let workers: Vec<_> = (0..2)
+            .map(|w| {
+                let (scratch, srcs, next) = (&scratch, &srcs, &next);
+                s.spawn(move || {
+                    let dir = scratch.join(&format!("w{w}"));
+                    std::fs::create_dir_all(&dir).unwrap();
+                    #[cfg(unix)]
+                    std::os::unix::fs::symlink(root().join("configs/assets"), dir.join("assets"))
+                        .unwrap();
+                    let mut t = CliTally::default();
+                    loop {
+                        let i = next.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+                        let Some(src) = srcs.get(i) else { break };
+                        let text = std::fs::read_to_string(src).unwrap();
+                        let name = stem(src);
+                        let original = config::load(src, &[]).unwrap();
+                        let max_estimate = limits::estimate(&original.config).seconds();
+                        let mut rng = Rng(seed ^ (i as u64).wrapping_mul(0x1000_0000_01b3));
+                        let file = format!("m-{name}.ron");
+                        let path = dir.join(&file);
+                        let mut renders_left = renders;
+                        for k in 0..per_config + 3 {
+                            let (m, what, sets) = if k < per_config {
+                                let (m, what) = mutate(&text, &mut rng);
+                                (m, what, vec![])
+                            } else {
+                                let set = rng.pick(SETS).to_string();
+                                (text.clone(), format!("--set {set}"), vec![set])
+                            };
+                            std::fs::write(&path, &m).unwrap();
+                            let what = format!("{name} mutant {k}: {what}");
+                            t.mutants += 1;
+                            let mut args = vec!["check".to_string(), file.clone()];
+                            for s in &sets {
+                                args.extend(["--set".to_string(), s.clone()]);
+                            }
+                            let (exit, err) = run_cli(&args, &dir, limit);
+                            t.count(false, exit, &err, &file, &what);
+                            if exit != Exit::Code(0) || renders_left == 0 {
+                                continue;
+                            }
+                            let small = config::load_with(&path, &sets, LoadOptions::default())
+                                .is_ok_and(|l| {
+                                    limits::estimate(&l.config).seconds() <= max_estimate
+                                });
+                            if !small {
+                                continue;
+                            }
+                            renders_left -= 1;
+                            let out = dir.join("out");
+                            let _ = std::fs::remove_dir_all(&out);
+                            args[0] = "render".into();
+                            args.extend(["--out".to_string(), "out".to_string()]);
+                            let (exit, err) = run_cli(&args, &dir, limit);
+                            t.count(true, exit, &err, &file, &what);
+                            let _ = std::fs::remove_dir_all(&out);
+                        }
+                    }
+                    t
+                })
+            })
+            .collect();
+        let mut total = CliTally::default();
+        for w in workers {
+            total.add(w.join().unwrap());
+        }
+        total
+    });
+    println!(
+        "cli_mutation: {} mutants of {} configs in {:.1?} (seed {seed}, {} s limit): check \
+         exits 0/2/other {}/{}/{}, render exits 0/2/other {}/{}/{}, {} killed by a signal, {} \
+         over the time limit",
+        total.mutants,
+        srcs.len(),
+        start.elapsed(),
+        limit.as_secs(),
+        total.checks[0],
+        total.checks[1],
+        total.checks[2],
+        total.renders[0],
+        total.renders[1],
+        total.renders[2],
+        total.signals,
+        total.timeouts,
+    );
+    assert!(
+        total.failures.is_empty(),
+        "{} mutants failed:\n{}",
+        total.failures.len(),
+        total.failures.join("\n")
+    );
+}
