@@ -201,6 +201,12 @@ fn wang_fig2_16_bit_internal_precision_hides_an_8_bit_normal_map_and_8_bits_insi
         band(&a),
         band(&b)
     );
+    // the report's bake section: the bundled bunny's 3,674 faces to 500, 242,000 samples
+    // (one widened square per face), 91.4% of them set by one of the 12 views
+    assert_eq!(num(&c, "bake.detailed_faces"), 3674.0);
+    assert_eq!(num(&c, "bake.faces"), 500.0);
+    assert_eq!(num(&c, "bake.samples"), 242000.0);
+    assert!(num(&c, "bake.updated") > 0.9 * num(&c, "bake.samples"));
     let alg = |r: &serde_json::Value| num(r, "error.algorithm.psnr_db");
     assert_eq!(alg(&a), alg(&c), "the upload type changes codes only");
     assert!(alg(&c) > 38.0, "{}", alg(&c));

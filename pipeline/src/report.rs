@@ -20,6 +20,9 @@ pub struct Report {
     pub name: String,
     pub config_hash: String,
     pub image: ImageInfo,
+    /// What the bake of a `Baked` mesh did (Wang et al. §2): left out for other meshes.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bake: Option<crate::wang::scene::BakeStats>,
     pub cycles: CycleReport,
     pub gates: Gates,
     pub bandwidth: Bandwidth,
@@ -166,6 +169,18 @@ impl Report {
             self.image.covered_pixels,
             self.image.coverage_mismatch
         );
+        if let Some(b) = &self.bake {
+            let _ = writeln!(
+                s,
+                "bake: {} faces simplified to {}, {} samples, {} ({:.1}%) set by a view, {} below their face",
+                b.detailed_faces,
+                b.faces,
+                b.samples,
+                b.updated,
+                100.0 * b.updated as f64 / b.samples.max(1) as f64,
+                b.below
+            );
+        }
         let c = &self.cycles;
         let _ = writeln!(
             s,

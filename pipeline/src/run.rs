@@ -46,6 +46,10 @@ pub fn build_scene(l: &Loaded) -> Result<Scene, InputError> {
         .map_err(|e| l.scene_error("scene.mesh", "mesh:", e))?;
     mesh.validate("scene.mesh")
         .map_err(|e| l.scene_error("scene.mesh", "mesh:", e))?;
+    let (baked, bake) = match baked {
+        Some((map, stats)) => (Some(map), Some(stats)),
+        None => (None, None),
+    };
     let bump = match (&c.bump, baked) {
         (crate::scene::BumpSpec::Baked, Some(map)) => crate::scene::BumpMap::Normals(map),
         (spec, _) => spec
@@ -71,6 +75,7 @@ pub fn build_scene(l: &Loaded) -> Result<Scene, InputError> {
         material: c.material.clone(),
         looks,
         bump,
+        bake,
         color_texture,
         width: c.width.0,
         height: c.height.0,
@@ -435,6 +440,7 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
             covered_pixels: covered,
             coverage_mismatch: mismatch,
         },
+        bake: p.scene.bake,
         cycles: result.cycles,
         gates: Gates::new(&units, &bit.rop.gates(&cfg.cost)),
         bandwidth: Bandwidth {

@@ -370,9 +370,14 @@ pub fn estimate(c: &Config) -> Estimate {
         ..
     } = &s.mesh
     {
-        // the detailed mesh itself is bounded by the file cap of the mesh readers
-        let (samples, view_px) = (f64::from(*map_size).powi(2), f64::from(*view_size).powi(2));
-        let views = *views as f64;
+        // the detailed mesh itself is bounded by the file cap of the mesh readers; values
+        // past the caps are priced at the caps and rejected, naming the field, by the bake
+        let (map, view) = (
+            (*map_size).min(crate::wang::scene::MAX_MAP),
+            (*view_size).min(crate::wang::scene::MAX_VIEW),
+        );
+        let (samples, view_px) = (f64::from(map).powi(2), f64::from(view).powi(2));
+        let views = (*views).min(64) as f64;
         e.add(
             format!(
                 "scene.mesh.Baked: map_size^2 = {samples} samples x {views} views, view_size^2 \

@@ -136,6 +136,7 @@ fn scene(
         lights,
         material,
         bump,
+        bake: None,
         color_texture: None,
         width: 16,
         height: 16,

@@ -237,6 +237,8 @@ pub struct Scene {
     /// Materials 1.. and their regions, and the environment maps of all materials.
     pub looks: Looks,
     pub bump: BumpMap,
+    /// What the bake of a `MeshSpec::Baked` mesh did (Wang et al.; `None` for other meshes).
+    pub bake: Option<crate::wang::scene::BakeStats>,
     /// Optional colour texture (linear RGB, rows top to bottom, u right, v down).
     pub color_texture: Option<image::RgbImage>,
     pub width: u32,

@@ -213,11 +213,18 @@ impl MeshSpec {
         Ok(self.build_with_map(base_dir)?.0)
     }
 
-    /// [`MeshSpec::build`], and for [`MeshSpec::Baked`] the baked face-space map.
+    /// [`MeshSpec::build`], and for [`MeshSpec::Baked`] the baked face-space map and what
+    /// the bake did.
     pub fn build_with_map(
         &self,
         base_dir: &Path,
-    ) -> Result<(Mesh, Option<super::NormalMap>), SceneError> {
+    ) -> Result<
+        (
+            Mesh,
+            Option<(super::NormalMap, crate::wang::scene::BakeStats)>,
+        ),
+        SceneError,
+    > {
         let (mesh, variant) = match *self {
             MeshSpec::Baked {
                 ref path,
@@ -241,9 +248,9 @@ impl MeshSpec {
                     buffer,
                     pairs,
                 };
-                let (mesh, map, _) = crate::wang::scene::build(&spec, base_dir)?;
+                let (mesh, map, stats) = crate::wang::scene::build(&spec, base_dir)?;
                 mesh.validate("mesh.Baked")?;
-                return Ok((mesh, Some(map)));
+                return Ok((mesh, Some((map, stats))));
             }
             MeshSpec::Quad {
                 size,
