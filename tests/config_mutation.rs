@@ -418,76 +418,43 @@ fn sources() -> Vec<PathBuf> {
 
 #[test]
 fn mutated_configs_fail_cleanly() {
-    let per_config: usize = std::env::var("BUMPSIM_MUTANTS")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(DEFAULT_MUTANTS);
-    let checks: usize = std::env::var("BUMPSIM_MUTATION_CHECKS")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(DEFAULT_CHECKS);
-    let seed: u64 = std::env::var("BUMPSIM_MUTATION_SEED")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(0x6275_6d70);
+    let per_config: usize = env_or("BUMPSIM_MUTANTS", DEFAULT_MUTANTS);
+    let checks: usize = env_or("BUMPSIM_MUTATION_CHECKS", DEFAULT_CHECKS);
+    let seed: u64 = env_or("BUMPSIM_MUTATION_SEED", 0x6275_6d70);
     let scratch = Scratch::new("config-mutation");
-    // the bundled configs name files under assets/, relative to the config
-    #[cfg(unix)]
-    std::os::unix::fs::symlink(root().join("configs/assets"), scratch.join("assets")).unwrap();
     let start = Instant::now();
     let srcs = sources();
-    let next = std::sync::atomic::AtomicUsize::new(0);
-    let total = std::thread::scope(|s| {
-        let workers: Vec<_> = (0..2)
-            .map(|w| {
-                let (scratch, srcs, next) = (&scratch, &srcs, &next);
-                s.spawn(move || {
-                    let mut t = Tally::default();
-                    loop {
-                        let i = next.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
-                        let Some(src) = srcs.get(i) else { break };
-                        let text = std::fs::read_to_string(src).unwrap();
-                        let name = stem(src);
-                        let original = config::load(src, &[]).unwrap_or_else(|e| {
-                            panic!("the bundled config {} does not load: {e}", src.display())
-                        });
-                        // check-level work only for mutants that do not ask for more work
-                        // than the original (a mutant may legally ask for a 4096 bake)
-                        let max_estimate = limits::estimate(&original.config).seconds();
-                        let mut rng = Rng(seed ^ (i as u64).wrapping_mul(0x1000_0000_01b3));
-                        let path = scratch.join(&format!("w{w}-{name}.ron"));
-                        let mut checks_left = checks;
-                        for k in 0..per_config {
-                            let (m, what) = mutate(&text, &mut rng);
-                            std::fs::write(&path, &m).unwrap();
-                            let what = format!("{name} mutant {k}: {what}");
-                            try_mutant(&mut t, &path, &[], max_estimate, &mut checks_left, &what);
-                        }
-                        // overrides on the original
-                        std::fs::write(&path, &text).unwrap();
-                        for _ in 0..3 {
-                            let set = rng.pick(SETS).to_string();
-                            let what = format!("{name} --set {set}");
-                            try_mutant(
-                                &mut t,
-                                &path,
-                                &[set],
-                                max_estimate,
-                                &mut checks_left,
-                                &what,
-                            );
-                        }
-                    }
-                    t
-                })
-            })
-            .collect();
-        let mut total = Tally::default();
-        for w in workers {
-            total.add(w.join().unwrap());
-        }
-        total
-    });
+    let total = on_two_workers(
+        &srcs,
+        &scratch,
+        Tally::add,
+        |w, i, src, scratch, t: &mut Tally| {
+            let text = std::fs::read_to_string(src).unwrap();
+            let name = stem(src);
+            let original = config::load(src, &[]).unwrap_or_else(|e| {
+                panic!("the bundled config {} does not load: {e}", src.display())
+            });
+            // check-level work only for mutants that do not ask for more work
+            // than the original (a mutant may legally ask for a 4096 bake)
+            let max_estimate = limits::estimate(&original.config).seconds();
+            let mut rng = Rng(seed ^ (i as u64).wrapping_mul(0x1000_0000_01b3));
+            let path = scratch.join(&format!("w{w}-{name}.ron"));
+            let mut checks_left = checks;
+            for k in 0..per_config {
+                let (m, what) = mutate(&text, &mut rng);
+                std::fs::write(&path, &m).unwrap();
+                let what = format!("{name} mutant {k}: {what}");
+                try_mutant(t, &path, &[], max_estimate, &mut checks_left, &what);
+            }
+            // overrides on the original
+            std::fs::write(&path, &text).unwrap();
+            for _ in 0..3 {
+                let set = rng.pick(SETS).to_string();
+                let what = format!("{name} --set {set}");
+                try_mutant(t, &path, &[set], max_estimate, &mut checks_left, &what);
+            }
+        },
+    );
     println!(
         "config_mutation: {} mutants of {} configs in {:.1?} (seed {seed}): {} rejected at \
          load, {} loaded ({} built as by check, {} rejected at check, {} not built: over the \
@@ -638,6 +605,45 @@ impl CliTally {
     }
 }
 
+/// Run `each(worker, index, source, dir, tally)` for every source on two worker threads (a
+/// shared counter hands the sources out), each worker with its own tally and its own
+/// directory `scratch/w<worker>` (with the bundled configs' `assets/` linked in, which they
+/// name relative to the config); the workers' tallies summed by `add`.
+fn on_two_workers<T: Default + Send>(
+    srcs: &[PathBuf],
+    scratch: &Scratch,
+    add: impl Fn(&mut T, T),
+    each: impl Fn(usize, usize, &Path, &Path, &mut T) + Sync,
+) -> T {
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    std::thread::scope(|s| {
+        let workers: Vec<_> = (0..2)
+            .map(|w| {
+                let (next, each) = (&next, &each);
+                let dir = scratch.join(&format!("w{w}"));
+                s.spawn(move || {
+                    std::fs::create_dir_all(&dir).unwrap();
+                    #[cfg(unix)]
+                    std::os::unix::fs::symlink(root().join("configs/assets"), dir.join("assets"))
+                        .unwrap();
+                    let mut t = T::default();
+                    loop {
+                        let i = next.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+                        let Some(src) = srcs.get(i) else { break };
+                        each(w, i, src, &dir, &mut t);
+                    }
+                    t
+                })
+            })
+            .collect();
+        let mut total = T::default();
+        for w in workers {
+            add(&mut total, w.join().unwrap());
+        }
+        total
+    })
+}
+
 fn env_or<T: std::str::FromStr>(name: &str, default: T) -> T {
     std::env::var(name)
         .ok()
@@ -665,76 +671,55 @@ fn cli_mutants_exit_0_or_2() {
     let scratch = Scratch::new("cli-mutation");
     let start = Instant::now();
     let srcs = sources();
-    let next = std::sync::atomic::AtomicUsize::new(0);
-    let total = std::thread::scope(|s| {
-        let workers: Vec<_> = (0..2)
-            .map(|w| {
-                let (scratch, srcs, next) = (&scratch, &srcs, &next);
-                s.spawn(move || {
-                    let dir = scratch.join(&format!("w{w}"));
-                    std::fs::create_dir_all(&dir).unwrap();
-                    #[cfg(unix)]
-                    std::os::unix::fs::symlink(root().join("configs/assets"), dir.join("assets"))
-                        .unwrap();
-                    let mut t = CliTally::default();
-                    loop {
-                        let i = next.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
-                        let Some(src) = srcs.get(i) else { break };
-                        let text = std::fs::read_to_string(src).unwrap();
-                        let name = stem(src);
-                        let original = config::load(src, &[]).unwrap();
-                        let max_estimate = limits::estimate(&original.config).seconds();
-                        let mut rng = Rng(seed ^ (i as u64).wrapping_mul(0x1000_0000_01b3));
-                        let file = format!("m-{name}.ron");
-                        let path = dir.join(&file);
-                        let mut renders_left = renders;
-                        for k in 0..per_config + 3 {
-                            let (m, what, sets) = if k < per_config {
-                                let (m, what) = mutate(&text, &mut rng);
-                                (m, what, vec![])
-                            } else {
-                                let set = rng.pick(SETS).to_string();
-                                (text.clone(), format!("--set {set}"), vec![set])
-                            };
-                            std::fs::write(&path, &m).unwrap();
-                            let what = format!("{name} mutant {k}: {what}");
-                            t.mutants += 1;
-                            let mut args = vec!["check".to_string(), file.clone()];
-                            for s in &sets {
-                                args.extend(["--set".to_string(), s.clone()]);
-                            }
-                            let (exit, err) = run_cli(&args, &dir, limit);
-                            t.count(false, exit, &err, &file, &what);
-                            if exit != Exit::Code(0) || renders_left == 0 {
-                                continue;
-                            }
-                            let small = config::load_with(&path, &sets, LoadOptions::default())
-                                .is_ok_and(|l| {
-                                    limits::estimate(&l.config).seconds() <= max_estimate
-                                });
-                            if !small {
-                                continue;
-                            }
-                            renders_left -= 1;
-                            let out = dir.join("out");
-                            let _ = std::fs::remove_dir_all(&out);
-                            args[0] = "render".into();
-                            args.extend(["--out".to_string(), "out".to_string()]);
-                            let (exit, err) = run_cli(&args, &dir, limit);
-                            t.count(true, exit, &err, &file, &what);
-                            let _ = std::fs::remove_dir_all(&out);
-                        }
-                    }
-                    t
-                })
-            })
-            .collect();
-        let mut total = CliTally::default();
-        for w in workers {
-            total.add(w.join().unwrap());
-        }
-        total
-    });
+    let total = on_two_workers(
+        &srcs,
+        &scratch,
+        CliTally::add,
+        |_, i, src, dir, t: &mut CliTally| {
+            let text = std::fs::read_to_string(src).unwrap();
+            let name = stem(src);
+            let original = config::load(src, &[]).unwrap();
+            let max_estimate = limits::estimate(&original.config).seconds();
+            let mut rng = Rng(seed ^ (i as u64).wrapping_mul(0x1000_0000_01b3));
+            let file = format!("m-{name}.ron");
+            let path = dir.join(&file);
+            let mut renders_left = renders;
+            for k in 0..per_config + 3 {
+                let (m, what, sets) = if k < per_config {
+                    let (m, what) = mutate(&text, &mut rng);
+                    (m, what, vec![])
+                } else {
+                    let set = rng.pick(SETS).to_string();
+                    (text.clone(), format!("--set {set}"), vec![set])
+                };
+                std::fs::write(&path, &m).unwrap();
+                let what = format!("{name} mutant {k}: {what}");
+                t.mutants += 1;
+                let mut args = vec!["check".to_string(), file.clone()];
+                for s in &sets {
+                    args.extend(["--set".to_string(), s.clone()]);
+                }
+                let (exit, err) = run_cli(&args, &dir, limit);
+                t.count(false, exit, &err, &file, &what);
+                if exit != Exit::Code(0) || renders_left == 0 {
+                    continue;
+                }
+                let small = config::load_with(&path, &sets, LoadOptions::default())
+                    .is_ok_and(|l| limits::estimate(&l.config).seconds() <= max_estimate);
+                if !small {
+                    continue;
+                }
+                renders_left -= 1;
+                let out = dir.join("out");
+                let _ = std::fs::remove_dir_all(&out);
+                args[0] = "render".into();
+                args.extend(["--out".to_string(), "out".to_string()]);
+                let (exit, err) = run_cli(&args, &dir, limit);
+                t.count(true, exit, &err, &file, &what);
+                let _ = std::fs::remove_dir_all(&out);
+            }
+        },
+    );
     println!(
         "cli_mutation: {} mutants of {} configs in {:.1?} (seed {seed}, {} s limit): check \
          exits 0/2/other {}/{}/{}, render exits 0/2/other {}/{}/{}, {} killed by a signal, {} \
