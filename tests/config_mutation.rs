@@ -438,7 +438,7 @@ fn mutated_configs_fail_cleanly() {
             // than the original (a mutant may legally ask for a 4096 bake)
             let max_estimate = limits::estimate(&original.config).seconds();
             let mut rng = Rng(seed ^ (i as u64).wrapping_mul(0x1000_0000_01b3));
-            let path = scratch.join(&format!("w{w}-{name}.ron"));
+            let path = scratch.join(format!("w{w}-{name}.ron"));
             let mut checks_left = checks;
             for k in 0..per_config {
                 let (m, what) = mutate(&text, &mut rng);
@@ -699,7 +699,7 @@ fn cli_mutants_exit_0_or_2() {
                 for s in &sets {
                     args.extend(["--set".to_string(), s.clone()]);
                 }
-                let (exit, err) = run_cli(&args, &dir, limit);
+                let (exit, err) = run_cli(&args, dir, limit);
                 t.count(false, exit, &err, &file, &what);
                 if exit != Exit::Code(0) || renders_left == 0 {
                     continue;
@@ -714,7 +714,7 @@ fn cli_mutants_exit_0_or_2() {
                 let _ = std::fs::remove_dir_all(&out);
                 args[0] = "render".into();
                 args.extend(["--out".to_string(), "out".to_string()]);
-                let (exit, err) = run_cli(&args, &dir, limit);
+                let (exit, err) = run_cli(&args, dir, limit);
                 t.count(true, exit, &err, &file, &what);
                 let _ = std::fs::remove_dir_all(&out);
             }
