@@ -288,9 +288,11 @@ fn lod(md: &mut String) {
         "Mean NDF shading `D(h_m) / max D` of a patch (256² texture coordinates) at each mip \
          level of the noise (level k holds 4 − k octaves; level 4 holds none, the flat surface \
          seen from far away), against the NDF's closed-form shading of the flat surface, \
-         `D(θ_h) / max D`, for half-way vectors tilted by θ_h from the macro normal. Beckmann \
-         0.35, 8 cells.\n\n\
-         | θ_h | closed form | level 0 (4 octaves) | level 1 | level 2 | level 3 | level 4 (flat) |\n|---:|---:|---:|---:|---:|---:|---:|"
+         `D(θ_h) / max D`, for half-way vectors tilted by θ_h from the macro normal, and the \
+         flat level shaded with the far NDF (`NdfShading(far: true)`: the NDF averaged over \
+         its own microfacets, read at `L(1/2, 1/2) · h`, as the texture shader reads it). \
+         Beckmann 0.35, 8 cells.\n\n\
+         | θ_h | closed form | level 0 (4 octaves) | level 1 | level 2 | level 3 | level 4 (flat) | level 4, far NDF |\n|---:|---:|---:|---:|---:|---:|---:|---:|"
     )
     .unwrap();
     let s = SynthesisSpec {
@@ -309,6 +311,8 @@ fn lod(md: &mut String) {
             let m = surf.patch_shading(level, 256, deg.to_radians());
             write!(row, " {m:.4} |").unwrap();
         }
+        let far = surf.far_shading(deg.to_radians());
+        write!(row, " {far:.4} |").unwrap();
         writeln!(md, "{row}").unwrap();
     }
     writeln!(md).unwrap();

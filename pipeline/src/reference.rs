@@ -221,7 +221,7 @@ fn pixel(
         let sp = interpolate(&scene.mesh, xf, t, b);
         let n = perturbed_normal(&scene.bump, &sp, perturbation);
         let v = view_vector(&scene.camera, sp.p);
-        (shade_with_view(n, sp.p, v, sp.uv, scene), n)
+        (shade_with_view(n, &sp, v, scene), n)
     };
     let (w, h) = (scene.width, scene.height);
     let centre = shade_at(pixel_barycentrics(cl, x, y, w, h).unwrap_or(DVec3::from(frag_bary)));

@@ -145,8 +145,9 @@ pub fn colour(scene: &Scene, light: usize, d: f64) -> Result<[f64; 4], String> {
 /// The isotropic NDF as a 1-D texture of `size` texels (height 1) at `s = n_m · h`: texel
 /// `i` holds the colour of `D(θ) / max D` at `cos θ = (i + 1/2) / size` (§5.2.2: "we store
 /// the isotropic NDF p_i(n_m · h) in a 1D texture"). Read with `address: Clamp`. An
-/// anisotropic NDF is an error that says why.
-pub fn shading_1d(scene: &Scene, size: u32, light: usize) -> Result<Texels, String> {
+/// anisotropic NDF is an error that says why. `far`: the far level's shading
+/// `NdfSurface::far_relative` in place of `D / max D`.
+pub fn shading_1d(scene: &Scene, size: u32, light: usize, far: bool) -> Result<Texels, String> {
     let s = surface(scene, "NdfShading")?;
     side("size", size, MAX_SHADING_SIDE)?;
     if !s.ndf.is_isotropic() {
@@ -161,8 +162,15 @@ pub fn shading_1d(scene: &Scene, size: u32, light: usize) -> Result<Texels, Stri
         ));
     }
     let n = f64::from(size);
+    let d = |c: f64| {
+        if far {
+            s.far_relative(c)
+        } else {
+            s.ndf.relative_iso(c)
+        }
+    };
     let values = (0..size)
-        .map(|i| colour(scene, light, s.ndf.relative_iso((f64::from(i) + 0.5) / n)))
+        .map(|i| colour(scene, light, d((f64::from(i) + 0.5) / n)))
         .collect::<Result<_, _>>()?;
     Ok(Texels {
         width: size,

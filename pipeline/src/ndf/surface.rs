@@ -55,6 +55,8 @@ pub struct NdfSurface {
     /// `g` and `G` of the indices.
     pub g: NoiseCdf,
     pub tables: NdfTables,
+    /// The far level's microfacet samples, built on first use.
+    far: std::sync::OnceLock<Vec<DVec3>>,
 }
 
 /// `field`'s rule broken.
@@ -122,6 +124,7 @@ impl SynthesisSpec {
             spread,
             g,
             tables,
+            far: Default::default(),
         })
     }
 }
@@ -202,14 +205,22 @@ impl NdfSurface {
     /// The float reference's colour of the synthesised surface at world position `p` with
     /// world microfacet normal `n` and view vector `v`: `ambient + Σ_lights a_i color_i ⊙
     /// specular · shade(n, H_i)` clamped to [0, 1] (the NDF only, as the hardware path's
-    /// texture: §6 "All our renderings were done with the NDF only"). The anisotropic frame's
-    /// tangent is world `x` (the reference has no surface frame here; see `docs/units/ndf.md`).
-    pub fn shade_colour(&self, n: DVec3, p: DVec3, v: DVec3, scene: &Scene) -> DVec3 {
+    /// texture: §6 "All our renderings were done with the NDF only"). `tangent` is the
+    /// surface's world `u` direction (the tangent frame's `T`), which the microfacet frame's
+    /// tangent is made orthogonal to, as the engines do with `u` in tangent space.
+    pub fn shade_colour(
+        &self,
+        n: DVec3,
+        p: DVec3,
+        v: DVec3,
+        tangent: DVec3,
+        scene: &Scene,
+    ) -> DVec3 {
         let m = &scene.material;
         let mut c = DVec3::from(m.ambient);
         for light in &scene.lights {
             let h = (light.dir_from(p) + v).normalize_or_zero();
-            let d = self.shade(n, h, DVec3::X);
+            let d = self.shade(n, h, tangent);
             c += light.color() * light.attenuation(p) * DVec3::from(m.specular) * d;
         }
         c.clamp(DVec3::ZERO, DVec3::ONE)
@@ -236,4 +247,51 @@ impl NdfSurface {
         }
         sum / f64::from(side * side)
     }
+
+    /// The far level's shading of a flat surface, consistent with the bump levels: the mean
+    /// of `D(h_m) / max D` over microfacet normals `m` distributed by the NDF, for the
+    /// half-way vector at `cos θ_h = c` from the macro normal (isotropic NDFs). Shading
+    /// microfacets distributed by `D` with `D` itself averages to the self-convolution of `D`,
+    /// not to `D` (`docs/studies/ndf-synthesis.md`, "Shading consistency"), so a far level
+    /// that shades the flat surface with the plain NDF, as §5.1 prescribes, is brighter and
+    /// narrower than the bump levels before it. The normals are the tables' samples of a
+    /// stratified `FAR_SAMPLES²` grid of uniform numbers (the exact inverse CDFs, not `L`).
+    pub fn far_relative(&self, c: f64) -> f64 {
+        let c = c.clamp(-1.0, 1.0);
+        let h = DVec3::new((1.0 - c * c).max(0.0).sqrt(), 0.0, c);
+        let normals = self.far_normals();
+        normals
+            .iter()
+            .map(|&m| self.ndf.relative_iso(m.dot(h)))
+            .sum::<f64>()
+            / normals.len() as f64
+    }
+
+    /// The flat far level's shading for a half-way vector tilted by `theta_h` radians from
+    /// the macro normal toward `x`, as the texture-shader program computes it there: the
+    /// normal `L(1/2, 1/2)` of the level's indices dotted with `h`, read in the far NDF.
+    /// Beside [`NdfSurface::patch_shading`] in the study.
+    pub fn far_shading(&self, theta_h: f64) -> f64 {
+        let h = DVec3::new(theta_h.sin(), 0.0, theta_h.cos());
+        self.far_relative(self.normal_of([0.5; 2]).dot(h))
+    }
+
+    /// The microfacet normals [`NdfSurface::far_relative`] averages over (built once).
+    fn far_normals(&self) -> &[DVec3] {
+        self.far.get_or_init(|| {
+            let k = FAR_SAMPLES;
+            (0..k * k)
+                .map(|n| {
+                    let (i, j) = (n % k, n / k);
+                    self.tables.sample(
+                        (f64::from(i) + 0.5) / f64::from(k),
+                        (f64::from(j) + 0.5) / f64::from(k),
+                    )
+                })
+                .collect()
+        })
+    }
 }
+
+/// Strata per axis of the far level's microfacet samples ([`NdfSurface::far_relative`]).
+pub const FAR_SAMPLES: u32 = 64;

@@ -3,6 +3,7 @@
 use glam::{DVec2, DVec3};
 use image::RgbImage;
 
+use crate::scene::perturb::{tangent_frame, SurfacePoint};
 use crate::scene::{Camera, Scene, Shading};
 
 /// The base (texture) colour at `uv`: bilinear with wrap-around, texel `(i, j)` centred at
@@ -41,9 +42,16 @@ pub fn view_vector(camera: &Camera, p: DVec3) -> DVec3 {
 }
 
 /// The lighting model with a local viewer at `eye`: [`shade_with_view`] with
-/// `V = normalize(eye - p)`.
+/// `V = normalize(eye - p)` at a point whose parameterisation is world `Pu = x`, `Pv = y`.
 pub fn shade(n: DVec3, p: DVec3, eye: DVec3, uv: DVec2, scene: &Scene) -> DVec3 {
-    shade_with_view(n, p, (eye - p).normalize_or_zero(), uv, scene)
+    let sp = SurfacePoint {
+        p,
+        n: n.normalize_or_zero(),
+        pu: DVec3::X,
+        pv: DVec3::Y,
+        uv,
+    };
+    shade_with_view(n, &sp, (eye - p).normalize_or_zero(), scene)
 }
 
 /// The lighting model all engines approximate, evaluated exactly with every vector per
@@ -66,15 +74,18 @@ pub fn shade(n: DVec3, p: DVec3, eye: DVec3, uv: DVec2, scene: &Scene) -> DVec3 
 /// ```
 ///
 /// (`a_i` the spot attenuation), each channel clamped to `[0, 1]`. `n` is the perturbed
-/// normal (normalised here), `p` the world position, `v` the unit view vector,
+/// normal (normalised here), `sp` the surface point (`p` its world position; its frame gives
+/// an NDF bump's anisotropic tangent, `NdfSurface::shade_colour`), `v` the unit view vector,
 /// `L_i = light.dir_from(p)` (per pixel, also for point lights), `base = base_color(texture,
 /// uv)`. The power is `f64::powf` (so `shininess = 0` gives `s = 1` wherever `N'·L > 0`). Every
 /// light is evaluated with the perturbed normal: `Light::bump` only tells engines which lights
 /// go through the bump unit.
-pub fn shade_with_view(n: DVec3, p: DVec3, v: DVec3, uv: DVec2, scene: &Scene) -> DVec3 {
+pub fn shade_with_view(n: DVec3, sp: &SurfacePoint, v: DVec3, scene: &Scene) -> DVec3 {
     let n = n.normalize_or_zero();
+    let (p, uv) = (sp.p, sp.uv);
     if let crate::scene::BumpMap::Ndf(s) = &scene.bump {
-        return s.shade_colour(n, p, v, scene);
+        let tangent = tangent_frame(sp.n, sp.pu, sp.pv).0;
+        return s.shade_colour(n, p, v, tangent, scene);
     }
     let id = scene.material_id(uv, n);
     let m = scene.material(id);

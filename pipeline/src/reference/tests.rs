@@ -840,7 +840,7 @@ fn supersampled_reference_is_the_mean_of_its_samples() {
             let b = sample_barycentrics(cl, sx, sy, 16, 16).unwrap();
             let sp = surface_point(&s, tri, b);
             let n = perturbed_normal(&s.bump, &sp, Perturbation::ScaleInvariant);
-            sum += shade_with_view(n, sp.p, view_vector(&s.camera, sp.p), sp.uv, &s);
+            sum += shade_with_view(n, &sp, view_vector(&s.camera, sp.p), &s);
         }
     }
     let k = nine.index(x, y);

@@ -65,7 +65,15 @@ pub enum TextureSource {
     },
     /// The isotropic NDF of the scene's NDF bump as a 1-D texture of `size` texels at
     /// `n_m · h`, coloured for light `light` (§5.2.2); an anisotropic NDF is an error.
-    NdfShading { size: u32, light: usize },
+    /// `far: true` stores the far level's shading instead (`NdfSurface::far_relative`: the
+    /// NDF convolved with its own microfacets), for the draw of the flat surface beyond the
+    /// bump levels, so that the switch to it keeps the bump levels' mean shading.
+    NdfShading {
+        size: u32,
+        light: usize,
+        #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+        far: bool,
+    },
     /// The NDF as a 2-D texture at `(n_m · h, |t_m · h|)` (the anisotropic variant).
     NdfShading2d { size: u32, light: usize },
 }
@@ -198,8 +206,8 @@ pub(super) fn texels(source: &TextureSource, ctx: &BuildCtx) -> Result<Texels, S
         TextureSource::NdfLookup { size, entry } => {
             crate::ndf::sources::lookup(ctx.scene, size, entry)
         }
-        TextureSource::NdfShading { size, light } => {
-            crate::ndf::sources::shading_1d(ctx.scene, size, light)
+        TextureSource::NdfShading { size, light, far } => {
+            crate::ndf::sources::shading_1d(ctx.scene, size, light, far)
         }
         TextureSource::NdfShading2d { size, light } => {
             crate::ndf::sources::shading_2d(ctx.scene, size, light)
