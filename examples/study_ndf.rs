@@ -330,19 +330,34 @@ fn fig1(md: &mut String) {
     writeln!(
         md,
         "`ndf-sphere-hw` with the eye at 3.2, 6.4 and 12.8 along its direction and the noise \
-         level 0, 1, 2 bound (4, 3, 2 octaves: one level per doubling of distance).\n\n\
+         level 0, 1, 2 bound (4, 3, 2 octaves: one level per doubling of distance); then \
+         `ndf-sphere-hw-mip`, whose stage 0 selects the level per fragment from the whole mip \
+         chain (the interpolated per-vertex LOD of the 256-texel map, NEAREST_MIPMAP_NEAREST).\n\n\
          | distance | level | algorithm dB | quantization dB | mean lit intensity |\n|---:|---:|---:|---:|---:|"
     )
     .unwrap();
     let mut pics = String::new();
-    for (k, d) in [3.2f64, 6.4, 12.8].iter().enumerate() {
+    let rows = [3.2f64, 6.4, 12.8]
+        .iter()
+        .enumerate()
+        .map(|(k, &d)| (d, Some(k)))
+        .chain([3.2f64, 6.4, 12.8, 25.6].map(|d| (d, None)));
+    for (d, k) in rows {
         let f = d / 3.2;
-        let sets = vec![
+        let mut sets = vec![
             format!("scene.camera.eye=(0.0, {}, {})", 0.6 * f, 3.2 * f),
             format!("scene.camera.far={}", 10.0 * f),
-            format!("engine.units.shader.unit.programs[0].texture.source=NdfNoise(size: 256, level: {k})"),
         ];
-        let r = go("ndf-sphere-hw", &sets);
+        let name = match k {
+            Some(k) => {
+                sets.push(format!(
+                    "engine.units.shader.unit.programs[0].texture.source=NdfNoise(size: 256, level: {k})"
+                ));
+                "ndf-sphere-hw"
+            }
+            None => "ndf-sphere-hw-mip",
+        };
+        let r = go(name, &sets);
         let (mut sum, mut n) = (0.0f64, 0.0f64);
         for p in r.image.pixels() {
             let v = f64::from(p[0]) + f64::from(p[1]) + f64::from(p[2]);
@@ -351,17 +366,27 @@ fn fig1(md: &mut String) {
                 n += 1.0;
             }
         }
+        let level = k.map_or("per fragment".to_string(), |k| k.to_string());
         writeln!(
             md,
-            "| {d} | {k} | {:.1} | {:.1} | {:.1} |",
+            "| {d} | {level} | {:.1} | {:.1} | {:.1} |",
             r.report.error.algorithm.psnr_db,
             r.report.error.quantization.psnr_db,
             sum / n.max(1.0)
         )
         .unwrap();
-        let name = format!("sphere-distance-{k}.png");
-        save(&r.image, &name);
-        write!(pics, "![distance {d}](ndf/{name}) ").unwrap();
+        if let Some(k) = k {
+            let name = format!("sphere-distance-{k}.png");
+            save(&r.image, &name);
+            write!(pics, "![distance {d}](ndf/{name}) ").unwrap();
+        } else if d == 3.2 {
+            save(&r.image, "sphere-mip.png");
+            write!(
+                pics,
+                "![distance 3.2, mip level per fragment](ndf/sphere-mip.png) "
+            )
+            .unwrap();
+        }
     }
     writeln!(md, "\n{pics}\n").unwrap();
 }

@@ -295,3 +295,64 @@ fn bad_input_is_a_config_error() {
     config_report("ndf-sphere-hw", &[SMALL[0], SMALL[1], &set]);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A bundled config's bit-accurate image with `--set` overrides.
+fn image(stem: &str, sets: &[&str]) -> image::RgbImage {
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    let l = bumpsim_pipeline::config::load(&config(stem), &sets)
+        .unwrap_or_else(|e| panic!("{stem}: {e}"));
+    bumpsim_pipeline::run::run(&l, None)
+        .unwrap_or_else(|e| panic!("{stem}: {e}"))
+        .image
+}
+
+/// Per-fragment mip levels (§5.2.2's mipmapped noise, `ndf-sphere-hw-mip`): with a level of
+/// detail of 0 everywhere the whole chain renders what level 0 alone renders, byte for byte;
+/// with the interpolated per-vertex LOD every pixel is the pixel one of the per-draw levels
+/// renders (NEAREST_MIPMAP_NEAREST picks one level per fragment), and more than one level
+/// shows.
+#[test]
+fn noise_mip_level_is_selected_per_fragment() {
+    let zero = image(
+        "ndf-sphere-hw-mip",
+        &[
+            SMALL[0],
+            SMALL[1],
+            "engine.attributes[2].source=VertexLod(size: 1)",
+        ],
+    );
+    assert!(zero == image("ndf-sphere-hw", &SMALL), "lod 0: level 0");
+    let mip = image("ndf-sphere-hw-mip", &SMALL);
+    let levels: Vec<image::RgbImage> = (0..=4)
+        .map(|k| {
+            let set = format!(
+                "engine.units.shader.unit.programs[0].texture.source=NdfNoise(size: 256, level: {k})"
+            );
+            image("ndf-sphere-hw", &[SMALL[0], SMALL[1], &set])
+        })
+        .collect();
+    // the lod input: wired, and one lane
+    let e = config_error(
+        "ndf-sphere-hw-mip",
+        &[
+            r#"engine.units.shader.inputs={"coord0": "uvq", "coord1": "uvq", "coord2": "cat(h0, uvq.q)", "coord3": "uvq.pppp"}"#,
+        ],
+    );
+    assert!(e.contains("\"lod\"") && e.contains("not wired"), "{e}");
+    let e = config_error(
+        "ndf-sphere-hw-mip",
+        &[r#"engine.units.shader.inputs.lod="uvq.st""#],
+    );
+    assert!(
+        e.contains("lod: 2 lanes") && e.contains("expected 1"),
+        "{e}"
+    );
+    let mut used = [0usize; 5];
+    for (x, y, p) in mip.enumerate_pixels() {
+        let k = levels.iter().position(|l| l.get_pixel(x, y) == p);
+        let k = k.unwrap_or_else(|| panic!("pixel ({x}, {y}) {p:?} is no level's"));
+        used[k] += 1;
+    }
+    println!("pixels first matching level 0..4: {used:?}");
+    assert!(used.iter().filter(|&&n| n > 100).count() >= 2, "{used:?}");
+}

@@ -288,6 +288,15 @@ pub enum AttrSource {
     /// cheapest scheme of the period (one value from the geometry engine, no per-pixel
     /// derivatives); it selects index mipmap levels (Tarini §5.2).
     Lod { size: u32 },
+    /// Texture level of detail for a `size` x `size` texture per vertex, interpolated: at
+    /// each vertex `1/2 log2(texel area / pixel area)` of the triangles around it (their uv
+    /// areas times `size^2` summed, over their screen areas summed; triangles crossing the
+    /// eye plane left out), clamped to `[0, log2 size]`, 0 where no triangle counts. A
+    /// per-fragment LOD that is continuous across shared edges (the per-triangle `Lod` jumps
+    /// there), and cheap: one value per vertex from the geometry engine, no per-pixel
+    /// derivatives. Kautz et al. §5.1: "we adjust the number of used octaves depending on the
+    /// distance d ... Whenever a new octave is added, it should be blended in smoothly".
+    VertexLod { size: u32 },
     /// The smooth unit normal `n̂` in world space, per vertex: the interpolated `N_i` of the
     /// per-pixel engines (Ernst et al. §3.1 "the interpolated per vertex normal", §3.2).
     Normal,
@@ -342,7 +351,9 @@ impl AttrSource {
     pub fn lanes(&self) -> u8 {
         match self {
             AttrSource::Uv => 2,
-            AttrSource::BlendEnable { .. } | AttrSource::Lod { .. } => 1,
+            AttrSource::BlendEnable { .. }
+            | AttrSource::Lod { .. }
+            | AttrSource::VertexLod { .. } => 1,
             AttrSource::Quaternion
             | AttrSource::QuatScale { .. }
             | AttrSource::Uvq
@@ -776,7 +787,7 @@ fn validate(l: &Loaded) -> Result<(), InputError> {
                 ),
             ));
         }
-        if let AttrSource::Lod { size } = a.source {
+        if let AttrSource::Lod { size } | AttrSource::VertexLod { size } = a.source {
             if !size.is_power_of_two() || size > 1 << 14 {
                 return Err(l.error(
                     &format!("{field}.source.size"),

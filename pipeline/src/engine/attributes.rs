@@ -105,8 +105,11 @@ pub fn compute(scene: &Scene, attrs: &[AttributeConfig]) -> VertexData {
                 let faces = frame.n.dot(scene.lights[light].dir_from(p)) > 0.0;
                 [f64::from(u8::from(faces)), 0.0, 0.0, 0.0]
             }
-            // per triangle: see `lod` and `frames::alignment`
-            AttrSource::Lod { .. } | AttrSource::Alignment { .. } => [0.0; 4],
+            // per triangle: see `lod` and `frames::alignment`; per vertex from the triangles
+            // around it: `vertex_lods`
+            AttrSource::Lod { .. }
+            | AttrSource::Alignment { .. }
+            | AttrSource::VertexLod { .. } => [0.0; 4],
             AttrSource::Normal => lanes3(frame.n),
             AttrSource::BlinnAxis { axis, rule } => {
                 lanes3(frames::blinn_axis(axis, frame.n, pu, pv, rule))
@@ -156,6 +159,12 @@ pub fn compute(scene: &Scene, attrs: &[AttributeConfig]) -> VertexData {
                             0.0,
                         ]
                     })
+                    .collect()
+            } else if let AttrSource::VertexLod { size } = a.source {
+                let px = DVec2::new(f64::from(scene.width), f64::from(scene.height));
+                vertex_lods(&scene.mesh, &clip, px, size)
+                    .into_iter()
+                    .map(|l| [l, 0.0, 0.0, 0.0])
                     .collect()
             } else if let AttrSource::Alignment { column, rule } = a.source {
                 scene
@@ -214,6 +223,44 @@ pub fn compute(scene: &Scene, attrs: &[AttributeConfig]) -> VertexData {
 /// A 3-vector as attribute lanes.
 fn lanes3(v: DVec3) -> [f64; 4] {
     [v.x, v.y, v.z, 0.0]
+}
+
+/// Per-vertex level of detail of a `size` x `size` texture ([`AttrSource::VertexLod`]): at
+/// each vertex `1/2 log2(Σ uv area size^2 / Σ screen area)` over the triangles that use it and
+/// lie in front of the eye with area on screen and in uv, clamped to `[0, log2 size]`; 0 where
+/// none does. `clip` holds every vertex's clip position, `px` the image size in pixels.
+pub fn vertex_lods(mesh: &crate::scene::Mesh, clip: &[DVec4], px: DVec2, size: u32) -> Vec<f64> {
+    let mut sums = vec![(0.0f64, 0.0f64); mesh.vertices.len()];
+    for t in &mesh.triangles {
+        let c = t.map(|i| &clip[i as usize]);
+        if c.iter().any(|c| c.w.is_nan() || c.w <= 0.0) {
+            continue;
+        }
+        let s = c.map(|c| (DVec2::new(c.x, c.y) / c.w + 1.0) * 0.5 * px);
+        let uv = t.map(|i| mesh.vertices[i as usize].uv);
+        let screen = ((s[1] - s[0]).perp_dot(s[2] - s[0]) / 2.0).abs();
+        let texels = ((uv[1] - uv[0]).perp_dot(uv[2] - uv[0]) / 2.0).abs()
+            * f64::from(size)
+            * f64::from(size);
+        if !(screen > 0.0 && texels > 0.0 && screen.is_finite() && texels.is_finite()) {
+            continue;
+        }
+        for &i in t {
+            let e = &mut sums[i as usize];
+            e.0 += texels;
+            e.1 += screen;
+        }
+    }
+    let max = f64::from(size.max(1)).log2();
+    sums.into_iter()
+        .map(|(texels, screen)| {
+            if screen > 0.0 {
+                (0.5 * (texels / screen).log2()).clamp(0.0, max)
+            } else {
+                0.0
+            }
+        })
+        .collect()
 }
 
 /// Per-triangle level of detail of a `size` x `size` texture ([`AttrSource::Lod`]): `1/2
@@ -450,6 +497,7 @@ impl VertexData {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::{Mesh, Vertex};
     use bumpsim_hw::{Format, Overflow, Quant};
 
     #[test]
@@ -480,6 +528,47 @@ mod tests {
         assert_eq!(lod(tri(&behind), px, 200), 0.0);
         let flat = [c[0], c[0], c[2]];
         assert_eq!(lod(tri(&flat), px, 200), 0.0);
+    }
+
+    /// The per-vertex LOD pools the areas of the triangles around each vertex: a vertex of two
+    /// triangles at LOD 2 and 3 (16x and 64x texels per pixel, equal screen areas) gets
+    /// `1/2 log2(40)`, one of only the first 2; a vertex of no triangle, or only of one behind
+    /// the eye, 0.
+    #[test]
+    fn vertex_lod_pools_the_triangles_around_the_vertex() {
+        let v = |x: f64, y: f64, u: f64, w: f64| Vertex {
+            pos: DVec3::new(x, y, 0.0),
+            normal: DVec3::Z,
+            uv: DVec2::new(u, w),
+            pu: DVec3::X,
+            pv: DVec3::Y,
+        };
+        // vertices 0..3 in NDC on a 100 x 100 image; triangle A (0, 1, 2) maps uv 1:1 at
+        // 200 texels (LOD 2: see the test above); triangle B (1, 3, 2) has 4x the uv area
+        // (LOD 3); vertex 4 is used by no triangle, vertex 5 only by one behind the eye
+        let mesh = Mesh {
+            vertices: vec![
+                v(0.0, 0.0, 0.0, 0.0),
+                v(0.5, 0.0, 0.5, 0.0),
+                v(0.0, 0.5, 0.0, 0.5),
+                v(0.5, 0.5, 1.0, 1.5),
+                v(0.0, 0.0, 0.0, 0.0),
+                v(0.0, 0.0, 0.0, 0.0),
+            ],
+            triangles: vec![[0, 1, 2], [1, 3, 2], [5, 1, 2]],
+        };
+        let mut clip: Vec<DVec4> = mesh
+            .vertices
+            .iter()
+            .map(|v| DVec4::new(v.pos.x, v.pos.y, 0.5, 1.0))
+            .collect();
+        clip[5].w = -1.0;
+        let l = vertex_lods(&mesh, &clip, DVec2::splat(100.0), 200);
+        let pooled = 0.5 * 40f64.log2();
+        let want = [2.0, pooled, pooled, 3.0, 0.0, 0.0];
+        for (k, (a, b)) in l.iter().zip(want).enumerate() {
+            assert!((a - b).abs() < 1e-12, "vertex {k}: {a} vs {b}");
+        }
     }
 
     #[test]

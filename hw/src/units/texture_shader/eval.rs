@@ -16,6 +16,7 @@ use super::{Compiled, TextureShader};
 use crate::arith::Acc;
 use crate::format::Encoding;
 use crate::sampler::{cube_face, cube_face_bits};
+use crate::texture::Texture;
 use crate::unit::{Sample, Word, MAX_LANES};
 
 /// The arithmetic of one mode. `V` is a coordinate-like scalar.
@@ -45,7 +46,9 @@ pub(crate) trait Arith {
     ) -> (Self::V, Self::V);
     /// RGB of `texel` scaled by clamp(scale mag + bias, 0, 1).
     fn scale(&self, texel: &mut Word, prev: &Word, st: &Compiled, prev_st: &Compiled);
-    fn sample2d(&self, st: &Compiled, s: Self::V, t: Self::V) -> Word;
+    fn sample2d(&self, st: &Compiled, level: usize, s: Self::V, t: Self::V) -> Word;
+    /// The mip level of `tex` that level of detail `lod` selects (NEAREST_MIPMAP_NEAREST).
+    fn level(&self, lod: &Sample, tex: &Texture) -> usize;
     fn sample_cube(&self, st: &Compiled, d: [Self::V; 3]) -> Word;
     /// PASS_THROUGH: clamp to [0, 1] into the pass-through encoding.
     fn pass(&self, c: [Self::V; 4], enc: &Encoding) -> Word;
@@ -116,9 +119,9 @@ impl Arith for ExactArith {
             s.raw = st.out_enc.encode(s.x);
         }
     }
-    fn sample2d(&self, st: &Compiled, s: f64, t: f64) -> Word {
+    fn sample2d(&self, st: &Compiled, level: usize, s: f64, t: f64) -> Word {
         let tex = st.spec.texture.as_ref().expect("checked: a 2D texture");
-        let v = st.spec.sampler.sample_exact(tex, 0, 0, s, t);
+        let v = st.spec.sampler.sample_exact(tex, level, 0, s, t);
         let mut w = Word::from_exact(&st.out_enc, &v[..st.lanes as usize]);
         fill_missing(&mut w, st.lanes, &st.out_enc, true);
         w
@@ -134,6 +137,9 @@ impl Arith for ExactArith {
     fn pass(&self, c: [f64; 4], enc: &Encoding) -> Word {
         Word::from_exact(enc, &c.map(|v| v.clamp(0.0, 1.0)))
     }
+    fn level(&self, lod: &Sample, tex: &Texture) -> usize {
+        tex.nearest_level(lod.x)
+    }
 }
 
 /// Bit-accurate arithmetic: raw coordinate words with `f` fraction bits.
@@ -141,6 +147,8 @@ pub(crate) struct FixedArith {
     pub coord: Encoding,
     pub dot_frac: u32,
     pub offset_frac: u32,
+    /// Fraction bits of the level-of-detail input.
+    pub lod_frac: u32,
 }
 
 impl FixedArith {
@@ -232,12 +240,12 @@ impl Arith for FixedArith {
             s.x = st.out_enc.decode(s.raw);
         }
     }
-    fn sample2d(&self, st: &Compiled, s: i64, t: i64) -> Word {
+    fn sample2d(&self, st: &Compiled, level: usize, s: i64, t: i64) -> Word {
         let tex = st.spec.texture.as_ref().expect("checked: a 2D texture");
         let r = st
             .spec
             .sampler
-            .sample_bits(tex, 0, 0, s, t, self.f(), &st.out_enc);
+            .sample_bits(tex, level, 0, s, t, self.f(), &st.out_enc);
         let mut w = Word::from_raw(&st.out_enc, &r[..st.lanes as usize]);
         fill_missing(&mut w, st.lanes, &st.out_enc, false);
         w
@@ -253,6 +261,13 @@ impl Arith for FixedArith {
         let mut w = Word::from_raw(&st.out_enc, &r[..st.lanes as usize]);
         fill_missing(&mut w, st.lanes, &st.out_enc, false);
         w
+    }
+    fn level(&self, lod: &Sample, tex: &Texture) -> usize {
+        // floor(lod + 1/2): add half a level and drop the fraction bits
+        let f = self.lod_frac;
+        let half = if f == 0 { 0 } else { 1i64 << (f - 1) };
+        let k = (lod.raw + half) >> f;
+        (k.max(0) as usize).min(tex.levels() - 1)
     }
     fn pass(&self, c: [i64; 4], enc: &Encoding) -> Word {
         let f = self.f();
@@ -278,6 +293,7 @@ pub(crate) fn run<A: Arith>(a: &A, u: &TextureShader, ins: &[Word]) -> Fragment<
     let coords: Vec<[A::V; 4]> = (0..n)
         .map(|i| std::array::from_fn(|k| a.coord(&ins[i].lanes[k])))
         .collect();
+    let lod = u.params().lod.map(|_| &ins[n].lanes[0]);
     let mut dots: Vec<A::V> = vec![a.zero(); n];
     let mut results: Vec<Word> = Vec::with_capacity(n);
     let mut live = true;
@@ -300,7 +316,13 @@ pub(crate) fn run<A: Arith>(a: &A, u: &TextureShader, ins: &[Word]) -> Fragment<
         }
         let out = match prog {
             Program::None | Program::DotProduct { .. } => zero,
-            Program::Texture2d => a.sample2d(st, a.div(c[0], c[3]), a.div(c[1], c[3])),
+            Program::Texture2d => {
+                let level = match (lod, &st.spec.texture) {
+                    (Some(l), Some(t)) => a.level(l, t),
+                    _ => 0,
+                };
+                a.sample2d(st, level, a.div(c[0], c[3]), a.div(c[1], c[3]))
+            }
             Program::TextureCube => a.sample_cube(st, [c[0], c[1], c[2]]),
             Program::PassThrough => a.pass(c, &st.out_enc),
             Program::CullFragment { gequal } => {
@@ -314,7 +336,7 @@ pub(crate) fn run<A: Arith>(a: &A, u: &TextureShader, ins: &[Word]) -> Fragment<
             Program::OffsetTexture2d { .. } | Program::OffsetTexture2dScale { .. } => {
                 let (pw, ps) = prev.expect("checked");
                 let (s, t) = a.offset(c[0], c[1], pw, st, ps);
-                let mut w = a.sample2d(st, s, t);
+                let mut w = a.sample2d(st, 0, s, t);
                 if matches!(prog, Program::OffsetTexture2dScale { .. }) {
                     a.scale(&mut w, pw, st, ps);
                 }
@@ -329,9 +351,9 @@ pub(crate) fn run<A: Arith>(a: &A, u: &TextureShader, ins: &[Word]) -> Fragment<
                 };
                 let s = a.texel_coord(pw, &ps.out_enc, ls);
                 let t = a.texel_coord(pw, &ps.out_enc, lt);
-                a.sample2d(st, s, t)
+                a.sample2d(st, 0, s, t)
             }
-            Program::DotProductTexture2d { .. } => a.sample2d(st, dots[i - 1], dots[i]),
+            Program::DotProductTexture2d { .. } => a.sample2d(st, 0, dots[i - 1], dots[i]),
             Program::DotProductTextureCube { .. } => {
                 a.sample_cube(st, [dots[i - 2], dots[i - 1], dots[i]])
             }

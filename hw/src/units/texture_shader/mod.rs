@@ -27,7 +27,8 @@
 //! unsigned, truncated: the `Passthru` frame). **Exact mode**: the same programs in f64 (the
 //! matrix and the eye unquantized).
 //!
-//! Ports: in `coord0`..`coord{n-1}` (s, t, r, q per stage); out `tex0`..`tex{n-1}` (4 lanes,
+//! Ports: in `coord0`..`coord{n-1}` (s, t, r, q per stage) and, with [`ShaderParams::lod`],
+//! `lod` (the level of detail of the TEXTURE_2D stages' mip levels); out `tex0`..`tex{n-1}` (4 lanes,
 //! each in its stage's result encoding, [`TextureShader::result_encoding`]) and `depth` (1
 //! lane, coordinate encoding: DOT_PRODUCT_DEPTH_REPLACE's z, else 0). CULL_FRAGMENT kills
 //! through [`Unit::live`]. Latency: one clock per stage plus 3 (texel fetch and filter);
@@ -80,6 +81,14 @@ pub struct ShaderParams {
     /// Encoding of the PASS_THROUGH colour.
     pub pass_through: Encoding,
     pub on_broken: OnBroken,
+    /// The encoding of the level-of-detail input `lod` (1 lane, fixed point), if the part
+    /// selects mip levels: a TEXTURE_2D stage whose texture has mip levels reads level
+    /// `clamp(floor(lod + 1/2), 0, levels - 1)` (GL's NEAREST_MIPMAP_NEAREST); every other
+    /// stage, and every stage without `lod`, reads level 0. The GeForce3 computes the LOD per
+    /// pixel from the coordinates' derivatives; here it comes from the engine (a per-triangle
+    /// or interpolated per-vertex attribute), and the dependent lookups read level 0 (their
+    /// tables have one).
+    pub lod: Option<Encoding>,
 }
 
 impl Default for ShaderParams {
@@ -94,6 +103,7 @@ impl Default for ShaderParams {
                 ..Encoding::texel(Codec::UnitUnsigned, false, 8)
             },
             on_broken: OnBroken::Reject,
+            lod: None,
         }
     }
 }
@@ -189,6 +199,14 @@ impl TextureShader {
             .pass_through
             .validate()
             .map_err(|m| format!("pass_through: {m}"))?;
+        if let Some(l) = params.lod {
+            l.validate().map_err(|m| format!("lod: {m}"))?;
+            if l.codec != Codec::Fixed || l.width() > 32 {
+                return Err(format!(
+                    "lod: {l}: expected a fixed-point level of detail of at most 32 bits"
+                ));
+            }
+        }
         let mut specs = stages;
         specs.resize_with(params.stages, StageSpec::none);
         let broken = rules::check(&specs);
@@ -251,9 +269,12 @@ impl TextureShader {
             });
         }
         let n = compiled.len();
-        let inputs = (0..n)
+        let mut inputs: Vec<PortSpec> = (0..n)
             .map(|i| PortSpec::new(&format!("coord{i}"), 4, c))
             .collect();
+        if let Some(l) = params.lod {
+            inputs.push(PortSpec::new("lod", 1, l));
+        }
         let mut outputs: Vec<PortSpec> = compiled
             .iter()
             .enumerate()
@@ -303,6 +324,7 @@ impl TextureShader {
                     coord: *c,
                     dot_frac: self.params.dot_frac,
                     offset_frac: self.params.offset_frac,
+                    lod_frac: self.params.lod.map_or(0, |l| l.format.frac as u32),
                 };
                 let f = run(&a, self, ins);
                 (
@@ -443,6 +465,16 @@ fn gates(u: &TextureShader, t: &CostTable) -> GateBudget {
             + 3.0 * t.multiplier(w, 2 * w)
             + 3.0 * (t.multiplier(w, w) + t.adder(3 * w)),
     );
+    if let Some(l) = p.lod {
+        let lw = l.width();
+        g.add(
+            format!(
+                "mip level select: lod rounding adder {lw}, clamp to the level count, level base address adder 24 and per-level shift mux x{n}"
+            ),
+            n,
+            t.adder(lw) + t.clamp(lw) + t.adder(24) + t.mux(w, 4),
+        );
+    }
     g.add(
         format!("texel address: 2 x shift / wrap {w} and weight extract x{n}"),
         2 * n,

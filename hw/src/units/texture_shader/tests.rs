@@ -214,6 +214,63 @@ fn pass_through_and_texture_2d_read_the_coordinates_and_texels() {
     assert!(!u.can_kill());
 }
 
+/// With a `lod` input a TEXTURE_2D stage reads the mip level `clamp(floor(lod + 1/2), 0,
+/// levels - 1)`, the same in both modes at every code of a 4.4 level of detail (each level of
+/// the 8x8 chain holds its level number); a DEPENDENT_GB stage reads level 0.
+#[test]
+fn texture_2d_reads_the_mip_level_the_lod_selects() {
+    let lod = Encoding::fixed(Format::u(8, 4));
+    let level = |k: u32| Texels {
+        width: 8 >> k,
+        height: 8 >> k,
+        lanes: 4,
+        values: vec![[f64::from(k) / 3.0, 0.5, 0.25, 1.0]; (64 >> (2 * k)) as usize],
+    };
+    let chain = |name: &str| {
+        Arc::new(
+            Texture::new(name, U8, level(0))
+                .unwrap()
+                .with_mips((1..4).map(level).collect())
+                .unwrap(),
+        )
+    };
+    let u = TextureShader::new(
+        ShaderParams {
+            lod: Some(lod),
+            ..ShaderParams::default()
+        },
+        vec![
+            StageSpec::new(Program::Texture2d, Some(chain("noise"))).with_sampler(nearest()),
+            StageSpec::new(Program::DependentGb { prev: 0 }, Some(chain("l")))
+                .with_sampler(nearest()),
+        ],
+    )
+    .unwrap();
+    assert_eq!(u.inputs().len(), 5);
+    assert_eq!(u.inputs()[4].name, "lod");
+    for code in 0..256i64 {
+        let x = code as f64 / 16.0;
+        let want = ((x + 0.5).floor() as i64).clamp(0, 3);
+        for mode in [Mode::Exact, Mode::BitAccurate] {
+            let mut ins = coords(mode, &[[0.3, 0.6, 0.0, 1.0]; 4]);
+            ins.push(Word::for_mode(mode, &lod, &[x]));
+            let o = eval(&u, mode, &ins);
+            assert_eq!(
+                o[0].raws::<4>()[0],
+                (want * 255 + 1) / 3,
+                "lod {x} {mode:?}"
+            );
+            assert_eq!(o[1].raws::<4>()[0], 0, "dependent stage, lod {x} {mode:?}");
+        }
+    }
+    let bad = ShaderParams {
+        lod: Some(S8),
+        ..ShaderParams::default()
+    };
+    let e = TextureShader::new(bad, vec![]).err().unwrap();
+    assert!(e.starts_with("lod:"), "{e}");
+}
+
 #[test]
 fn cull_fragment_kills_by_the_sign_of_each_coordinate() {
     for gequal in [[true; 4], [false, true, false, true]] {

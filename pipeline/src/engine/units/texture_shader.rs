@@ -2,7 +2,7 @@
 //! `docs/units/texture-shader.md`).
 
 use super::ports::input;
-use super::textures::{key, texels, TextureSource};
+use super::textures::{key, mip_levels, texels, TextureSource};
 use super::{BuildCtx, Spec};
 use bumpsim_hw::units::texture_shader::{
     OnBroken, Program, ShaderParams, StageSpec, TextureShader, MAX_STAGES,
@@ -32,6 +32,13 @@ pub struct TextureShaderSpec {
     pub offset_frac: u32,
     #[serde(default)]
     pub on_broken: Broken,
+    /// Mip-level selection: the unit reads a level of detail from input `lod` (1 lane, fixed
+    /// point, e.g. the `Lod` or `VertexLod` attribute), and a TEXTURE_2D stage whose texture
+    /// has mip levels (`NdfNoise(mips: true)`) reads the level GL's NEAREST_MIPMAP_NEAREST
+    /// selects. `false` (the default): every stage reads level 0. (Left out of the
+    /// serialised config when `false`.)
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub lod: bool,
 }
 
 /// What a broken stage rule does (`hw` [`OnBroken`]).
@@ -87,9 +94,13 @@ fn weight_bits() -> u32 {
 
 impl Spec for TextureShaderSpec {
     fn input_names(&self, _: &BuildCtx) -> Vec<String> {
-        (0..self.programs.len())
+        let mut names: Vec<String> = (0..self.programs.len())
             .map(|i| format!("coord{i}"))
-            .collect()
+            .collect();
+        if self.lod {
+            names.push("lod".into());
+        }
+        names
     }
 
     fn build(
@@ -125,7 +136,11 @@ impl Spec for TextureShaderSpec {
             let tex = ctx
                 .memory
                 .get_or_build(&memory_key, &format!("{}.tex{i}", ctx.unit), |name| {
-                    let tex = Texture::new(name, t.texel, texels(&t.source, ctx)?)?;
+                    let mut tex = Texture::new(name, t.texel, texels(&t.source, ctx)?)?;
+                    let mips = mip_levels(&t.source, ctx)?;
+                    if !mips.is_empty() {
+                        tex = tex.with_mips(mips)?;
+                    }
                     match &t.upload {
                         Some(u) => tex.with_upload(u),
                         None => Ok(tex),
@@ -137,7 +152,20 @@ impl Spec for TextureShaderSpec {
                 .with_address(t.address, t.address);
             stages.push(StageSpec::new(s.program, Some(tex)).with_sampler(sampler));
         }
+        let lod = if self.lod {
+            let l = input(ins, "lod")?;
+            if l.lanes != 1 {
+                return Err(format!(
+                    "lod: {} lanes wired: expected 1 (a level of detail)",
+                    l.lanes
+                ));
+            }
+            Some(l.enc)
+        } else {
+            None
+        };
         let params = ShaderParams {
+            lod,
             stages: n,
             coord,
             dot_frac: self.dot_frac,

@@ -54,9 +54,16 @@ pub enum TextureSource {
     /// Mip level `level` of the noise texture of the scene's `bump: Ndf(...)` whose finest
     /// level is `size` texels a side (Kautz et al. §5.2.2: "the finest mipmap level contains
     /// the most octaves, every coarser mipmap level contains one octave less"): 3 lanes
-    /// `(0, r1, r2)`. A texture-shader stage reads its texture's level 0, so a config binds
-    /// the level its distance needs (`docs/units/ndf.md`).
-    NdfNoise { size: u32, level: u32 },
+    /// `(0, r1, r2)`. `mips: false` (the default): that level alone, so a config binds the
+    /// level its distance needs (`docs/units/ndf.md`); `mips: true`: that level and every
+    /// coarser one down to 1x1 (the flat levels hold `(0, 1/2, 1/2)`), for a texture-shader
+    /// part with `lod: true`.
+    NdfNoise {
+        size: u32,
+        level: u32,
+        #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+        mips: bool,
+    },
     /// The lookup table `L(r1, r2)` of the scene's NDF bump (§4), `size` x `size` entries
     /// stored as `entry` (`crate::ndf::sources::LookupEntry`).
     NdfLookup {
@@ -200,7 +207,7 @@ pub(super) fn texels(source: &TextureSource, ctx: &BuildCtx) -> Result<Texels, S
                 .collect();
             Ok(square(size, 3, values))
         }
-        TextureSource::NdfNoise { size, level } => {
+        TextureSource::NdfNoise { size, level, .. } => {
             crate::ndf::sources::noise(ctx.scene, size, level)
         }
         TextureSource::NdfLookup { size, entry } => {
@@ -235,6 +242,20 @@ pub(super) fn texels(source: &TextureSource, ctx: &BuildCtx) -> Result<Texels, S
                 values,
             })
         }
+    }
+}
+
+/// The mip levels below level 0 of `source`'s texture (coarsest last; none for most sources).
+pub(super) fn mip_levels(source: &TextureSource, ctx: &BuildCtx) -> Result<Vec<Texels>, String> {
+    match *source {
+        TextureSource::NdfNoise {
+            size,
+            level,
+            mips: true,
+        } => (level + 1..=size.trailing_zeros())
+            .map(|k| crate::ndf::sources::noise(ctx.scene, size, k))
+            .collect(),
+        _ => Ok(Vec::new()),
     }
 }
 
