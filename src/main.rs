@@ -100,6 +100,10 @@ enum Command {
         /// Pass --force to every point's load.
         #[arg(long)]
         force: bool,
+        /// Keep the rows of an earlier run in --out (its journal sweep.partial.jsonl and its
+        /// sweep.jsonl) whose point is unchanged (same index and config hash), run the rest.
+        #[arg(long, conflicts_with = "merge")]
+        resume: bool,
     },
     /// Validate a config (parse, scene, wiring) without rendering.
     Check {
@@ -245,14 +249,24 @@ fn execute(cmd: Command) -> Result<(), Failure> {
             merge,
             threads,
             force,
+            resume,
         } => {
             let out_err =
                 |e: String| Failure::Input(InputError::new(out.display().to_string(), "--out", e));
-            let (files, summary) = if !merge.is_empty() {
+            if !merge.is_empty() {
                 let dirs: Vec<&std::path::Path> = merge.iter().map(|d| d.as_path()).collect();
                 let files = sweep::merge(&dirs)
                     .map_err(|e| Failure::Input(InputError::new("--merge", "", e)))?;
-                (files, format!("merged {} shards", merge.len()))
+                let mut set = OutputSet::new(&out);
+                for (name, bytes) in files {
+                    set.add(name, bytes);
+                }
+                set.commit().map_err(out_err)?;
+                println!(
+                    "merged {} shards; wrote {}/sweep.{{csv,jsonl,json}}",
+                    merge.len(),
+                    out.display()
+                );
             } else {
                 let path = sweep.expect("clap requires a sweep file without --merge");
                 let shard = shard.as_deref().map(sweep::Shard::parse).transpose()?;
@@ -269,25 +283,37 @@ fn execute(cmd: Command) -> Result<(), Failure> {
                     force,
                     threads,
                 };
-                let table = s.run(opts).map_err(Failure::Internal)?;
-                let bad = table.rows.iter().filter(|r| !r.is_ok()).count();
-                let summary = format!(
-                    "{} of {} points run, {} with errors",
-                    table.rows.len(),
-                    table.points,
-                    bad
+                let o = sweep::run_into(&s, &out, opts, resume).map_err(|e| match e {
+                    sweep::DirError::Input(e) => Failure::Input(e),
+                    sweep::DirError::Internal(e) => Failure::Internal(e),
+                })?;
+                if o.replaced_journal {
+                    eprintln!(
+                        "note: replaced the journal of an earlier run in {} (--resume keeps its rows)",
+                        out.display()
+                    );
+                }
+                if let Some(e) = &o.journal_failure {
+                    eprintln!("warning: the journal stopped (the sweep went on): {e}");
+                }
+                if resume {
+                    println!(
+                        "resume: {} points kept from {}, {} earlier rows run again (their point \
+                         changed in the sweep file, or they were errors or of other columns)",
+                        o.kept,
+                        out.display(),
+                        o.stale
+                    );
+                }
+                let bad = o.table.rows.iter().filter(|r| !r.is_ok()).count();
+                println!(
+                    "{} of {} points run, {} with errors; wrote {}/sweep.{{csv,jsonl,json}}",
+                    o.ran,
+                    o.table.points,
+                    bad,
+                    out.display()
                 );
-                (table.files(), summary)
-            };
-            let mut set = OutputSet::new(&out);
-            for (name, bytes) in files {
-                set.add(name, bytes);
             }
-            set.commit().map_err(out_err)?;
-            println!(
-                "{summary}; wrote {}/sweep.{{csv,jsonl,json}}",
-                out.display()
-            );
         }
         Command::Check { args } => {
             let l = args.load()?;
