@@ -2,6 +2,7 @@
 
 use bumpsim_pipeline::config::{self, InputError};
 use bumpsim_pipeline::output::{write_atomic, OutputSet};
+use bumpsim_pipeline::plot;
 use bumpsim_pipeline::run::{self, TraceRequest};
 use bumpsim_pipeline::sweep;
 use clap::{Parser, Subcommand, ValueEnum};
@@ -105,6 +106,26 @@ enum Command {
         #[arg(long, conflicts_with = "merge")]
         resume: bool,
     },
+    /// Plot two numeric columns of a sweep's CSV as PNG or SVG (by --out's extension),
+    /// the Pareto front of --pareto's objectives highlighted and its rows written to
+    /// FILE.pareto.csv beside the plot (docs/sweep.md).
+    Plot {
+        /// A sweep's CSV (DIR/sweep.csv).
+        csv: PathBuf,
+        #[arg(long)]
+        x: String,
+        #[arg(long)]
+        y: String,
+        #[arg(long, value_enum, default_value = "scatter")]
+        kind: PlotKind,
+        /// Objectives of the front, each COLUMN:min or COLUMN:max, comma-separated, e.g.
+        /// gates_total:min,total_psnr_db:max,cycles:min.
+        #[arg(long, value_name = "OBJ,...")]
+        pareto: Option<String>,
+        /// FILE.png or FILE.svg.
+        #[arg(long)]
+        out: PathBuf,
+    },
     /// Validate a config (parse, scene, wiring) without rendering.
     Check {
         #[command(flatten)]
@@ -122,6 +143,12 @@ enum Command {
         #[arg(long)]
         synth: bool,
     },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum PlotKind {
+    Scatter,
+    Line,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -313,7 +340,40 @@ fn execute(cmd: Command) -> Result<(), Failure> {
                     bad,
                     out.display()
                 );
+                if !s.file.plots.is_empty() {
+                    for line in plot::sweep_plots(&s.file.plots, &o.table.to_csv(), &out)? {
+                        println!("plot: {line}");
+                    }
+                }
             }
+        }
+        Command::Plot {
+            csv,
+            x,
+            y,
+            kind,
+            pareto,
+            out,
+        } => {
+            let objectives = match &pareto {
+                Some(p) => plot::pareto::Objective::parse_list(p)
+                    .map_err(|e| InputError::new("--pareto", "", e))?,
+                None => Vec::new(),
+            };
+            let req = plot::Request {
+                x,
+                y,
+                kind: match kind {
+                    PlotKind::Scatter => plot::Kind::Scatter,
+                    PlotKind::Line => plot::Kind::Line,
+                },
+                objectives,
+            };
+            let table = plot::read_csv(&csv)?;
+            let p = plot::prepare(&table, &csv.display().to_string(), &req)?;
+            let written = plot::write(&p, &out)?;
+            let names: Vec<String> = written.iter().map(|w| w.display().to_string()).collect();
+            println!("{}; wrote {}", p.summary(), names.join(" and "));
         }
         Command::Check { args } => {
             let l = args.load()?;

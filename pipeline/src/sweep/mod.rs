@@ -37,6 +37,9 @@ pub struct SweepFile {
     pub axes: Vec<Axis>,
     #[serde(default)]
     pub sampling: Sampling,
+    /// Plots of the output written into the directory after the sweep (`docs/sweep.md`).
+    #[serde(default)]
+    pub plots: Vec<crate::plot::PlotSpec>,
 }
 
 /// One axis: a `--set` path and its values.
@@ -180,12 +183,14 @@ pub fn load(path: &Path) -> Result<Sweep, InputError> {
     })?;
     let points = points(&file).map_err(|(field, m)| InputError::new(&name, field, m))?;
     let dir = path.parent().unwrap_or(Path::new("."));
-    Ok(Sweep {
+    let sweep = Sweep {
         base: dir.join(&file.base),
         path: path.to_path_buf(),
         file,
         points,
-    })
+    };
+    sweep.check_plots()?;
+    Ok(sweep)
 }
 
 /// The values of a grid or list axis.
@@ -377,6 +382,38 @@ impl Sweep {
             Ok(Err(e)) => Row::error(p, &e.to_string()),
             Err(_) => Row::error(p, "internal error: the run panicked (a bug)"),
         }
+    }
+
+    /// The plots name columns of the output and objectives with a direction.
+    fn check_plots(&self) -> Result<(), InputError> {
+        let name = self.path.display().to_string();
+        let columns = self.columns();
+        let known = |k: usize, field: &str, c: &str| {
+            if columns.iter().any(|x| x == c) {
+                Ok(())
+            } else {
+                Err(InputError::new(
+                    &name,
+                    format!("plots[{k}].{field}"),
+                    format!(
+                        "{c:?}: no such column: expected index, an axis' name or a report \
+                         column ({})",
+                        columns.join(", ")
+                    ),
+                ))
+            }
+        };
+        for (k, p) in self.file.plots.iter().enumerate() {
+            known(k, "x", &p.x)?;
+            known(k, "y", &p.y)?;
+            let objectives = p
+                .objectives()
+                .map_err(|e| InputError::new(&name, format!("plots[{k}].pareto"), e))?;
+            for o in objectives {
+                known(k, "pareto", &o.column)?;
+            }
+        }
+        Ok(())
     }
 
     /// The output's column names (`index`, the axes, the report columns).
