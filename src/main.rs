@@ -326,7 +326,7 @@ fn execute(cmd: Command) -> Result<(), Failure> {
                 if resume {
                     println!(
                         "resume: {} points kept from {}, {} earlier rows run again (their point \
-                         changed in the sweep file, or they were errors or of other columns)",
+                         changed in the sweep file, or they were errors)",
                         o.kept,
                         out.display(),
                         o.stale

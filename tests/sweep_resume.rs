@@ -1,7 +1,8 @@
 //! End-to-end tests of `bumpsim sweep --resume`: a killed sweep (a journal with some rows
 //! and a torn last line, next to a shard's final files) resumed gives the uninterrupted
 //! run's bytes and runs only the missing points; an edited sweep reruns the changed points;
-//! resume with `--shard`; bad journals exit 2 naming the file and line.
+//! resume with `--shard`; bad journals exit 2 naming the file and line; and a sweep really
+//! killed (SIGKILL) part-way resumes to the same bytes.
 
 mod common;
 
@@ -205,4 +206,74 @@ fn bad_journals_exit_2_naming_the_file_and_line() {
     let o = sweep(&[&file, "--out", d.to_str().unwrap(), "--resume"]);
     o.expect_code(2, "a bad sweep.jsonl");
     assert!(o.stderr.contains("sweep.jsonl:1:1"), "{}", o.stderr);
+}
+
+#[test]
+fn a_sweep_killed_by_a_signal_resumes_to_the_same_bytes() {
+    let s = Scratch::new("sweep-resume-kill");
+    let bits: Vec<String> = (0..21).map(|i| (4 + i % 7).to_string()).collect();
+    let values = format!("List([{}])", bits.join(", "));
+    let file = sweep_file(&s.path, "k.ron", &values, SETS);
+    let all = s.join("all");
+    sweep(&[&file, "--out", all.to_str().unwrap(), "--threads", "2"])
+        .expect_code(0, "the uninterrupted sweep");
+    // the same sweep on one thread, killed (SIGKILL) once its journal holds 3 rows
+    let k = s.join("killed");
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_bumpsim"))
+        .args([
+            "sweep",
+            &file,
+            "--out",
+            k.to_str().unwrap(),
+            "--threads",
+            "1",
+        ])
+        .current_dir(root())
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let journal = k.join("sweep.partial.jsonl");
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
+    loop {
+        if child.try_wait().unwrap().is_some() {
+            break;
+        }
+        let rows = std::fs::read_to_string(&journal).map_or(0, |t| t.matches('\n').count());
+        if rows >= 3 {
+            child.kill().unwrap();
+            child.wait().unwrap();
+            break;
+        }
+        if std::time::Instant::now() > deadline {
+            child.kill().unwrap();
+            panic!("the sweep journaled no 3 rows in 120 s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+    let killed = !k.join("sweep.csv").exists();
+    let journaled = std::fs::read_to_string(&journal).map_or(0, |t| t.matches('\n').count());
+    eprintln!("killed: {killed}, {journaled} rows journaled");
+    if killed {
+        assert!((3..21).contains(&journaled), "{journaled} rows journaled");
+    }
+    let o = sweep(&[
+        &file,
+        "--out",
+        k.to_str().unwrap(),
+        "--resume",
+        "--threads",
+        "2",
+    ]);
+    o.expect_code(0, "resume of the killed sweep");
+    // every journaled row is kept, only the others run
+    let kept = if killed { journaled } else { 21 };
+    assert!(
+        o.stdout.contains(&format!("resume: {kept} points kept"))
+            && o.stdout
+                .contains(&format!("{} of 21 points run", 21 - kept)),
+        "killed: {killed}, {journaled} rows journaled: {}",
+        o.stdout
+    );
+    same_files(&all, &k, "resumed after SIGKILL vs uninterrupted");
 }

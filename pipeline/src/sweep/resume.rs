@@ -31,8 +31,9 @@ pub struct Outcome {
     pub ran: usize,
     /// Rows kept from an earlier run.
     pub kept: usize,
-    /// Points of this run with an earlier row that was not kept (their point changed, the
-    /// row was an error, or it has other columns): run again.
+    /// Points of this run with an earlier row of this sweep's columns that was not kept
+    /// (their point changed, or the row was an error): run again. (Rows with other columns
+    /// are dropped without being counted.)
     pub stale: usize,
     /// A journal was there and was replaced (a run without `resume`).
     pub replaced_journal: bool,
