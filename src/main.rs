@@ -2,6 +2,7 @@
 
 use bumpsim_pipeline::config::{self, InputError};
 use bumpsim_pipeline::output::{write_atomic, OutputSet};
+use bumpsim_pipeline::plot;
 use bumpsim_pipeline::run::{self, TraceRequest};
 use bumpsim_pipeline::sweep;
 use clap::{Parser, Subcommand, ValueEnum};
@@ -100,6 +101,30 @@ enum Command {
         /// Pass --force to every point's load.
         #[arg(long)]
         force: bool,
+        /// Keep the rows of an earlier run in --out (its journal sweep.partial.jsonl and its
+        /// sweep.jsonl) whose point is unchanged (same index and config hash), run the rest.
+        #[arg(long, conflicts_with = "merge")]
+        resume: bool,
+    },
+    /// Plot two numeric columns of a sweep's CSV as PNG or SVG (by --out's extension),
+    /// the Pareto front of --pareto's objectives highlighted and its rows written to
+    /// FILE.pareto.csv beside the plot (docs/sweep.md).
+    Plot {
+        /// A sweep's CSV (DIR/sweep.csv).
+        csv: PathBuf,
+        #[arg(long)]
+        x: String,
+        #[arg(long)]
+        y: String,
+        #[arg(long, value_enum, default_value = "scatter")]
+        kind: PlotKind,
+        /// Objectives of the front, each COLUMN:min or COLUMN:max, comma-separated, e.g.
+        /// gates_total:min,total_psnr_db:max,cycles:min.
+        #[arg(long, value_name = "OBJ,...")]
+        pareto: Option<String>,
+        /// FILE.png or FILE.svg.
+        #[arg(long)]
+        out: PathBuf,
     },
     /// Validate a config (parse, scene, wiring) without rendering.
     Check {
@@ -118,6 +143,12 @@ enum Command {
         #[arg(long)]
         synth: bool,
     },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum PlotKind {
+    Scatter,
+    Line,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -245,14 +276,24 @@ fn execute(cmd: Command) -> Result<(), Failure> {
             merge,
             threads,
             force,
+            resume,
         } => {
             let out_err =
                 |e: String| Failure::Input(InputError::new(out.display().to_string(), "--out", e));
-            let (files, summary) = if !merge.is_empty() {
+            if !merge.is_empty() {
                 let dirs: Vec<&std::path::Path> = merge.iter().map(|d| d.as_path()).collect();
                 let files = sweep::merge(&dirs)
                     .map_err(|e| Failure::Input(InputError::new("--merge", "", e)))?;
-                (files, format!("merged {} shards", merge.len()))
+                let mut set = OutputSet::new(&out);
+                for (name, bytes) in files {
+                    set.add(name, bytes);
+                }
+                set.commit().map_err(out_err)?;
+                println!(
+                    "merged {} shards; wrote {}/sweep.{{csv,jsonl,json}}",
+                    merge.len(),
+                    out.display()
+                );
             } else {
                 let path = sweep.expect("clap requires a sweep file without --merge");
                 let shard = shard.as_deref().map(sweep::Shard::parse).transpose()?;
@@ -269,25 +310,70 @@ fn execute(cmd: Command) -> Result<(), Failure> {
                     force,
                     threads,
                 };
-                let table = s.run(opts).map_err(Failure::Internal)?;
-                let bad = table.rows.iter().filter(|r| !r.is_ok()).count();
-                let summary = format!(
-                    "{} of {} points run, {} with errors",
-                    table.rows.len(),
-                    table.points,
-                    bad
+                let o = sweep::run_into(&s, &out, opts, resume).map_err(|e| match e {
+                    sweep::DirError::Input(e) => Failure::Input(e),
+                    sweep::DirError::Internal(e) => Failure::Internal(e),
+                })?;
+                if o.replaced_journal {
+                    eprintln!(
+                        "note: replaced the journal of an earlier run in {} (--resume keeps its rows)",
+                        out.display()
+                    );
+                }
+                if let Some(e) = &o.journal_failure {
+                    eprintln!("warning: the journal stopped (the sweep went on): {e}");
+                }
+                if resume {
+                    println!(
+                        "resume: {} points kept from {}, {} earlier rows run again (their point \
+                         changed in the sweep file, or they were errors)",
+                        o.kept,
+                        out.display(),
+                        o.stale
+                    );
+                }
+                let bad = o.table.rows.iter().filter(|r| !r.is_ok()).count();
+                println!(
+                    "{} of {} points run, {} with errors; wrote {}/sweep.{{csv,jsonl,json}}",
+                    o.ran,
+                    o.table.points,
+                    bad,
+                    out.display()
                 );
-                (table.files(), summary)
-            };
-            let mut set = OutputSet::new(&out);
-            for (name, bytes) in files {
-                set.add(name, bytes);
+                if !s.file.plots.is_empty() {
+                    for line in plot::sweep_plots(&s.file.plots, &o.table.to_csv(), &out)? {
+                        println!("plot: {line}");
+                    }
+                }
             }
-            set.commit().map_err(out_err)?;
-            println!(
-                "{summary}; wrote {}/sweep.{{csv,jsonl,json}}",
-                out.display()
-            );
+        }
+        Command::Plot {
+            csv,
+            x,
+            y,
+            kind,
+            pareto,
+            out,
+        } => {
+            let objectives = match &pareto {
+                Some(p) => plot::pareto::Objective::parse_list(p)
+                    .map_err(|e| InputError::new("--pareto", "", e))?,
+                None => Vec::new(),
+            };
+            let req = plot::Request {
+                x,
+                y,
+                kind: match kind {
+                    PlotKind::Scatter => plot::Kind::Scatter,
+                    PlotKind::Line => plot::Kind::Line,
+                },
+                objectives,
+            };
+            let table = plot::read_csv(&csv)?;
+            let p = plot::prepare(&table, &csv.display().to_string(), &req)?;
+            let written = plot::write(&p, &out)?;
+            let names: Vec<String> = written.iter().map(|w| w.display().to_string()).collect();
+            println!("{}; wrote {}", p.summary(), names.join(" and "));
         }
         Command::Check { args } => {
             let l = args.load()?;

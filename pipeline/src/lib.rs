@@ -8,6 +8,7 @@ pub mod metrics;
 pub mod ndf;
 pub mod output;
 pub mod passes;
+pub mod plot;
 pub mod progress;
 pub mod quantize;
 pub mod raster;

@@ -668,7 +668,7 @@ pub fn load_with(path: &Path, sets: &[String], opts: LoadOptions) -> Result<Load
         }
         config = overrides::apply(&config, sets)?;
     }
-    let hash = hex(&Sha256::digest(canonical(&config).as_bytes()));
+    let hash = hash_of(&config);
     let base_dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let loaded = Loaded {
         config,
@@ -681,6 +681,23 @@ pub fn load_with(path: &Path, sets: &[String], opts: LoadOptions) -> Result<Load
     validate(&loaded)?;
     limits::check_budget(&loaded, opts.force)?;
     Ok(loaded)
+}
+
+/// The config hash of a config (SHA-256 of its canonical text, as in [`Loaded::hash`]).
+fn hash_of(config: &Config) -> String {
+    hex(&Sha256::digest(canonical(config).as_bytes()))
+}
+
+/// The hash [`load_with`] would give the config at `path` with `sets` applied, without
+/// validating it or pricing its run (a sweep's `--resume` checks earlier rows with it).
+pub fn hash_with(path: &Path, sets: &[String]) -> Result<String, InputError> {
+    let file = path.display().to_string();
+    let text = read_config(path, &file)?;
+    let mut config = parse(&text, &file)?;
+    if !sets.is_empty() {
+        config = overrides::apply(&config, sets)?;
+    }
+    Ok(hash_of(&config))
 }
 
 fn hex(bytes: &[u8]) -> String {

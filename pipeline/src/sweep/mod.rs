@@ -8,6 +8,8 @@
 //! order, so the output does not depend on the thread count. A point whose config is
 //! rejected (or whose run fails) gives a row with the error.
 
+pub mod journal;
+pub mod resume;
 pub mod table;
 
 use crate::config::{self, InputError, LoadOptions};
@@ -17,6 +19,7 @@ use rayon::prelude::*;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
+pub use resume::{run_into, DirError, Outcome};
 pub use table::{merge, Row, Table};
 
 /// Most points one sweep may have.
@@ -34,6 +37,9 @@ pub struct SweepFile {
     pub axes: Vec<Axis>,
     #[serde(default)]
     pub sampling: Sampling,
+    /// Plots of the output written into the directory after the sweep (`docs/sweep.md`).
+    #[serde(default)]
+    pub plots: Vec<crate::plot::PlotSpec>,
 }
 
 /// One axis: a `--set` path and its values.
@@ -177,12 +183,14 @@ pub fn load(path: &Path) -> Result<Sweep, InputError> {
     })?;
     let points = points(&file).map_err(|(field, m)| InputError::new(&name, field, m))?;
     let dir = path.parent().unwrap_or(Path::new("."));
-    Ok(Sweep {
+    let sweep = Sweep {
         base: dir.join(&file.base),
         path: path.to_path_buf(),
         file,
         points,
-    })
+    };
+    sweep.check_plots()?;
+    Ok(sweep)
 }
 
 /// The values of a grid or list axis.
@@ -376,36 +384,116 @@ impl Sweep {
         }
     }
 
+    /// The plots name columns of the output and objectives with a direction.
+    fn check_plots(&self) -> Result<(), InputError> {
+        let name = self.path.display().to_string();
+        let columns = self.columns();
+        let known = |k: usize, field: &str, c: &str| {
+            if columns.iter().any(|x| x == c) {
+                Ok(())
+            } else {
+                Err(InputError::new(
+                    &name,
+                    format!("plots[{k}].{field}"),
+                    format!(
+                        "{c:?}: no such column: expected index, an axis' name or a report \
+                         column ({})",
+                        columns.join(", ")
+                    ),
+                ))
+            }
+        };
+        for (k, p) in self.file.plots.iter().enumerate() {
+            known(k, "x", &p.x)?;
+            known(k, "y", &p.y)?;
+            let objectives = p
+                .objectives()
+                .map_err(|e| InputError::new(&name, format!("plots[{k}].pareto"), e))?;
+            for o in objectives {
+                known(k, "pareto", &o.column)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The output's column names (`index`, the axes, the report columns).
+    pub fn columns(&self) -> Vec<String> {
+        self.table(Vec::new()).columns()
+    }
+
+    fn table(&self, rows: Vec<Row>) -> Table {
+        Table {
+            axes: self.file.axes.iter().map(Axis::column).collect(),
+            points: self.points.len(),
+            rows,
+        }
+    }
+
+    /// Whether `opts` runs point `index` (its shard holds it).
+    pub fn in_shard(&self, opts: &RunOptions, index: usize) -> bool {
+        opts.shard.is_none_or(|s| s.contains(index))
+    }
+
+    /// Run `f` on `opts.threads` worker threads (default: rayon's pool).
+    pub fn on_pool<T: Send>(
+        &self,
+        opts: &RunOptions,
+        f: impl FnOnce() -> T + Send,
+    ) -> Result<T, String> {
+        match opts.threads {
+            None => Ok(f()),
+            Some(t) => Ok(rayon::ThreadPoolBuilder::new()
+                .num_threads(t)
+                .build()
+                .map_err(|e| e.to_string())?
+                .install(f)),
+        }
+    }
+
     /// Run the sweep's points (those of `opts.shard`), in parallel; rows in point order.
     pub fn run(&self, opts: RunOptions) -> Result<Table, String> {
+        self.run_with(opts, Vec::new(), None).map(|(t, _)| t)
+    }
+
+    /// [`Sweep::run`] past the rows `done` (of points of the shard, kept from an earlier
+    /// run), appending each new row to `journal` as it finishes. The table holds both, in
+    /// point order; the second value is the first journal write that failed (the sweep
+    /// goes on without the journal).
+    pub fn run_with(
+        &self,
+        opts: RunOptions,
+        done: Vec<Row>,
+        journal: Option<&journal::Journal>,
+    ) -> Result<(Table, Option<String>), String> {
+        let have: std::collections::HashSet<usize> = done.iter().map(|r| r.index).collect();
         let todo: Vec<&Point> = self
             .points
             .iter()
-            .filter(|p| opts.shard.is_none_or(|s| s.contains(p.index)))
+            .filter(|p| self.in_shard(&opts, p.index) && !have.contains(&p.index))
             .collect();
+        let columns = self.columns();
+        let failed = std::sync::Mutex::new(None::<String>);
         let progress = crate::progress::bar(todo.len() as u64, "sweep");
         let work = || -> Vec<Row> {
             todo.par_iter()
                 .map(|p| {
                     let row = self.run_point(p, opts.force);
+                    if let Some(j) = journal {
+                        if let Err(e) = j.append(&row.json_line(&columns)) {
+                            let mut f = failed.lock().unwrap_or_else(|e| e.into_inner());
+                            f.get_or_insert_with(|| format!("{}: {e}", j.path().display()));
+                        }
+                    }
                     progress.inc(1);
                     row
                 })
                 .collect()
         };
-        let rows = match opts.threads {
-            None => work(),
-            Some(t) => rayon::ThreadPoolBuilder::new()
-                .num_threads(t)
-                .build()
-                .map_err(|e| e.to_string())?
-                .install(work),
-        };
-        Ok(Table {
-            axes: self.file.axes.iter().map(Axis::column).collect(),
-            points: self.points.len(),
-            rows,
-        })
+        let mut rows = self.on_pool(&opts, work)?;
+        rows.extend(done);
+        rows.sort_by_key(|r| r.index);
+        let failed = failed.into_inner().unwrap_or_else(|e| e.into_inner());
+        Ok((self.table(rows), failed))
     }
 }
 

@@ -20,7 +20,7 @@ pub enum Cell {
 }
 
 impl Cell {
-    fn of(s: &Scalar) -> Cell {
+    pub(crate) fn of(s: &Scalar) -> Cell {
         match s {
             Scalar::Bool(b) => Cell::Bool(*b),
             Scalar::Int(i) => Cell::Int(*i),
@@ -170,11 +170,86 @@ impl Row {
         self.report[0] == Cell::Text("ok".into())
     }
 
+    /// The row's `config_hash` (none in an error row).
+    pub fn config_hash(&self) -> Option<&str> {
+        match &self.report[2] {
+            Cell::Text(h) => Some(h),
+            _ => None,
+        }
+    }
+
+    /// The row as one JSON object, keys `columns` (a [`Table::columns`]) in order, no line
+    /// break.
+    pub fn json_line(&self, columns: &[String]) -> String {
+        let fields: Vec<String> = columns
+            .iter()
+            .zip(self.cells())
+            .map(|(k, c)| format!("{}:{}", serde_json::to_string(k).unwrap(), c.json()))
+            .collect();
+        format!("{{{}}}", fields.join(","))
+    }
+
+    /// Read a row back from a [`Row::json_line`] of a table with `columns` and `axes` axis
+    /// columns: `Ok(None)` for a row of another sweep's columns, an error for text that is
+    /// no sweep row. Reads back the cells that wrote it (numbers round-trip exactly).
+    pub fn from_json_line(
+        line: &str,
+        columns: &[String],
+        axes: usize,
+    ) -> Result<Option<Row>, String> {
+        let v: serde_json::Value =
+            serde_json::from_str(line).map_err(|e| format!("not JSON ({e})"))?;
+        let obj = v.as_object().ok_or("a JSON value that is no object")?;
+        let index = obj
+            .get("index")
+            .and_then(|i| i.as_u64())
+            .ok_or("no integer \"index\"")?;
+        match obj.get("config_hash") {
+            Some(serde_json::Value::String(_) | serde_json::Value::Null) => {}
+            _ => return Err("no \"config_hash\" (text or null)".into()),
+        }
+        if obj.len() != columns.len() || columns.iter().any(|c| !obj.contains_key(c)) {
+            return Ok(None);
+        }
+        let mut cells = Vec::with_capacity(columns.len());
+        for c in &columns[1..] {
+            cells.push(match &obj[c] {
+                serde_json::Value::Null => Cell::Empty,
+                serde_json::Value::Bool(b) => Cell::Bool(*b),
+                serde_json::Value::String(t) => Cell::Text(t.clone()),
+                serde_json::Value::Number(n) => match n.as_i64() {
+                    Some(i) => Cell::Int(i),
+                    None => Cell::Float(
+                        exact_number(line, c)
+                            .ok_or_else(|| format!("{c}: {n} is not a 64-bit number"))?,
+                    ),
+                },
+                _ => return Err(format!("{c}: an array or object, not a cell")),
+            });
+        }
+        let report = cells.split_off(axes);
+        Ok(Some(Row {
+            index: index as usize,
+            values: cells,
+            report,
+        }))
+    }
+
     fn cells(&self) -> impl Iterator<Item = Cell> + '_ {
         std::iter::once(Cell::Int(self.index as i64))
             .chain(self.values.iter().cloned())
             .chain(self.report.iter().cloned())
     }
+}
+
+/// The number after `"key":` in a JSON line, read with Rust's exact decimal-to-`f64`
+/// conversion (serde_json's default reading can be one unit in the last place off). The
+/// first `"key":` is the key itself: inside a JSON string its quotes would be escaped.
+fn exact_number(line: &str, key: &str) -> Option<f64> {
+    let pat = format!("{}:", serde_json::to_string(key).ok()?);
+    let rest = &line[line.find(&pat)? + pat.len()..];
+    let end = rest.find([',', '}']).unwrap_or(rest.len());
+    rest[..end].trim().parse().ok()
 }
 
 /// The rows of a sweep (or of one shard of it).
@@ -215,12 +290,7 @@ impl Table {
         let cols = self.columns();
         let mut s = String::new();
         for r in &self.rows {
-            let fields: Vec<String> = cols
-                .iter()
-                .zip(r.cells())
-                .map(|(k, c)| format!("{}:{}", serde_json::to_string(k).unwrap(), c.json()))
-                .collect();
-            let _ = writeln!(s, "{{{}}}", fields.join(","));
+            let _ = writeln!(s, "{}", r.json_line(&cols));
         }
         s
     }
@@ -361,4 +431,45 @@ pub fn merge(dirs: &[&Path]) -> Result<Vec<(&'static str, Vec<u8>)>, String> {
             (serde_json::to_string_pretty(&summary).unwrap() + "\n").into_bytes(),
         ),
     ])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_json_line_reads_back_to_the_same_cells() {
+        let p = Point {
+            index: 3,
+            values: vec![
+                Scalar::Int(7),
+                Scalar::Float(0.1 + 0.2),
+                Scalar::Text("a,\"b\"".into()),
+            ],
+        };
+        let mut row = Row::error(&p, "bad\n  \"thing\"");
+        row.report[0] = Cell::Text("ok".into());
+        row.report[2] = Cell::Text("ab12".into());
+        row.report[3] = Cell::Float(19533.0);
+        row.report[4] = Cell::Int(-5);
+        row.report[5] = Cell::Float(1.0000000000000002e-300);
+        row.report[6] = Cell::Bool(true);
+        let t = Table {
+            axes: vec!["a".into(), "b".into(), "c".into()],
+            points: 4,
+            rows: vec![row.clone()],
+        };
+        let cols = t.columns();
+        let line = row.json_line(&cols);
+        let back = Row::from_json_line(&line, &cols, 3).unwrap().unwrap();
+        assert_eq!(back, row);
+        assert_eq!(back.json_line(&cols), line);
+        // other columns: not this sweep's row; no index: not a row at all
+        assert_eq!(
+            Row::from_json_line(&line, &cols[..cols.len() - 1], 3),
+            Ok(None)
+        );
+        assert!(Row::from_json_line(r#"{"config_hash":null}"#, &cols, 3).is_err());
+        assert!(Row::from_json_line("[1]", &cols, 3).is_err());
+    }
 }
