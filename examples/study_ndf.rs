@@ -421,8 +421,9 @@ fn cost(md: &mut String) {
     let chain: u64 = (0..=8).map(|k| (256u64 >> k).pow(2) * 24).sum();
     writeln!(
         md,
-        "\nThe whole noise mip chain (256² down to 1², 24 bits a texel) is {chain} bits; the \
-         engine binds one level per draw (see `docs/units/ndf.md`).\n"
+        "\nThe whole noise mip chain (256² down to 1², 24 bits a texel) is {chain} bits: what \
+         `ndf-sphere-hw-mip` stores to select the level per fragment; the other configs bind \
+         one level per draw (see `docs/units/ndf.md`).\n"
     )
     .unwrap();
 }
