@@ -82,6 +82,18 @@ fn example_sweep_rows_numbers_threads_and_shards() {
     assert_eq!(uint(&rep, "cycles.total") as f64, f(r8, "cycles"));
     assert_eq!(num(&rep, "error.total.psnr_db"), f(r8, "total_psnr_db"));
     assert_eq!(num(&rep, "artifacts.total.banding"), f(r8, "total_banding"));
+    // one gates column per unit of the base config, in its order, summing to the total
+    let units = ["fetch", "dot", "spec", "shade"];
+    for u in units {
+        let col = format!("gates.{u}");
+        assert_eq!(
+            num(&rep, &format!("gates.per_unit.{u}.total")),
+            f(r8, &col),
+            "{u}"
+        );
+    }
+    let sum: f64 = units.iter().map(|u| f(r8, &format!("gates.{u}"))).sum();
+    assert!((sum - f(r8, "gates_total")).abs() < 0.05, "{sum}");
 
     // the numbers (see docs/sweep.md)
     let col = |k: &str| rows.iter().map(|r| f(r, k)).collect::<Vec<f64>>();

@@ -136,6 +136,10 @@ pub struct Sweep {
     /// The base config's path (resolved against the sweep file's directory).
     pub base: PathBuf,
     pub points: Vec<Point>,
+    /// The base config's engine units (with the file's `sets`), in config order: one
+    /// `gates.<unit>` column each. Empty if that config does not load (every point's error
+    /// row says why).
+    pub units: Vec<String>,
 }
 
 /// A shard: run the points whose index is `i` modulo `n` (0-based `i < n`).
@@ -183,11 +187,23 @@ pub fn load(path: &Path) -> Result<Sweep, InputError> {
     })?;
     let points = points(&file).map_err(|(field, m)| InputError::new(&name, field, m))?;
     let dir = path.parent().unwrap_or(Path::new("."));
+    let base = dir.join(&file.base);
+    let units = config::load(&base, &file.sets)
+        .map(|l| {
+            l.config
+                .engine
+                .units
+                .iter()
+                .map(|u| u.name.clone())
+                .collect()
+        })
+        .unwrap_or_default();
     let sweep = Sweep {
-        base: dir.join(&file.base),
+        base,
         path: path.to_path_buf(),
         file,
         points,
+        units,
     };
     sweep.check_plots()?;
     Ok(sweep)
@@ -378,9 +394,13 @@ impl Sweep {
             crate::run::run(&l, None)
         }));
         match outcome {
-            Ok(Ok(r)) => Row::ok(p, &r.report),
-            Ok(Err(e)) => Row::error(p, &e.to_string()),
-            Err(_) => Row::error(p, "internal error: the run panicked (a bug)"),
+            Ok(Ok(r)) => Row::ok(p, &r.report, &self.units),
+            Ok(Err(e)) => Row::error(p, &e.to_string(), self.units.len()),
+            Err(_) => Row::error(
+                p,
+                "internal error: the run panicked (a bug)",
+                self.units.len(),
+            ),
         }
     }
 
@@ -424,6 +444,7 @@ impl Sweep {
     fn table(&self, rows: Vec<Row>) -> Table {
         Table {
             axes: self.file.axes.iter().map(Axis::column).collect(),
+            units: self.units.clone(),
             points: self.points.len(),
             rows,
         }

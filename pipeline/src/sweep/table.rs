@@ -101,7 +101,7 @@ pub fn report_columns() -> Vec<String> {
 pub struct Row {
     pub index: usize,
     pub values: Vec<Cell>,
-    /// One cell per [`report_columns`].
+    /// One cell per [`report_columns`], then one per unit of [`Table::units`].
     pub report: Vec<Cell>,
 }
 
@@ -124,7 +124,9 @@ fn artifacts(a: &ArtifactStats) -> [Cell; 5] {
 }
 
 impl Row {
-    pub fn ok(p: &Point, r: &Report) -> Row {
+    /// The row of a run with report `r`; `units`: the table's [`Table::units`] (a unit the
+    /// point's engine lacks is an empty cell).
+    pub fn ok(p: &Point, r: &Report, units: &[String]) -> Row {
         let mut c = vec![
             Cell::Text("ok".into()),
             Cell::Empty,
@@ -148,6 +150,14 @@ impl Row {
                 Cell::Float(e.worst_seam_lsb),
             ]);
         }
+        for u in units {
+            c.push(
+                r.gates
+                    .per_unit
+                    .get(u)
+                    .map_or(Cell::Empty, |g| Cell::Float(g.total)),
+            );
+        }
         Row {
             index: p.index,
             values: p.values.iter().map(Cell::of).collect(),
@@ -155,10 +165,11 @@ impl Row {
         }
     }
 
-    pub fn error(p: &Point, message: &str) -> Row {
+    /// The row of a point that failed with `message`, in a table of `units` unit columns.
+    pub fn error(p: &Point, message: &str, units: usize) -> Row {
         let one_line = message.split_whitespace().collect::<Vec<_>>().join(" ");
         let mut c = vec![Cell::Text("error".into()), Cell::Text(one_line)];
-        c.resize(report_columns().len(), Cell::Empty);
+        c.resize(report_columns().len() + units, Cell::Empty);
         Row {
             index: p.index,
             values: p.values.iter().map(Cell::of).collect(),
@@ -257,17 +268,21 @@ fn exact_number(line: &str, key: &str) -> Option<f64> {
 pub struct Table {
     /// The axes' column names.
     pub axes: Vec<String>,
+    /// The base config's unit names: a `gates.<unit>` column each, after the report columns.
+    pub units: Vec<String>,
     /// Points in the whole sweep (all shards).
     pub points: usize,
     pub rows: Vec<Row>,
 }
 
 impl Table {
-    /// All column names: `index`, the axes, the report columns.
+    /// All column names: `index`, the axes, the report columns, `gates.<unit>` per unit
+    /// (unit names hold no `.`, so these collide with no other column).
     pub fn columns(&self) -> Vec<String> {
         std::iter::once("index".to_string())
             .chain(self.axes.iter().cloned())
             .chain(report_columns())
+            .chain(self.units.iter().map(|u| format!("gates.{u}")))
             .collect()
     }
 
@@ -447,19 +462,23 @@ mod tests {
                 Scalar::Text("a,\"b\"".into()),
             ],
         };
-        let mut row = Row::error(&p, "bad\n  \"thing\"");
+        let mut row = Row::error(&p, "bad\n  \"thing\"", 2);
         row.report[0] = Cell::Text("ok".into());
         row.report[2] = Cell::Text("ab12".into());
         row.report[3] = Cell::Float(19533.0);
         row.report[4] = Cell::Int(-5);
         row.report[5] = Cell::Float(1.0000000000000002e-300);
         row.report[6] = Cell::Bool(true);
+        let n = row.report.len();
+        row.report[n - 2] = Cell::Float(874.5);
         let t = Table {
             axes: vec!["a".into(), "b".into(), "c".into()],
+            units: vec!["fetch".into(), "total".into()],
             points: 4,
             rows: vec![row.clone()],
         };
         let cols = t.columns();
+        assert_eq!(cols[cols.len() - 2..], ["gates.fetch", "gates.total"]);
         let line = row.json_line(&cols);
         let back = Row::from_json_line(&line, &cols, 3).unwrap().unwrap();
         assert_eq!(back, row);
