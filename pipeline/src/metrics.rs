@@ -415,3 +415,53 @@ mod tests {
         assert_eq!(h.get_pixel(0, 0).0, [252, 255, 164]); // 0.5 vs 0: 127.5 LSB
     }
 }
+
+/// The light an engine keeps where the texture is one colour, against the reference: the
+/// sum of `image`'s 8-bit channels over the pixels where `texture` (the texels the engine
+/// fetched, e.g. a render whose output is the texture unit) is exactly `texel` and the
+/// reference is not black, over the reference's sum there; `None` if the reference has no
+/// light there. Ernst et al. 1998 §5.1's claim that the combined order "has no effect on black
+/// texture color due to the multiplication" is this share on the black texels
+/// (`tests/gouraud_order.rs`, `docs/studies/gouraud-bump.md`).
+pub fn light_share(
+    image: &image::RgbImage,
+    reference: &image::RgbImage,
+    texture: &image::RgbImage,
+    texel: [u8; 3],
+) -> Option<f64> {
+    let (mut kept, mut want) = (0u64, 0u64);
+    for (x, y, t) in texture.enumerate_pixels() {
+        let (Some(i), Some(r)) = (
+            image.get_pixel_checked(x, y),
+            reference.get_pixel_checked(x, y),
+        ) else {
+            continue;
+        };
+        if t.0 != texel || r.0 == [0, 0, 0] {
+            continue;
+        }
+        kept += i.0.iter().map(|&c| u64::from(c)).sum::<u64>();
+        want += r.0.iter().map(|&c| u64::from(c)).sum::<u64>();
+    }
+    (want > 0).then(|| kept as f64 / want as f64)
+}
+
+#[cfg(test)]
+mod light_share_tests {
+    use super::light_share;
+    use image::{Rgb, RgbImage};
+
+    #[test]
+    fn light_share_counts_only_the_texels_asked_for() {
+        // a 2x1 texture: black, white; the reference lights both; the image keeps half of
+        // the black texel's light and all of the white one's
+        let tex = RgbImage::from_fn(2, 1, |x, _| Rgb([255 * x as u8; 3]));
+        let reference = RgbImage::from_pixel(2, 1, Rgb([100, 100, 100]));
+        let img = RgbImage::from_fn(2, 1, |x, _| Rgb(if x == 0 { [50; 3] } else { [100; 3] }));
+        assert_eq!(light_share(&img, &reference, &tex, [0; 3]), Some(0.5));
+        assert_eq!(light_share(&img, &reference, &tex, [255; 3]), Some(1.0));
+        assert_eq!(light_share(&img, &reference, &tex, [7; 3]), None);
+        let dark = RgbImage::new(2, 1);
+        assert_eq!(light_share(&img, &dark, &tex, [0; 3]), None);
+    }
+}
