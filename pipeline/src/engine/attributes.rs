@@ -232,30 +232,20 @@ fn lanes3(v: DVec3) -> [f64; 4] {
 pub fn vertex_lods(mesh: &crate::scene::Mesh, clip: &[DVec4], px: DVec2, size: u32) -> Vec<f64> {
     let mut sums = vec![(0.0f64, 0.0f64); mesh.vertices.len()];
     for t in &mesh.triangles {
-        let c = t.map(|i| &clip[i as usize]);
-        if c.iter().any(|c| c.w.is_nan() || c.w <= 0.0) {
+        let corners = t.map(|i| (&clip[i as usize], mesh.vertices[i as usize].uv));
+        let Some((texels, screen)) = areas(corners, px, size) else {
             continue;
-        }
-        let s = c.map(|c| (DVec2::new(c.x, c.y) / c.w + 1.0) * 0.5 * px);
-        let uv = t.map(|i| mesh.vertices[i as usize].uv);
-        let screen = ((s[1] - s[0]).perp_dot(s[2] - s[0]) / 2.0).abs();
-        let texels = ((uv[1] - uv[0]).perp_dot(uv[2] - uv[0]) / 2.0).abs()
-            * f64::from(size)
-            * f64::from(size);
-        if !(screen > 0.0 && texels > 0.0 && screen.is_finite() && texels.is_finite()) {
-            continue;
-        }
+        };
         for &i in t {
             let e = &mut sums[i as usize];
             e.0 += texels;
             e.1 += screen;
         }
     }
-    let max = f64::from(size.max(1)).log2();
     sums.into_iter()
         .map(|(texels, screen)| {
             if screen > 0.0 {
-                (0.5 * (texels / screen).log2()).clamp(0.0, max)
+                lambda(texels, screen, size)
             } else {
                 0.0
             }
@@ -268,19 +258,25 @@ pub fn vertex_lods(mesh: &crate::scene::Mesh, clip: &[DVec4], px: DVec2, size: u
 /// clip position and uv, `px` the image size in pixels. 0 if a vertex is at or behind the eye
 /// (`w <= 0`) or the triangle has no area on screen or in uv.
 pub fn lod(tri: [(&DVec4, DVec2); 3], px: DVec2, size: u32) -> f64 {
+    areas(tri, px, size).map_or(0.0, |(texels, screen)| lambda(texels, screen, size))
+}
+
+/// A triangle's area in texels of a `size` x `size` map and on screen in pixels; `None` if a
+/// vertex is at or behind the eye (`w <= 0`) or either area is zero or not finite.
+fn areas(tri: [(&DVec4, DVec2); 3], px: DVec2, size: u32) -> Option<(f64, f64)> {
     if tri.iter().any(|(c, _)| c.w.is_nan() || c.w <= 0.0) {
-        return 0.0;
+        return None;
     }
-    let s: Vec<DVec2> = tri
-        .iter()
-        .map(|(c, _)| (DVec2::new(c.x, c.y) / c.w + 1.0) * 0.5 * px)
-        .collect();
+    let s = tri.map(|(c, _)| (DVec2::new(c.x, c.y) / c.w + 1.0) * 0.5 * px);
     let area = |a: DVec2, b: DVec2, c: DVec2| ((b - a).perp_dot(c - a) / 2.0).abs();
     let screen = area(s[0], s[1], s[2]);
     let texels = area(tri[0].1, tri[1].1, tri[2].1) * f64::from(size) * f64::from(size);
-    if !(screen > 0.0 && texels > 0.0) {
-        return 0.0;
-    }
+    (screen > 0.0 && texels > 0.0 && screen.is_finite() && texels.is_finite())
+        .then_some((texels, screen))
+}
+
+/// `1/2 log2(texels / screen)` clamped to `[0, log2 size]`.
+fn lambda(texels: f64, screen: f64, size: u32) -> f64 {
     let max = f64::from(size.max(1)).log2();
     (0.5 * (texels / screen).log2()).clamp(0.0, max)
 }
