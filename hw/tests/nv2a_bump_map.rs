@@ -16,6 +16,12 @@
 //! quads need per-channel signedness of a 16-bit HILO word, which the model does not have
 //! (see `docs/nv2a.md`): they are measured and printed, not asserted.
 //!
+//! The generic `Test` (BUMPENVMAP on A8R8G8B8, X8R8G8B8, R8G8B8A8, G8B8, their linear `_L`
+//! layouts, `_B`, `_R90`, `_B_R90`: 11 frames): stage 0 TEXTURE_2D of an 8-bit bump map,
+//! stage 1 OFFSET_TEXTURE_2D of the checkerboard with du = B, dv = G read as two's complement,
+//! the method's matrix words in the Xbox order (M00, M01, M11, M10), the signed flags acting in
+//! the filter (`docs/units/texture-shader.md`, hypotheses 15 to 18).
+//!
 //! Compared pixels: every pixel of `[left, right) x [top, bottom)` of the quad, minus the text
 //! cells the host prints (10 x 16 px cells at x = 20 + 10 col, y = 25 + 25 row). All four
 //! channels; a pixel is exact when all four equal the frame's. A missing frame is a failure.
@@ -28,7 +34,7 @@ use bumpsim_hw::units::combiner::{
     Source, Usage,
 };
 use bumpsim_hw::units::texture_shader::{
-    DotMapping, Program, ShaderParams, StageSpec, TextureShader,
+    DotMapping, Offset, Program, ShaderParams, StageSpec, TextureShader,
 };
 use bumpsim_hw::{Codec, Encoding, Mode, Texels, Texture, Unit, Word};
 use std::path::PathBuf;
@@ -39,6 +45,7 @@ const H: u32 = 480;
 const U8: Encoding = Encoding::texel(Codec::UnitUnsigned, false, 8);
 const U16: Encoding = Encoding::texel(Codec::UnitUnsigned, false, 16);
 const S16: Encoding = Encoding::texel(Codec::UnitSigned, true, 16);
+const S8: Encoding = Encoding::texel(Codec::UnitSigned, true, 8);
 /// The host's texture size (`GetMaxTextureWidth/Height`): 256, read off the frames'
 /// checkerboards (32 cells of 8 texels over a 168-pixel quad).
 const TEX: u32 = 256;
@@ -63,6 +70,15 @@ struct Hyp {
     /// Coordinates reach the unit rounded to nearest (false: truncated toward minus
     /// infinity, as the Pixel_shader frames found).
     coord_rnd: bool,
+    /// BUMPENVMAP: the offset lanes read as two's complement whatever the texture's
+    /// signedness (false: an unsigned map offsets by c / 255, in one direction only).
+    twos_complement: bool,
+    /// BUMPENVMAP: the method's matrix words (w0, w1, w2, w3) are (M00, M01, M11, M10), so
+    /// `s' = s + w0 du + w3 dv`, `t' = t + w1 du + w2 dv` (false: (M00, M01, M10, M11),
+    /// the D3D order).
+    xbox_matrix_order: bool,
+    /// Fraction bits of the offset matrix.
+    offset_frac: u32,
 }
 
 const MODEL: Hyp = Hyp {
@@ -72,6 +88,9 @@ const MODEL: Hyp = Hyp {
     dot_frac: 16,
     signed_flags: true,
     coord_rnd: false,
+    twos_complement: true,
+    xbox_matrix_order: true,
+    offset_frac: 16,
 };
 
 /// The four bump texels (SDL RGBA8888 values) at (x >= 2, y >= 2).
@@ -203,6 +222,7 @@ fn params(h: Hyp) -> ShaderParams {
             ..p.coord
         },
         dot_frac: h.dot_frac,
+        offset_frac: h.offset_frac,
         ..p
     }
 }
@@ -279,19 +299,143 @@ fn r16b16_scene(name: &'static str, cross_on_blue: bool, h: Hyp) -> Scene {
     }
 }
 
+/// The bump texels of the generic test (SDL RGBA8888 values) at (x >= 2, y >= 2): B = 0x45
+/// and G stepping 0x7F -> 0x80 at texel x = 2, or (`cross_on_blue`) G = 0x45 and B stepping
+/// at y = 2.
+fn env_bump_colors(cross_on_blue: bool) -> [u32; 4] {
+    if cross_on_blue {
+        [0x00457f00, 0x00457f00, 0x00458000, 0x00458000]
+    } else {
+        [0x007f4500, 0x00804500, 0x007f4500, 0x00804500]
+    }
+}
+
+/// The generic test's bump map as lanes (R, G, B, A) of 8-bit codes. `signed`: the codes
+/// are two's complement (the filter interpolates signed values: the signed flag of the
+/// channel that steps, hypothesis 18; the other channels have the top bit clear, where the
+/// flag changes nothing, so a texture-wide signedness models each quad exactly).
+fn env_bump_texture(cross_on_blue: bool, signed: bool) -> Arc<Texture> {
+    let cols = env_bump_colors(cross_on_blue);
+    let values = (0..TEX * TEX)
+        .map(|k| {
+            let (x, y) = (k % TEX, k / TEX);
+            let c = cols[(y >= 2) as usize * 2 + (x >= 2) as usize];
+            [c >> 24, (c >> 16) & 0xff, (c >> 8) & 0xff, c & 0xff].map(|v| {
+                if signed {
+                    (v as u8 as i8) as f64 / 128.0
+                } else {
+                    v as f64 / 255.0
+                }
+            })
+        })
+        .collect();
+    let t = Texels {
+        width: TEX,
+        height: TEX,
+        lanes: 4,
+        values,
+    };
+    let enc = if signed { S8 } else { U8 };
+    Arc::new(Texture::new("bump", enc, t).expect("texture"))
+}
+
+/// The generic `Test` of `bump_map_tests.cpp` on an 8-bit format (A8R8G8B8, X8R8G8B8,
+/// R8G8B8A8, G8B8 and their linear `_L` layouts; `_B`: `cross_on_blue`; `_R90`: the matrix
+/// (0, -0.1, 0.3, 0) instead of (0.3, 0, 0, 0.5)): stage 0 TEXTURE_2D of the bump map (TENT),
+/// stage 1 OFFSET_TEXTURE_2D (BUMPENVMAP) of the checkerboard at (0, 0)..(1, 1) with du = B,
+/// dv = G; RGB = tex1, alpha = tex1 alpha. The linear layouts address the bump map in texels
+/// (1 to 3), the same texels as the swizzled ones' 1/256 to 3/256; their frames are
+/// identical to the swizzled ones over every quad.
+fn env_scene(name: &'static str, cross_on_blue: bool, rotate90: bool, h: Hyp) -> Scene {
+    let w = TEX as f64;
+    let (f1, f3) = ((1.0 / w) as f32 as f64, (3.0 / w) as f32 as f64);
+    let v = |s0: f64, t0: f64, s1: f64, t1: f64| {
+        [
+            [s0, t0, 0.0, 1.0],
+            [s1, t1, 0.0, 1.0],
+            [0.0, 0.0, 0.0, 1.0],
+            [0.0; 4],
+        ]
+    };
+    let coords = [
+        v(f1, f1, 0.0, 0.0),
+        v(f3, f1, 1.0, 0.0),
+        v(f3, f3, 1.0, 1.0),
+        v(f1, f3, 0.0, 1.0),
+    ];
+    let (bh, th, sx, sy) = (180.0, 168.0, 146.0, 66.0);
+    let mut quads = Vec::new();
+    let mut text = Vec::new();
+    for ys in 0..2u32 {
+        for xs in 0..2u32 {
+            quads.push(Quad {
+                left: sx + xs as f64 * bh,
+                top: sy + ys as f64 * bh,
+                size: th,
+                coords,
+            });
+            text.push((5 + 7 * ys, 17 + 20 * xs, 5));
+        }
+    }
+    // SetBumpEnv(mat00, mat01, mat10, mat11): the four method words in that order
+    let words = if rotate90 {
+        [0.0, -0.1, 0.3, 0.0]
+    } else {
+        [0.3, 0.0, 0.0, 0.5]
+    }
+    .map(|x: f64| x as f32 as f64);
+    // the unit's (a1, a2, a3, a4): s' = s + a1 du + a3 dv, t' = t + a2 du + a4 dv
+    let matrix = if h.xbox_matrix_order {
+        [words[0], words[1], words[3], words[2]]
+    } else {
+        words
+    };
+    // per quad (DrawRectangles with x = B, y = G): B signed = xsigned, G signed = ysigned
+    let units = (0..4)
+        .map(|k| {
+            let (bs, gs) = (k % 2 == 1, k / 2 == 1);
+            let stepping_signed = if cross_on_blue { bs } else { gs };
+            let signed = h.signed_flags && stepping_signed;
+            env_units(h, env_bump_texture(cross_on_blue, signed), matrix)
+        })
+        .collect();
+    Scene {
+        name,
+        quads,
+        labels: vec!["Bu Gu", "Bs Gu", "Bu Gs", "Bs Gs"],
+        units,
+        text,
+    }
+}
+
+/// The texture-shader program and the final combiner of the generic test.
+fn env_units(h: Hyp, bump: Arc<Texture>, matrix: [f64; 4]) -> (TextureShader, Combiner) {
+    let offset = Offset {
+        matrix,
+        lanes: [2, 1, 0],
+        twos_complement: h.twos_complement,
+        ..Offset::default()
+    };
+    let stages = vec![
+        StageSpec::new(Program::Texture2d, Some(bump)).with_sampler(tent(h)),
+        StageSpec::new(
+            Program::OffsetTexture2d { prev: 0, offset },
+            Some(checkerboard()),
+        )
+        .with_sampler(nearest()),
+    ];
+    let u = TextureShader::new(params(h), stages).expect("scene program");
+    let c = final_just(&u, Source::Texture1);
+    (u, c)
+}
+
 /// The texture-shader program and the final combiner of `Test16bit`.
 fn units(h: Hyp, bump: Arc<Texture>) -> (TextureShader, Combiner) {
-    let tent = Sampler::new(Filter::Bilinear, h.weight_bits)
-        .expect("sampler")
-        .with_address(Address::Clamp, Address::Clamp);
-    let near = Sampler::new(Filter::Nearest, 8)
-        .expect("sampler")
-        .with_address(Address::Clamp, Address::Clamp);
     let m = DotMapping::Hilo1;
     let u = TextureShader::new(
         params(h),
         vec![
-            StageSpec::new(Program::Texture2d, Some(bump)).with_sampler(tent),
+            StageSpec::new(Program::Texture2d, Some(bump)).with_sampler(tent(h)),
             StageSpec::new(
                 Program::DotProduct {
                     prev: 0,
@@ -306,10 +450,31 @@ fn units(h: Hyp, bump: Arc<Texture>) -> (TextureShader, Combiner) {
                 },
                 Some(checkerboard()),
             )
-            .with_sampler(near),
+            .with_sampler(nearest()),
         ],
     )
     .expect("scene program");
+    let c = final_just(&u, Source::Texture2);
+    (u, c)
+}
+
+/// The bump map's TENT filter (bilinear, clamp) at the hypothesis' weight width.
+fn tent(h: Hyp) -> Sampler {
+    Sampler::new(Filter::Bilinear, h.weight_bits)
+        .expect("sampler")
+        .with_address(Address::Clamp, Address::Clamp)
+}
+
+/// The checkerboard's filter (the host default 0x1012000: box, i.e. nearest; clamp).
+fn nearest() -> Sampler {
+    Sampler::new(Filter::Nearest, 8)
+        .expect("sampler")
+        .with_address(Address::Clamp, Address::Clamp)
+}
+
+/// A combiner whose final stage passes `tex`'s RGB and alpha (`SetFinalCombiner0Just`,
+/// `SetFinalCombiner1Just`), no general stage doing anything.
+fn final_just(u: &TextureShader, tex: Source) -> Combiner {
     let mut cp = CombinerParams::default();
     for i in 0..4 {
         cp.inputs[3 + i] = u.result_encoding(i).unwrap_or(U8);
@@ -317,12 +482,12 @@ fn units(h: Hyp, bump: Arc<Texture>) -> (TextureShader, Combiner) {
     let prog = Cp {
         stages: vec![GeneralStage::nop()],
         final_combiner: FinalCombiner::just(
-            FinalInput::new(Source::Texture2, Usage::Rgb, false),
-            FinalInput::new(Source::Texture2, Usage::Alpha, false),
+            FinalInput::new(tex, Usage::Rgb, false),
+            FinalInput::new(tex, Usage::Alpha, false),
         ),
         mux_select: MuxSelect::Lsb,
     };
-    (u, Combiner::new(cp, prog).expect("combiner program"))
+    Combiner::new(cp, prog).expect("combiner program")
 }
 
 fn shade(units: &(TextureShader, Combiner), coords: &[[f64; 4]; 4]) -> [u8; 4] {
@@ -576,5 +741,137 @@ fn the_frames_decide_the_hypotheses() {
     // from below only)
     for (name, e) in &totals[1..] {
         assert!(*e <= totals[0].1, "{name}: {e} > {}", totals[0].1);
+    }
+}
+
+/// The generic BUMPENVMAP frames: (name, cross_on_blue, rotate90).
+const ENV_FRAMES: [(&str, bool, bool); 11] = [
+    ("BumpMap_A8R8G8B8", false, false),
+    ("BumpMap_A8R8G8B8_L", false, false),
+    ("BumpMap_X8R8G8B8", false, false),
+    ("BumpMap_X8R8G8B8_L", false, false),
+    ("BumpMap_R8G8B8A8", false, false),
+    ("BumpMap_R8G8B8A8_L", false, false),
+    ("BumpMap_G8B8", false, false),
+    ("BumpMap_G8B8_L", false, false),
+    ("BumpMap_G8B8_R90", false, true),
+    ("BumpMap_G8B8_B", true, false),
+    ("BumpMap_G8B8_B_R90", true, true),
+];
+
+fn env_scenes(h: Hyp) -> Vec<Scene> {
+    ENV_FRAMES
+        .iter()
+        .map(|&(n, b, r)| env_scene(n, b, r, h))
+        .collect()
+}
+
+/// (compared, exact) over each frame's four quads, summed.
+fn totals(scenes: &[Scene], h: Hyp, show: bool) -> Vec<(u64, u64)> {
+    scenes
+        .iter()
+        .map(|s| {
+            let r = check(s, h);
+            if show {
+                print(s, &r);
+            }
+            (r.iter().map(|q| q.0).sum(), r.iter().map(|q| q.1).sum())
+        })
+        .collect()
+}
+
+/// Exact pixels per frame (of 4 x 27,424 compared) with [`MODEL`], bit-accurate, as measured;
+/// every miss lies on a row whose interpolated t sits exactly on a checker edge (the
+/// interpolator, hypothesis 8). A drop fails the test.
+const ENV_EXPECTED: [u64; 11] = [
+    108008, 108008, 108008, 108008, 108008, 108008, 108008, 108008, 109696, 108006, 108334,
+];
+
+#[test]
+fn the_bumpenvmap_frames_are_reproduced() {
+    println!(
+        "{:<20} {:<6} {:>7} {:>7} {:>9} {:>4}",
+        "frame", "quad", "compared", "exact", "share", "max"
+    );
+    let t = totals(&env_scenes(MODEL), MODEL, true);
+    let (n, e) = t.iter().fold((0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+    println!("{:<27} {n:>7} {e:>7} {:>8.3}%", "all", share(n, e));
+    for ((f, (c, x)), want) in ENV_FRAMES.iter().zip(&t).zip(ENV_EXPECTED) {
+        assert_eq!((*c, *x), (4 * 27424, want), "{}: (compared, exact)", f.0);
+    }
+}
+
+/// The alternatives the BUMPENVMAP frames reject (run with `--ignored --nocapture`).
+#[test]
+#[ignore]
+fn the_bumpenvmap_frames_decide_the_hypotheses() {
+    let alts = [
+        ("model", MODEL),
+        (
+            "D3D matrix order",
+            Hyp {
+                xbox_matrix_order: false,
+                ..MODEL
+            },
+        ),
+        (
+            "signed flags ignored",
+            Hyp {
+                signed_flags: false,
+                ..MODEL
+            },
+        ),
+        (
+            "corner sample (o = 0)",
+            Hyp {
+                offset: 0.0,
+                ..MODEL
+            },
+        ),
+        (
+            "weights 6 bits",
+            Hyp {
+                weight_bits: 6,
+                ..MODEL
+            },
+        ),
+        (
+            "weights 12 bits",
+            Hyp {
+                weight_bits: 12,
+                ..MODEL
+            },
+        ),
+        (
+            "offset_frac 8",
+            Hyp {
+                offset_frac: 8,
+                ..MODEL
+            },
+        ),
+        (
+            "offset_frac 12",
+            Hyp {
+                offset_frac: 12,
+                ..MODEL
+            },
+        ),
+        (
+            "coordinates rounded",
+            Hyp {
+                coord_rnd: true,
+                ..MODEL
+            },
+        ),
+    ];
+    let mut exact = Vec::new();
+    for (name, h) in alts {
+        let t = totals(&env_scenes(h), h, false);
+        let (n, e) = t.iter().fold((0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+        println!("{name:<28} {e:>8} / {n} = {:.3}%", share(n, e));
+        exact.push((name, e));
+    }
+    for (name, e) in &exact[1..] {
+        assert!(*e <= exact[0].1, "{name}: {e} > {}", exact[0].1);
     }
 }

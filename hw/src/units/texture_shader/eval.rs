@@ -54,6 +54,38 @@ pub(crate) trait Arith {
     fn pass(&self, c: [Self::V; 4], enc: &Encoding) -> Word;
 }
 
+/// The NV2A's reading of an offset lane ([`super::Offset::twos_complement`]): an unsigned
+/// n-bit code `c` as two's complement, `c / 2^(n-1)`, minus 2 from `c >= 2^(n-1)`; a signed
+/// encoding as it is. Exact mode reads the unquantized `c = x (2^n - 1)` the same way.
+pub(super) fn twos_complement_exact(x: f64, enc: &Encoding) -> f64 {
+    if enc.format.signed {
+        return x;
+    }
+    let n = enc.format.width as i32;
+    let half = 2f64.powi(n - 1);
+    let c = x * (2f64.powi(n) - 1.0);
+    if c >= half {
+        (c - 2.0 * half) / half
+    } else {
+        c / half
+    }
+}
+
+/// [`twos_complement_exact`] on the code, in integers.
+pub(super) fn twos_complement_bits(raw: i64, enc: &Encoding) -> Acc {
+    if enc.format.signed {
+        return Acc::from_code(raw, enc);
+    }
+    let n = enc.format.width as u32;
+    let c = raw as i128;
+    let c = if c >= 1i128 << (n - 1) {
+        c - (1i128 << n)
+    } else {
+        c
+    };
+    Acc::new(c, n - 1)
+}
+
 /// The lanes a texel has beyond the texture's: RGB 0, alpha 1.
 fn fill_missing(w: &mut Word, lanes: u8, enc: &Encoding, exact: bool) {
     for l in lanes as usize..MAX_LANES {
@@ -105,9 +137,17 @@ impl Arith for ExactArith {
     fn texel_coord(&self, prev: &Word, _: &Encoding, lane: usize) -> f64 {
         prev.lanes[lane].x
     }
-    fn offset(&self, s: f64, t: f64, prev: &Word, st: &Compiled, _: &Compiled) -> (f64, f64) {
+    fn offset(&self, s: f64, t: f64, prev: &Word, st: &Compiled, p: &Compiled) -> (f64, f64) {
         let o = &st.offset;
-        let (ds, dt) = (prev.lanes[o.lanes[0]].x, prev.lanes[o.lanes[1]].x);
+        let read = |l: usize| {
+            let x = prev.lanes[o.lanes[l]].x;
+            if o.twos_complement {
+                twos_complement_exact(x, &p.out_enc)
+            } else {
+                x
+            }
+        };
+        let (ds, dt) = (read(0), read(1));
         let m = o.matrix;
         (s + m[0] * ds + m[2] * dt, t + m[1] * ds + m[3] * dt)
     }
@@ -218,8 +258,15 @@ impl Arith for FixedArith {
     }
     fn offset(&self, s: i64, t: i64, prev: &Word, st: &Compiled, p: &Compiled) -> (i64, i64) {
         let o = &st.offset;
-        let ds = Acc::from_code(prev.lanes[o.lanes[0]].raw, &p.out_enc);
-        let dt = Acc::from_code(prev.lanes[o.lanes[1]].raw, &p.out_enc);
+        let read = |l: usize| {
+            let raw = prev.lanes[o.lanes[l]].raw;
+            if o.twos_complement {
+                twos_complement_bits(raw, &p.out_enc)
+            } else {
+                Acc::from_code(raw, &p.out_enc)
+            }
+        };
+        let (ds, dt) = (read(0), read(1));
         let m = st.matrix_raw.map(|r| Acc::new(r as i128, self.offset_frac));
         let f = self.f();
         let s2 = Acc::new(s as i128, f).add(m[0].mul(ds)).add(m[2].mul(dt));

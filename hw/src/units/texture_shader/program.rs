@@ -69,6 +69,12 @@ impl DotMapping {
 /// _SCALE program the luminance `clamp(scale * mag + bias, 0, 1)` that multiplies RGB. The
 /// lanes of the previous stage's texel that hold `ds`, `dt` and `mag` (the DSDT8_MAG8 order
 /// is 0, 1, 2; the NV2A's BUMPENVMAP on A8R8G8B8 reads B and G, lanes 2 and 1).
+///
+/// `twos_complement`: the NV2A reading (`docs/units/texture-shader.md`, hypothesis 17): the
+/// n-bit codes of the `ds`, `dt` lanes are read as two's complement, `c / 2^(n-1)` with
+/// `c >= 2^(n-1)` negative, whatever the texture's signedness, so an unsigned A8R8G8B8 or
+/// G8B8 map offsets in both directions. A signed texture reads as it is. Off (the default),
+/// the lanes are read in the texture's own encoding (NV_texture_shader's DSDT formats).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Offset {
@@ -76,6 +82,8 @@ pub struct Offset {
     pub scale: f64,
     pub bias: f64,
     pub lanes: [usize; 3],
+    #[serde(default)]
+    pub twos_complement: bool,
 }
 
 impl Default for Offset {
@@ -85,6 +93,7 @@ impl Default for Offset {
             scale: 1.0,
             bias: 0.0,
             lanes: [0, 1, 2],
+            twos_complement: false,
         }
     }
 }

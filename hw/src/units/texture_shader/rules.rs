@@ -114,9 +114,11 @@ fn rule(i: usize, stages: &[StageSpec], offers: &[Offer]) -> Option<String> {
                     ));
                 }
             }
-            if !o.signed {
+            // the NV2A reading (`twos_complement`) takes any 8-bit texel as signed
+            if !o.signed && !offset.twos_complement {
                 return Some(format!(
-                    "{name} reads stage {prev}: expected signed DS, DT (a DSDT texture)"
+                    "{name} reads stage {prev}: expected signed DS, DT (a DSDT texture, or \
+                     offset.twos_complement, the NV2A's reading of an unsigned map)"
                 ));
             }
         }

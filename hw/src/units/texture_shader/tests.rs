@@ -311,6 +311,7 @@ fn offset_dependent_and_dot_programs_agree_between_modes() {
         scale: 0.5,
         bias: 0.25,
         lanes: [0, 1, 2],
+        twos_complement: false,
     };
     let programs: Vec<Vec<StageSpec>> = vec![
         vec![
@@ -633,4 +634,30 @@ fn the_default_part_has_an_itemised_budget_and_shares_its_textures() {
     assert!(Arc::ptr_eq(&reads[0].texture, &reads[1].texture));
     assert_eq!((u.latency(), u.interval()), (7, 1));
     let _ = Sample::default();
+}
+
+/// The NV2A's two's-complement reading of BUMPENVMAP offset lanes, every 8-bit code: an
+/// unsigned code c is (c - 256 if c >= 128) / 128 in both modes, 0x7F just below 1 and 0x80
+/// exactly -1 (hypothesis 17 of the unit page); a signed code reads as its encoding does.
+#[test]
+fn offset_lanes_read_as_twos_complement_at_every_code() {
+    use super::eval::{twos_complement_bits, twos_complement_exact};
+    for c in 0..256i64 {
+        let want = if c >= 128 { c - 256 } else { c } as f64 / 128.0;
+        assert_eq!(
+            twos_complement_bits(c, &U8).to_f64(),
+            want,
+            "bits, code {c}"
+        );
+        let x = twos_complement_exact(c as f64 / 255.0, &U8);
+        assert!((x - want).abs() < 1e-12, "exact, code {c}: {x} vs {want}");
+        let s = if c >= 128 { c - 256 } else { c };
+        assert_eq!(twos_complement_bits(s, &S8).to_f64(), s as f64 / 128.0);
+        assert_eq!(
+            twos_complement_exact(s as f64 / 128.0, &S8),
+            s as f64 / 128.0
+        );
+    }
+    assert_eq!(twos_complement_bits(0x7f, &U8).to_f64(), 127.0 / 128.0);
+    assert_eq!(twos_complement_bits(0x80, &U8).to_f64(), -1.0);
 }
