@@ -129,14 +129,8 @@ fn bump_texture(cross_on_blue: bool, filter16: bool, signed: bool) -> Arc<Textur
                 [v(hi), v(lo), 0.0, 0.0]
             })
             .collect();
-        let t = Texels {
-            width: TEX,
-            height: TEX,
-            lanes: 2,
-            values,
-        };
         let enc = if signed { S16 } else { U16 };
-        Arc::new(Texture::new("r16b16", enc, t).expect("texture"))
+        texture("r16b16", enc, 2, values)
     } else {
         // lanes R, G, B, A of the A8R8G8B8 reading
         let values = (0..TEX * TEX)
@@ -145,14 +139,19 @@ fn bump_texture(cross_on_blue: bool, filter16: bool, signed: bool) -> Arc<Textur
                 [hi & 0xff, lo >> 8, lo & 0xff, hi >> 8].map(|c| c as f64 / 255.0)
             })
             .collect();
-        let t = Texels {
-            width: TEX,
-            height: TEX,
-            lanes: 4,
-            values,
-        };
-        Arc::new(Texture::new("r16b16-as-argb", U8, t).expect("texture"))
+        texture("r16b16-as-argb", U8, 4, values)
     }
+}
+
+/// A 256 x 256 texture of one level.
+fn texture(name: &str, enc: Encoding, lanes: u8, values: Vec<[f64; 4]>) -> Arc<Texture> {
+    let t = Texels {
+        width: TEX,
+        height: TEX,
+        lanes,
+        values,
+    };
+    Arc::new(Texture::new(name, enc, t).expect("texture"))
 }
 
 /// `GenerateCheckerboardSurface(256, 256, 0xFF0000FE, 0x7F202122)` (ABGR8888, 8-texel cells):
@@ -171,13 +170,7 @@ fn checkerboard() -> Arc<Texture> {
             c.map(|v: u32| v as f64 / 255.0)
         })
         .collect();
-    let t = Texels {
-        width: TEX,
-        height: TEX,
-        lanes: 4,
-        values,
-    };
-    Arc::new(Texture::new("checkerboard", U8, t).expect("texture"))
+    texture("checkerboard", U8, 4, values)
 }
 
 /// A screen quad (corners at integer pixels) with its vertices' coordinates
@@ -237,27 +230,24 @@ struct Scene {
     text: Vec<(u32, u32, u32)>,
 }
 
-/// `BumpMap_R16B16` (`cross_on_blue` false) and `BumpMap_R16B16_B`. (`BumpMap_R16B16_L` is
-/// not this scene: the generic BUMPENVMAP test on the linear R16B16 format.)
-fn r16b16_scene(name: &'static str, cross_on_blue: bool, h: Hyp) -> Scene {
-    let (w, hh) = (TEX as f64, TEX as f64);
-    let (fw, fh) = ((1.0 / w) as f32 as f64, (1.0 / hh) as f32 as f64);
-    let (tw, th_) = ((3.0 / w) as f32 as f64, (3.0 / hh) as f32 as f64);
-    let v = |s0: f64, t0: f64, r1: f64, r2: f64| {
-        [
-            [s0, t0, 0.0, 1.0],
-            [10.0, 0.0, r1, 1.0],
-            [0.0, 15.0, r2, 1.0],
-            [0.0; 4],
-        ]
-    };
-    let coords = [
-        v(fw, fh, 0.0, 0.0),
-        v(tw, fh, 1.0, 0.0),
-        v(tw, th_, 1.0, 1.0),
-        v(fw, th_, 0.0, 1.0),
-    ];
-    // DrawRectangles: bh = 480 * 3 / 8 = 180, th = 168, sh = 6, sx = 146, sy = 66
+/// The vertex coordinates of a quad, v0..v3 clockwise from top-left, the corners (u, v) =
+/// (0, 0), (1, 0), (1, 1), (0, 1): stage 0 reads the bump map at texels 1 to 3 of 256
+/// (`SetTexCoord0(1/w .. 3/w)`, in f32), stages 1 to 3 are `rest(u, v)`.
+fn corners(rest: impl Fn(f64, f64) -> [[f64; 4]; 3]) -> [[[f64; 4]; 4]; 4] {
+    let w = TEX as f64;
+    let (f1, f3) = ((1.0 / w) as f32 as f64, (3.0 / w) as f32 as f64);
+    [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(|(u, v)| {
+        let r = rest(u, v);
+        let st = |x: f64| if x == 0.0 { f1 } else { f3 };
+        [[st(u), st(v), 0.0, 1.0], r[0], r[1], r[2]]
+    })
+}
+
+/// `DrawRectangles`: the four quads (bh = 480 * 3 / 8 = 180, th = 168, sh = 6, sx = 146,
+/// sy = 66), ordered (xsigned, ysigned) = (0, 0), (1, 0), (0, 1), (1, 1), all with the vertex
+/// coordinates `coords`; and the text cells the host prints (the five header lines, the quads'
+/// 5-character labels).
+fn draw_rectangles(coords: [[[f64; 4]; 4]; 4]) -> (Vec<Quad>, Vec<(u32, u32, u32)>) {
     let (bh, th, sx, sy) = (180.0, 168.0, 146.0, 66.0);
     let mut quads = Vec::new();
     let mut text = vec![(0, 0, 10), (1, 0, 8), (2, 0, 5), (3, 0, 9), (4, 0, 8)];
@@ -272,6 +262,15 @@ fn r16b16_scene(name: &'static str, cross_on_blue: bool, h: Hyp) -> Scene {
             text.push((5 + 7 * ys, 17 + 20 * xs, 5));
         }
     }
+    (quads, text)
+}
+
+/// `BumpMap_R16B16` (`cross_on_blue` false) and `BumpMap_R16B16_B`. (`BumpMap_R16B16_L` is
+/// not this scene: the generic BUMPENVMAP test on the linear R16B16 format.)
+fn r16b16_scene(name: &'static str, cross_on_blue: bool, h: Hyp) -> Scene {
+    // stage 1 (10, 0, u), stage 2 (0, 15, v) at the quad corner (u, v)
+    let coords = corners(|u, v| [[10.0, 0.0, u, 1.0], [0.0, 15.0, v, 1.0], [0.0; 4]]);
+    let (quads, text) = draw_rectangles(coords);
     // per quad: the signed flags (G, A) = (xsigned, ysigned) of `DrawRectangles`; HI is
     // A << 8 | R, LO is G << 8 | B. Only words with the top bit set differ between the signed
     // and unsigned readings, and in each frame only one of HI, LO has such words, so a
@@ -329,14 +328,8 @@ fn env_bump_texture(cross_on_blue: bool, signed: bool) -> Arc<Texture> {
             })
         })
         .collect();
-    let t = Texels {
-        width: TEX,
-        height: TEX,
-        lanes: 4,
-        values,
-    };
     let enc = if signed { S8 } else { U8 };
-    Arc::new(Texture::new("bump", enc, t).expect("texture"))
+    texture("bump", enc, 4, values)
 }
 
 /// The generic `Test` of `bump_map_tests.cpp` on an 8-bit format (A8R8G8B8, X8R8G8B8,
@@ -347,36 +340,9 @@ fn env_bump_texture(cross_on_blue: bool, signed: bool) -> Arc<Texture> {
 /// (1 to 3), the same texels as the swizzled ones' 1/256 to 3/256; their frames are
 /// identical to the swizzled ones over every quad.
 fn env_scene(name: &'static str, cross_on_blue: bool, rotate90: bool, h: Hyp) -> Scene {
-    let w = TEX as f64;
-    let (f1, f3) = ((1.0 / w) as f32 as f64, (3.0 / w) as f32 as f64);
-    let v = |s0: f64, t0: f64, s1: f64, t1: f64| {
-        [
-            [s0, t0, 0.0, 1.0],
-            [s1, t1, 0.0, 1.0],
-            [0.0, 0.0, 0.0, 1.0],
-            [0.0; 4],
-        ]
-    };
-    let coords = [
-        v(f1, f1, 0.0, 0.0),
-        v(f3, f1, 1.0, 0.0),
-        v(f3, f3, 1.0, 1.0),
-        v(f1, f3, 0.0, 1.0),
-    ];
-    let (bh, th, sx, sy) = (180.0, 168.0, 146.0, 66.0);
-    let mut quads = Vec::new();
-    let mut text = Vec::new();
-    for ys in 0..2u32 {
-        for xs in 0..2u32 {
-            quads.push(Quad {
-                left: sx + xs as f64 * bh,
-                top: sy + ys as f64 * bh,
-                size: th,
-                coords,
-            });
-            text.push((5 + 7 * ys, 17 + 20 * xs, 5));
-        }
-    }
+    // stage 1 (u, v) at the quad corner (u, v)
+    let coords = corners(|u, v| [[u, v, 0.0, 1.0], [0.0, 0.0, 0.0, 1.0], [0.0; 4]]);
+    let (quads, text) = draw_rectangles(coords);
     // SetBumpEnv(mat00, mat01, mat10, mat11): the four method words in that order
     let words = if rotate90 {
         [0.0, -0.1, 0.3, 0.0]
@@ -655,76 +621,29 @@ fn the_r16b16_frames_are_reproduced() {
     println!("{:<27} {n:>7} {e:>7} {:>8.3}%", "all", share(n, e));
 }
 
+/// [`MODEL`] with one hypothesis changed.
+fn alt(name: &'static str, change: impl Fn(&mut Hyp)) -> (&'static str, Hyp) {
+    let mut h = MODEL;
+    change(&mut h);
+    (name, h)
+}
+
 /// The alternatives the frames reject (run with `--ignored --nocapture`).
 #[test]
 #[ignore]
 fn the_frames_decide_the_hypotheses() {
     let mut totals = Vec::new();
     for (name, h) in [
-        ("model", MODEL),
-        (
-            "corner sample (o = 0)",
-            Hyp {
-                offset: 0.0,
-                ..MODEL
-            },
-        ),
-        (
-            "8-bit channels filtered",
-            Hyp {
-                filter16: false,
-                ..MODEL
-            },
-        ),
-        (
-            "weights 4 bits",
-            Hyp {
-                weight_bits: 4,
-                ..MODEL
-            },
-        ),
-        (
-            "weights 6 bits",
-            Hyp {
-                weight_bits: 6,
-                ..MODEL
-            },
-        ),
-        (
-            "weights 12 bits",
-            Hyp {
-                weight_bits: 12,
-                ..MODEL
-            },
-        ),
-        (
-            "dot_frac 8",
-            Hyp {
-                dot_frac: 8,
-                ..MODEL
-            },
-        ),
-        (
-            "dot_frac 12",
-            Hyp {
-                dot_frac: 12,
-                ..MODEL
-            },
-        ),
-        (
-            "signed flags ignored",
-            Hyp {
-                signed_flags: false,
-                ..MODEL
-            },
-        ),
-        (
-            "coordinates rounded",
-            Hyp {
-                coord_rnd: true,
-                ..MODEL
-            },
-        ),
+        alt("model", |_| {}),
+        alt("corner sample (o = 0)", |h| h.offset = 0.0),
+        alt("8-bit channels filtered", |h| h.filter16 = false),
+        alt("weights 4 bits", |h| h.weight_bits = 4),
+        alt("weights 6 bits", |h| h.weight_bits = 6),
+        alt("weights 12 bits", |h| h.weight_bits = 12),
+        alt("dot_frac 8", |h| h.dot_frac = 8),
+        alt("dot_frac 12", |h| h.dot_frac = 12),
+        alt("signed flags ignored", |h| h.signed_flags = false),
+        alt("coordinates rounded", |h| h.coord_rnd = true),
     ] {
         println!("-- {name}");
         let (mut n, mut e) = (0, 0);
@@ -806,63 +725,15 @@ fn the_bumpenvmap_frames_are_reproduced() {
 #[ignore]
 fn the_bumpenvmap_frames_decide_the_hypotheses() {
     let alts = [
-        ("model", MODEL),
-        (
-            "D3D matrix order",
-            Hyp {
-                xbox_matrix_order: false,
-                ..MODEL
-            },
-        ),
-        (
-            "signed flags ignored",
-            Hyp {
-                signed_flags: false,
-                ..MODEL
-            },
-        ),
-        (
-            "corner sample (o = 0)",
-            Hyp {
-                offset: 0.0,
-                ..MODEL
-            },
-        ),
-        (
-            "weights 6 bits",
-            Hyp {
-                weight_bits: 6,
-                ..MODEL
-            },
-        ),
-        (
-            "weights 12 bits",
-            Hyp {
-                weight_bits: 12,
-                ..MODEL
-            },
-        ),
-        (
-            "offset_frac 8",
-            Hyp {
-                offset_frac: 8,
-                ..MODEL
-            },
-        ),
-        (
-            "offset_frac 12",
-            Hyp {
-                offset_frac: 12,
-                ..MODEL
-            },
-        ),
-        (
-            "coordinates rounded",
-            Hyp {
-                coord_rnd: true,
-                ..MODEL
-            },
-        ),
+        alt("model", |_| {}),
+        alt("D3D matrix order", |h| h.xbox_matrix_order = false),
+        alt("signed flags ignored", |h| h.signed_flags = false),
+        alt("corner sample (o = 0)", |h| h.offset = 0.0),
+        alt("weights 6 bits", |h| h.weight_bits = 6),
+        alt("weights 12 bits", |h| h.weight_bits = 12),
+        alt("offset_frac 8", |h| h.offset_frac = 8),
+        alt("offset_frac 12", |h| h.offset_frac = 12),
+        alt("coordinates rounded", |h| h.coord_rnd = true),
     ];
     let mut exact = Vec::new();
     for (name, h) in alts {
