@@ -13,10 +13,7 @@ use common::*;
 
 /// The bit-accurate image and the reference of a bundled config with overrides.
 fn render(stem: &str, sets: &[&str]) -> (image::RgbImage, image::RgbImage) {
-    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    let l = bumpsim_pipeline::config::load(&config(stem), &sets)
-        .unwrap_or_else(|e| panic!("{stem}: {e}"));
-    let r = bumpsim_pipeline::run::run(&l, None).unwrap_or_else(|e| panic!("{stem}: {e}"));
+    let r = config_run(stem, sets);
     (r.image, r.reference)
 }
 

@@ -298,12 +298,7 @@ fn bad_input_is_a_config_error() {
 
 /// A bundled config's bit-accurate image with `--set` overrides.
 fn image(stem: &str, sets: &[&str]) -> image::RgbImage {
-    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
-    let l = bumpsim_pipeline::config::load(&config(stem), &sets)
-        .unwrap_or_else(|e| panic!("{stem}: {e}"));
-    bumpsim_pipeline::run::run(&l, None)
-        .unwrap_or_else(|e| panic!("{stem}: {e}"))
-        .image
+    config_run(stem, sets).image
 }
 
 /// Per-fragment mip levels (§5.2.2's mipmapped noise, `ndf-sphere-hw-mip`): with a level of

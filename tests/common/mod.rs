@@ -175,14 +175,17 @@ pub fn expect_rejected(cfg: &Path, set: &str, needles: &[&str]) -> String {
     o.stderr.clone()
 }
 
-/// The report of a bundled config run with `--set` overrides `sets` (through the library).
-pub fn config_report(stem: &str, sets: &[&str]) -> bumpsim_pipeline::report::Report {
+/// A bundled config run with `--set` overrides `sets` (through the library): images, report.
+pub fn config_run(stem: &str, sets: &[&str]) -> bumpsim_pipeline::run::RunResult {
     let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
     let l = bumpsim_pipeline::config::load(&config(stem), &sets)
         .unwrap_or_else(|e| panic!("{stem}: {e}"));
-    bumpsim_pipeline::run::run(&l, None)
-        .unwrap_or_else(|e| panic!("{stem}: {e}"))
-        .report
+    bumpsim_pipeline::run::run(&l, None).unwrap_or_else(|e| panic!("{stem}: {e}"))
+}
+
+/// The report of [`config_run`].
+pub fn config_report(stem: &str, sets: &[&str]) -> bumpsim_pipeline::report::Report {
+    config_run(stem, sets).report
 }
 
 /// The error message of a bundled config that `sets` make invalid (loading or running).
