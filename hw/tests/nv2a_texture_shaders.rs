@@ -27,7 +27,7 @@ use bumpsim_hw::units::combiner::{
     Combiner, CombinerParams, FinalCombiner, FinalInput, GeneralStage, MuxSelect, Program as Cp,
     Source, Usage,
 };
-use bumpsim_hw::units::texture_shader::{Program, ShaderParams, StageSpec, TextureShader};
+use bumpsim_hw::units::texture_shader::{Offset, Program, ShaderParams, StageSpec, TextureShader};
 use bumpsim_hw::{Codec, Encoding, Mode, Texels, Texture, Unit, Word};
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -420,6 +420,111 @@ fn dependent(params: ShaderParams, gb: bool) -> Scene {
     }
 }
 
+/// A 128 x 128 resource PNG of the host (`resources/pixel_shader/`, copied to
+/// `tests/nv2a/resources/`) as the A8R8G8B8 texture `LoadPNG` makes of it: RGB, alpha 255.
+fn resource(name: &str) -> Arc<Texture> {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/nv2a/resources")
+        .join(format!("{name}.png"));
+    let img = image::open(&p)
+        .unwrap_or_else(|e| panic!("the host resource {} is missing: {e}", p.display()))
+        .to_rgb8();
+    let (w, h) = img.dimensions();
+    let values = img
+        .pixels()
+        .map(|px| {
+            let [r, g, b] = px.0;
+            [r, g, b, 255].map(|c| c as f64 / 255.0)
+        })
+        .collect();
+    let t = Texels {
+        width: w,
+        height: h,
+        lanes: 4,
+        values,
+    };
+    Arc::new(Texture::new(name, U8, t).expect("texture"))
+}
+
+/// `BumpEnvMap`: eight 128 x 128 quads, stage 0 TEXTURE_2D of the water map, stage 1
+/// OFFSET_TEXTURE_2D (BUMPENVMAP) of the test image, both 128 x 128 linear (texture-rectangle)
+/// A8R8G8B8 read nearest (the default filter) with clamp, coordinates 0 to 128 texels; RGB =
+/// tex1, alpha = tex1 alpha; one matrix per quad. As in the `Bump_map` frames
+/// (`docs/units/texture-shader.md`, hypotheses 15 to 17): du = B, dv = G as two's complement
+/// / 128 and the method's words (M00, M01, M11, M10). A texture rectangle's offset is in
+/// **texels** (hypothesis 19): the unit's normalized matrix is the words / 128.
+fn bump_env_map(params: ShaderParams) -> Scene {
+    const MATS: [[f64; 4]; 8] = [
+        [-1.0, 0.0, 1.0, 0.0],
+        [1.0, 1.0, 1.0, 1.0],
+        [0.0, 0.2, 0.0, 0.75],
+        [0.5, -0.5, 0.5, -0.5],
+        [0.3, 0.5, 0.7, 1.0],
+        [0.0, 1.0, -1.0, 0.0],
+        [0.0, 0.0, 1.0, 1.0],
+        [0.5, 0.8, 0.0, 0.0],
+    ];
+    let params = ShaderParams {
+        offset_frac: 16,
+        ..params
+    };
+    let (water, image) = (resource("water_bump_map"), resource("bump_map_test_image"));
+    let near = Sampler::new(Filter::Nearest, 8)
+        .expect("sampler")
+        .with_address(Address::Clamp, Address::Clamp);
+    let z = [0.0; 4];
+    let v = |s: f64, t: f64| [[s, t, 0.0, 1.0], [s, t, 0.0, 1.0], z, z];
+    let corners = [v(0.0, 0.0), v(1.0, 0.0), v(1.0, 1.0), v(0.0, 1.0)];
+    let (size, spacing, first_left, top0) = (128.0, 144.0, 152.0, 64.0);
+    let (mut left, mut top) = (first_left, top0);
+    let mut quads = Vec::new();
+    let mut draws = Vec::new();
+    for (k, w) in MATS.iter().enumerate() {
+        quads.push(Quad::rect(left, top, size, corners));
+        left += spacing;
+        if left + size > W as f64 {
+            left = first_left;
+            top += spacing;
+        }
+        let w = w.map(|x| x as f32 as f64 / size);
+        let offset = Offset {
+            matrix: [w[0], w[1], w[3], w[2]],
+            lanes: [2, 1, 0],
+            twos_complement: true,
+            ..Offset::default()
+        };
+        let u = shader(
+            vec![
+                StageSpec::new(Program::Texture2d, Some(water.clone())).with_sampler(near),
+                StageSpec::new(
+                    Program::OffsetTexture2d { prev: 0, offset },
+                    Some(image.clone()),
+                )
+                .with_sampler(near),
+            ],
+            params,
+        );
+        let c = combiner(
+            &u,
+            fin(Source::Texture1, false),
+            fin(Source::Texture1, true),
+        );
+        draws.push(Draw {
+            quad: k,
+            shader: u,
+            combiner: c,
+            diffuse: [0; 4],
+        });
+    }
+    Scene {
+        name: "BumpEnvMap",
+        clear: [0x22, 0x22, 0x22, 0xff],
+        quads,
+        draws,
+        text: vec![(0, 0, 10)],
+    }
+}
+
 // ---- evaluation --------------------------------------------------------------------------
 
 #[derive(Debug, Default, Clone)]
@@ -492,6 +597,7 @@ fn scenes(params: ShaderParams) -> Vec<Scene> {
         passthru(params),
         dependent(params, false),
         dependent(params, true),
+        bump_env_map(params),
     ]
 }
 
@@ -509,11 +615,12 @@ fn the_licence_of_the_frames_is_in_the_repository() {
 
 /// (frame, compared, exact) with [`params`], bit-accurate mode, attributes at [`CORNER`], as
 /// measured. A drop fails the test.
-const EXPECTED: [(&str, u64, u64); 4] = [
+const EXPECTED: [(&str, u64, u64); 5] = [
     ("ClipPlane", 65536, 65518),
     ("Passthru", 65536, 55778),
     ("StageDependentAlphaRed", 65536, 65536),
     ("StageDependentGreenBlue", 65536, 65536),
+    ("BumpEnvMap", 131072, 131071),
 ];
 
 #[test]
@@ -674,8 +781,8 @@ fn the_frames_decide_the_hypotheses() {
         ("exact f64 mode", CORNER, p, Mode::Exact, true),
     ];
     println!(
-        "{:<28} {:>10} {:>10} {:>10} {:>10}",
-        "model", "ClipPlane", "Passthru", "DepAR", "DepGB"
+        "{:<28} {:>10} {:>10} {:>10} {:>10} {:>10}",
+        "model", "ClipPlane", "Passthru", "DepAR", "DepGB", "EnvMap"
     );
     let mut rows = Vec::new();
     for (name, ip, params, mode, bit) in variants {
