@@ -24,6 +24,8 @@
 
 mod nv2a;
 
+use nv2a::{blend, in_text};
+
 use bumpsim_hw::units::combiner::{
     Combiner, CombinerParams, FinalCombiner, FinalInput, GeneralStage, Input, MuxSelect, OutputOp,
     Portion, Program, Source, Usage,
@@ -228,13 +230,6 @@ fn vertex_buffer_quads() -> Vec<Region> {
 /// A text cell block: `pb_printat(row, col, text)`.
 fn text(row: u32, col: u32, s: &str) -> (u32, u32, u32) {
     (row, col, s.len() as u32)
-}
-
-fn in_text(cells: &[(u32, u32, u32)], x: u32, y: u32) -> bool {
-    cells.iter().any(|&(r, c, n)| {
-        let (x0, y0) = (20 + 10 * c, 25 + 25 * r);
-        x >= x0 && x < x0 + 10 * n && y >= y0 && y < y0 + 16
-    })
 }
 
 // ---- scenes -----------------------------------------------------------------------------
@@ -851,15 +846,6 @@ fn scenes() -> Vec<Scene> {
 }
 
 // ---- evaluation -------------------------------------------------------------------------
-
-/// The ROP's blend: SRC_ALPHA, ONE_MINUS_SRC_ALPHA on all four channels, rounded to nearest.
-fn blend(s: [u8; 4], d: [u8; 4]) -> [u8; 4] {
-    let a = s[3] as u32;
-    std::array::from_fn(|c| {
-        let t = s[c] as u32 * a + d[c] as u32 * (255 - a);
-        ((2 * t + 255) / 510) as u8
-    })
-}
 
 /// The unit's RGBA for one pass, in `mode` (exact mode's output rounded to 8 bits).
 fn shade(prog: &Program, width: u32, mode: Mode, primary: [u8; 4], tex: [u8; 4]) -> [u8; 4] {

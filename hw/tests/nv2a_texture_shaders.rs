@@ -22,6 +22,8 @@
 
 mod nv2a;
 
+use nv2a::{blend, in_text};
+
 use bumpsim_hw::sampler::{Address, Filter, Sampler};
 use bumpsim_hw::units::combiner::{
     Combiner, CombinerParams, FinalCombiner, FinalInput, GeneralStage, MuxSelect, Program as Cp,
@@ -173,22 +175,6 @@ fn shade(
     c.eval(mode, &cins, &mut o);
     let rgba = o[0].raws::<4>().map(|r| r as u8);
     (rgba, live)
-}
-
-/// The ROP's blend: SRC_ALPHA, ONE_MINUS_SRC_ALPHA on all four channels, rounded to nearest.
-fn blend(s: [u8; 4], d: [u8; 4]) -> [u8; 4] {
-    let a = s[3] as u32;
-    std::array::from_fn(|c| {
-        let t = s[c] as u32 * a + d[c] as u32 * (255 - a);
-        ((2 * t + 255) / 510) as u8
-    })
-}
-
-fn in_text(cells: &[(u32, u32, u32)], x: u32, y: u32) -> bool {
-    cells.iter().any(|&(r, c, n)| {
-        let (x0, y0) = (20 + 10 * c, 25 + 25 * r);
-        x >= x0 && x < x0 + 10 * n && y >= y0 && y < y0 + 16
-    })
 }
 
 // ---- scenes ------------------------------------------------------------------------------

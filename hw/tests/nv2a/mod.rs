@@ -25,3 +25,22 @@ pub fn frame(suite: &str, name: &str) -> image::RgbaImage {
     assert_eq!(img.dimensions(), (W, H), "{}", p.display());
     img
 }
+
+/// The ROP's blend the combiner frames found: SRC_ALPHA, ONE_MINUS_SRC_ALPHA on all four
+/// channels, rounded to nearest.
+pub fn blend(s: [u8; 4], d: [u8; 4]) -> [u8; 4] {
+    let a = s[3] as u32;
+    std::array::from_fn(|c| {
+        let t = s[c] as u32 * a + d[c] as u32 * (255 - a);
+        ((2 * t + 255) / 510) as u8
+    })
+}
+
+/// Whether (x, y) lies in a text cell the host prints: `(row, col, characters)` of
+/// `pb_printat` / `pb_print`, 10 x 16 px cells at x = 20 + 10 col, y = 25 + 25 row.
+pub fn in_text(cells: &[(u32, u32, u32)], x: u32, y: u32) -> bool {
+    cells.iter().any(|&(r, c, n)| {
+        let (x0, y0) = (20 + 10 * c, 25 + 25 * r);
+        x >= x0 && x < x0 + 10 * n && y >= y0 && y < y0 + 16
+    })
+}
