@@ -8,7 +8,7 @@ use common::*;
 #[test]
 fn bad_quantized_configs_are_rejected() {
     let cfg = config("quantized-sphere");
-    let cases: [(&str, &[&str]); 6] = [
+    let cases: [(&str, &[&str]); 7] = [
         (
             "engine.units.qnm.unit.s_n=0",
             &["s_n 0", "expected 1 to 2^index_bits = 256"],
@@ -18,12 +18,17 @@ fn bad_quantized_configs_are_rejected() {
             &["s_n 300", "expected 1 to 2^index_bits = 256"],
         ),
         (
-            "engine.units.qnm.unit.index_bits=15",
-            &["index_bits 15", "expected 8 to 14"],
+            "engine.units.qnm.unit.index_bits=17",
+            &["index_bits 17", "expected 8 to 16"],
         ),
         (
             "engine.units.qnm.unit.index_bits=7",
-            &["index_bits 7", "expected 8 to 14"],
+            &["index_bits 7", "expected 8 to 16"],
+        ),
+        // Exact must hold every distinct normal of the 256 x 256 map
+        (
+            "engine.units.qnm.unit.quantizer=Exact",
+            &["Exact keeps every distinct normal", "more than s_n = 256"],
         ),
         (
             "engine.units.qnm.unit.size=100",
@@ -41,6 +46,23 @@ fn bad_quantized_configs_are_rejected() {
             "{set}: no field in {msg}"
         );
     }
+    // 16-bit indices hold 65536 entries, but only Exact keeps more than 16384
+    let c = cfg.display().to_string();
+    let o = bumpsim(&[
+        "check",
+        &c,
+        "--set",
+        "engine.units.qnm.unit.index_bits=16",
+        "--set",
+        "engine.units.qnm.unit.s_n=16385",
+    ]);
+    o.expect_code(2, "s_n 16385");
+    assert!(
+        o.stderr.contains("engine.units[0].unit.s_n")
+            && o.stderr.contains("expected at most 16384 for MedianCut"),
+        "{}",
+        o.stderr
+    );
 }
 
 /// `check` of a bundled config with one override: exit 2 and every needle.

@@ -20,7 +20,7 @@ pub use blend::{BlendKind, BumpBlend, BumpBlendParams, LightState, Selective, Ve
 pub mod modulate;
 pub use modulate::Modulate;
 pub mod palette_lut;
-pub use palette_lut::{PaletteLut, PaletteTable};
+pub use palette_lut::{PaletteLut, PaletteTable, MAX_INDEX_BITS};
 pub mod palette_builder;
 pub use palette_builder::{BuilderFormats, Light, LightingFn, PaletteBuilder};
 pub mod quantized_fetch;

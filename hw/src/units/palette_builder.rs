@@ -371,7 +371,8 @@ fn sphere_texel(r: [f64; 3], width: u32, height: u32) -> usize {
 }
 
 impl PaletteBuilder {
-    /// `normals`: the table `N` (1 to 16384 finite vectors, normalised here); `materials`:
+    /// `normals`: the table `N` (1 to `2^MAX_INDEX_BITS` = 65536 finite vectors, normalised
+    /// here); `materials`:
     /// contiguous intervals covering `0..normals.len()` in order, each with its function;
     /// `entries_per_clock`: parallel pipelines (1 to 64). Errors name what was expected.
     pub fn new(
@@ -381,8 +382,9 @@ impl PaletteBuilder {
         entries_per_clock: u32,
     ) -> Result<Self, String> {
         let n = normals.len();
-        if !(1..=16384).contains(&n) {
-            return Err(format!("normal table of {n} entries: expected 1 to 16384"));
+        let most = 1usize << crate::units::palette_lut::MAX_INDEX_BITS;
+        if !(1..=most).contains(&n) {
+            return Err(format!("normal table of {n} entries: expected 1 to {most}"));
         }
         if let Some(v) = normals
             .iter()

@@ -8,7 +8,8 @@
 //! support for paletted textures, and an explicit step is provided in the raster pipeline to
 //! translate indexes into RGBA colors". This unit is that step.
 //!
-//! * Port `i`: 1 lane, the texel index, an unsigned integer word of 8 to 14 bits (`Fixed`,
+//! * Port `i`: 1 lane, the texel index, an unsigned integer word of 8 to
+//!   [`MAX_INDEX_BITS`] = 16 bits (`Fixed`,
 //!   no fraction bits). Port `c`: 4 lanes (RGBA) of the entry encoding.
 //! * One lookup per clock (interval 1), latency 2: the index register, then the SRAM read
 //!   into the output register.
@@ -57,6 +58,10 @@ impl PaletteTable {
     }
 }
 
+/// Widest index word: 65,536 entries, room for every distinct normal of a 256 x 256 map (the
+/// unquantized baseline of the quantized engine; Tarini's largest table, 16K, needs 14).
+pub const MAX_INDEX_BITS: u32 = 16;
+
 pub struct PaletteLut {
     inputs: Vec<PortSpec>,
     outputs: Vec<PortSpec>,
@@ -66,7 +71,8 @@ pub struct PaletteLut {
 }
 
 impl PaletteLut {
-    /// `index`: the index word (unsigned `Fixed`, no fraction bits, 8 to 14 bits); `entry`:
+    /// `index`: the index word (unsigned `Fixed`, no fraction bits, 8 to
+    /// [`MAX_INDEX_BITS`] bits); `entry`:
     /// the encoding of each RGBA lane (e.g. `UnitUnsigned` 8); `table`: 1 to `2^index_bits`
     /// entries; `load_width`: entries written per clock when the table is loaded (1 to 64).
     /// Errors name the parameter and what was expected.
@@ -84,8 +90,10 @@ impl PaletteLut {
                 "index encoding {index}: expected an unsigned integer (Fixed, no fraction bits)"
             ));
         }
-        if !(8..=14).contains(&bits) {
-            return Err(format!("index width {bits}: expected 8 to 14 bits"));
+        if !(8..=MAX_INDEX_BITS).contains(&bits) {
+            return Err(format!(
+                "index width {bits}: expected 8 to {MAX_INDEX_BITS} bits"
+            ));
         }
         if !(1..=64).contains(&load_width) {
             return Err(format!("load_width {load_width}: expected 1 to 64"));
@@ -311,7 +319,10 @@ mod tests {
         assert!(PaletteLut::new(idx(8), rgba8(), vec![], 1).is_err());
         assert!(PaletteLut::new(idx(8), rgba8(), vec![[0.0; 4]; 257], 1).is_err());
         assert!(PaletteLut::new(idx(7), rgba8(), vec![[0.0; 4]; 4], 1).is_err());
-        assert!(PaletteLut::new(idx(15), rgba8(), vec![[0.0; 4]; 4], 1).is_err());
+        assert!(PaletteLut::new(idx(17), rgba8(), vec![[0.0; 4]; 4], 1).is_err());
+        // 16 bits: the widest, 65536 entries
+        assert!(PaletteLut::new(idx(16), rgba8(), vec![[0.0; 4]; 65536], 1).is_ok());
+        assert!(PaletteLut::new(idx(16), rgba8(), vec![[0.0; 4]; 65537], 1).is_err());
         assert!(PaletteLut::new(idx(8), rgba8(), vec![[0.0; 4]; 4], 0).is_err());
         let signed = Encoding::fixed(Format::s(8, 0));
         assert!(PaletteLut::new(signed, rgba8(), vec![[0.0; 4]; 4], 1).is_err());

@@ -27,7 +27,7 @@ use crate::texture::{Texels, Texture};
 use crate::unit::{Mode, PortSpec, TextureRead, Unit, Word};
 use crate::units::fetch::TexFetch;
 use crate::units::palette_builder::PaletteBuilder;
-use crate::units::palette_lut::PaletteLut;
+use crate::units::palette_lut::{PaletteLut, MAX_INDEX_BITS};
 use std::sync::Arc;
 
 pub struct QuantizedFetch {
@@ -44,7 +44,8 @@ pub struct QuantizedFetch {
 impl QuantizedFetch {
     /// `name`: the index texture's name in the texture memory; `uv`: the coordinate
     /// encoding; `width` x `height` `indices` (row-major, row 0 at v in
-    /// [0, 1/height)) into the builder's table; `index_bits` 8 to 14 (the table must fit);
+    /// [0, 1/height)) into the builder's table; `index_bits` 8 to
+    /// [`MAX_INDEX_BITS`] (the table must fit);
     /// `load_width`: LUT entries written per clock; `mem_latency`: clocks of the index read.
     /// Errors name the parameter and what was expected.
     #[allow(clippy::too_many_arguments)]
@@ -59,8 +60,10 @@ impl QuantizedFetch {
         load_width: u32,
         mem_latency: u32,
     ) -> Result<Self, String> {
-        if !(8..=14).contains(&index_bits) {
-            return Err(format!("index_bits {index_bits}: expected 8 to 14"));
+        if !(8..=MAX_INDEX_BITS).contains(&index_bits) {
+            return Err(format!(
+                "index_bits {index_bits}: expected 8 to {MAX_INDEX_BITS}"
+            ));
         }
         let n = builder.entries();
         if n > 1usize << index_bits {
@@ -419,7 +422,8 @@ mod tests {
         let uv = Encoding::fixed(Format::u(16, 12));
         let b = || PaletteBuilder::single(normals(300), specular(), formats(), 1).unwrap();
         assert!(QuantizedFetch::new("indices", uv, 4, 4, &[0; 16], 8, b(), 1, 1).is_err());
-        assert!(QuantizedFetch::new("indices", uv, 4, 4, &[0; 16], 15, b(), 1, 1).is_err());
+        assert!(QuantizedFetch::new("indices", uv, 4, 4, &[0; 16], 17, b(), 1, 1).is_err());
+        assert!(QuantizedFetch::new("indices", uv, 4, 4, &[0; 16], 16, b(), 1, 1).is_ok());
         assert!(QuantizedFetch::new("indices", uv, 4, 4, &[300; 16], 9, b(), 1, 1).is_err());
         assert!(QuantizedFetch::new("indices", uv, 4, 4, &[299; 16], 9, b(), 1, 1).is_ok());
     }

@@ -155,10 +155,21 @@ fn check_unit(u: &UnitSpec) -> Result<(), Bad> {
         UnitSpec::BumpBlend(s) => spec_gen("spec", &s.spec),
         UnitSpec::QuantizedNormals(s) => {
             side("size", s.size)?;
-            range("index_bits", s.index_bits, 8, 14, "")?;
+            let max_bits = bumpsim_hw::units::MAX_INDEX_BITS;
+            range("index_bits", s.index_bits, 8, max_bits, "")?;
             let most = 1u32 << s.index_bits;
             if !(1..=most).contains(&s.s_n) {
                 let m = format!("s_n {}: expected 1 to 2^index_bits = {most}", s.s_n);
+                return Err(("s_n".into(), m));
+            }
+            let table = s.quantizer.max_entries();
+            if s.s_n as usize > table {
+                let m = format!(
+                    "s_n {}: expected at most {table} for {:?} (Exact keeps up to {})",
+                    s.s_n,
+                    s.quantizer,
+                    crate::quantize::MAX_EXACT
+                );
                 return Err(("s_n".into(), m));
             }
             range("entries_per_clock", s.entries_per_clock, 1, 64, "")?;
@@ -175,7 +186,7 @@ fn check_unit(u: &UnitSpec) -> Result<(), Bad> {
                     crate::quantize::MAX_KMEANS_ITERATIONS,
                     "",
                 ),
-                Quantizer::MedianCut => Ok(()),
+                Quantizer::MedianCut | Quantizer::Exact => Ok(()),
             }
         }
         _ => Ok(()),

@@ -27,6 +27,8 @@ pub fn apply(config: &Config, sets: &[String]) -> Result<Config, InputError> {
         ));
     }
     let mut tree = serde_json::to_value(config).expect("a config serialises to JSON");
+    // the paths where `None` was set over a string (see below)
+    let mut nones: Vec<Vec<String>> = Vec::new();
     for set in sets {
         let err = |field: &str, msg: String| InputError::new("--set", field, msg);
         let (path, value) = set
@@ -42,14 +44,37 @@ pub fn apply(config: &Config, sets: &[String]) -> Result<Config, InputError> {
         }
         let node = walk(&mut tree, &segments).map_err(|m| err(path, m))?;
         // `None` over an enum variant (a string in the tree, e.g. `raster.cull`) is the
-        // variant named None, not an absent option
+        // variant named None, not an absent option; unless the schema has no such variant
+        // there (an `Option` of an enum, e.g. `mipmap: Some(NearestToAverage)`), see below
         *node = match (&*node, value) {
-            (Value::String(_), Value::Null) => Value::String("None".into()),
+            (Value::String(_), Value::Null) => {
+                nones.push(segments.clone());
+                Value::String("None".into())
+            }
             (_, v) => v,
         };
     }
-    let result: Result<Config, _> = serde_path_to_error::deserialize(tree);
-    result.map_err(|e| InputError::new("--set", e.path().to_string(), e.into_inner().to_string()))
+    let first: Result<Config, _> = serde_path_to_error::deserialize(tree.clone());
+    let e = match first {
+        Ok(c) => return Ok(c),
+        Err(e) => e,
+    };
+    // an Option of an enum: `None` is the absent option after all
+    if !nones.is_empty() {
+        for segs in &nones {
+            if let Ok(node) = walk(&mut tree, segs) {
+                *node = Value::Null;
+            }
+        }
+        if let Ok(c) = serde_path_to_error::deserialize::<_, Config>(tree) {
+            return Ok(c);
+        }
+    }
+    Err(InputError::new(
+        "--set",
+        e.path().to_string(),
+        e.into_inner().to_string(),
+    ))
 }
 
 /// A field at its default may be left out of the config's tree (`skip_serializing_if`, so
@@ -375,6 +400,23 @@ mod tests {
         assert_eq!(c.raster.cull, crate::raster::Cull::Back);
         let set = apply(&c, &["raster.cull=None".to_string()]).unwrap();
         assert_eq!(set.raster.cull, crate::raster::Cull::None);
+        // but an Option of an enum without a None variant: the absent option
+        let text = std::fs::read_to_string(
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("../configs/quantized-plane-mipmap.ron"),
+        )
+        .unwrap();
+        let c = super::super::parse(&text, "quantized-plane-mipmap.ron").unwrap();
+        let mip = |c: &Config| match &c.engine.units[0].unit {
+            crate::engine::units::UnitSpec::QuantizedNormals(q) => q.mipmap,
+            _ => panic!("the unit is qnm"),
+        };
+        assert!(mip(&c).is_some());
+        let set = apply(&c, &["engine.units.qnm.unit.mipmap=None".to_string()]).unwrap();
+        assert_eq!(mip(&set), None);
+        // a wrong name is still the first error
+        let e = apply(&c, &["engine.units.qnm.unit.mipmap=Nothing".to_string()]).unwrap_err();
+        assert!(e.message.contains("Nothing"), "{e}");
     }
 
     #[test]

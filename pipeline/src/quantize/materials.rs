@@ -145,7 +145,7 @@ fn tables(
             found: materials.len(),
         });
     }
-    if !(1..=MAX_PALETTE).contains(&s_n) {
+    if !(1..=q.max_entries().max(MAX_PALETTE)).contains(&s_n) {
         return Err(QuantizeError::PaletteSize(s_n));
     }
     check_normals(normals)?;

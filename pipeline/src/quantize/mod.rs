@@ -62,6 +62,8 @@ pub use search::NearestIndex;
 
 /// Largest table size: Tarini §4 finds `s_N = 16K` "in practice invisible".
 pub const MAX_PALETTE: usize = 16384;
+/// Largest table of [`Quantizer::Exact`]: every distinct normal of a 256 x 256 map.
+pub const MAX_EXACT: usize = 65536;
 /// NeuQuant (`color_quant`) builds at most 256 colours.
 pub const MAX_NEUQUANT: usize = 256;
 /// Most Lloyd iterations of [`Quantizer::KMeans`].
@@ -94,6 +96,24 @@ pub enum Quantizer {
         /// two cores (release).
         max_iterations: u32,
     },
+    /// No quantization: every distinct normal of the map (bit for bit) is its own entry, in
+    /// the order of first appearance, and every texel reads its own normal back exactly.
+    /// The same engine with unquantized normals, the baseline against which the quantizers'
+    /// loss is judged with everything else held fixed (Tarini §4's "16K in practice
+    /// invisible", issue 11). `s_n` (up to 65536) must hold the map's distinct normals;
+    /// dithering has no error to diffuse and changes nothing.
+    Exact,
+}
+
+impl Quantizer {
+    /// The largest `s_n` this quantizer accepts.
+    pub fn max_entries(&self) -> usize {
+        match self {
+            Quantizer::Exact => MAX_EXACT,
+            Quantizer::NeuQuant { .. } => MAX_NEUQUANT,
+            _ => MAX_PALETTE,
+        }
+    }
 }
 
 /// Initial centroids of [`Quantizer::KMeans`].
@@ -130,8 +150,10 @@ impl Palette {
 /// Errors of the preprocessing (bad sizes, parameters or inputs).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum QuantizeError {
-    #[error("palette size s_n = {0} out of range 1..={MAX_PALETTE}")]
+    #[error("palette size s_n = {0} out of range 1..={MAX_PALETTE} (Exact: 1..={MAX_EXACT})")]
     PaletteSize(usize),
+    #[error("Exact keeps every distinct normal: the map holds {distinct}, more than s_n = {s_n}")]
+    ExactTooSmall { distinct: usize, s_n: usize },
     #[error(
         "NeuQuant builds at most {MAX_NEUQUANT} entries (color_quant), s_n = {0} requested; \
          use MedianCut for larger tables"
@@ -168,6 +190,9 @@ pub enum QuantizeError {
 /// `1..=30`, KMeans with `max_iterations` outside `1..=300`, no normals, a non-finite or zero
 /// normal.
 pub fn quantize(normals: &[DVec3], s_n: usize, q: Quantizer) -> Result<Palette, QuantizeError> {
+    if q == Quantizer::Exact {
+        return exact(normals, s_n);
+    }
     let entries = build_table(normals, s_n, q)?;
     let indices = nearest_all(normals, &entries, 0..entries.len());
     Ok(Palette { entries, indices })
@@ -188,6 +213,10 @@ pub fn quantize_dithered(
     scan: Scan,
 ) -> Result<Palette, QuantizeError> {
     check_map(normals.len(), w, h)?;
+    if q == Quantizer::Exact {
+        // every texel has its own normal: no error to diffuse
+        return exact(normals, s_n);
+    }
     let entries = build_table(normals, s_n, q)?;
     let indices = dither(normals, w, h, &entries, scan);
     Ok(Palette { entries, indices })
@@ -211,11 +240,12 @@ pub(crate) fn build_table(
     s_n: usize,
     q: Quantizer,
 ) -> Result<Vec<DVec3>, QuantizeError> {
-    if !(1..=MAX_PALETTE).contains(&s_n) {
+    if !(1..=q.max_entries().max(MAX_PALETTE)).contains(&s_n) {
         return Err(QuantizeError::PaletteSize(s_n));
     }
     check_normals(normals)?;
     match q {
+        Quantizer::Exact => exact(normals, s_n).map(|p| p.entries),
         Quantizer::MedianCut => Ok(median_cut::median_cut(normals, s_n)),
         Quantizer::NeuQuant { sample_factor } => {
             if s_n > MAX_NEUQUANT {
@@ -236,6 +266,35 @@ pub(crate) fn build_table(
             Ok(kmeans::kmeans(normals, s_n, start, max_iterations))
         }
     }
+}
+
+/// [`Quantizer::Exact`]: the distinct normals (by their bits) in order of first appearance,
+/// each texel's index that of its own normal.
+fn exact(normals: &[DVec3], s_n: usize) -> Result<Palette, QuantizeError> {
+    if !(1..=MAX_EXACT).contains(&s_n) {
+        return Err(QuantizeError::PaletteSize(s_n));
+    }
+    check_normals(normals)?;
+    let mut seen = std::collections::HashMap::new();
+    let mut entries = Vec::new();
+    let mut indices = Vec::with_capacity(normals.len());
+    for n in normals {
+        let key = n.to_array().map(f64::to_bits);
+        let i = *seen.entry(key).or_insert_with(|| {
+            entries.push(*n);
+            entries.len() - 1
+        });
+        if entries.len() > s_n {
+            let distinct = normals
+                .iter()
+                .map(|n| n.to_array().map(f64::to_bits))
+                .collect::<std::collections::HashSet<_>>()
+                .len();
+            return Err(QuantizeError::ExactTooSmall { distinct, s_n });
+        }
+        indices.push(i as u32);
+    }
+    Ok(Palette { entries, indices })
 }
 
 fn check_normals(normals: &[DVec3]) -> Result<(), QuantizeError> {

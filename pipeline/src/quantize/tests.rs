@@ -375,3 +375,44 @@ fn kmeans_256_to_16k_timing() {
         }
     }
 }
+
+#[test]
+fn exact_keeps_every_distinct_normal_bit_for_bit() {
+    // 4 cells at 128x128: 1024 distinct normals
+    let n = mexican_hat(128);
+    let distinct: std::collections::HashSet<[u64; 3]> =
+        n.iter().map(|v| v.to_array().map(f64::to_bits)).collect();
+    assert_eq!(distinct.len(), 1024);
+    let p = quantize(&n, 1024, Quantizer::Exact).unwrap();
+    assert_eq!(p.entries.len(), 1024);
+    // every texel reads its own normal back, bit for bit
+    assert!(p
+        .decode()
+        .iter()
+        .zip(&n)
+        .all(|(a, b)| a.to_array() == b.to_array()));
+    assert_eq!(angular_error_deg(&p.decode(), &n), (0.0, 0.0));
+    // entries in order of first appearance
+    assert_eq!(p.entries[0].to_array(), n[0].to_array());
+    assert_eq!(p.indices[0], 0);
+    // dithering has nothing to diffuse
+    let d = quantize_dithered(&n, 128, 128, 4096, Quantizer::Exact, Scan::Serpentine).unwrap();
+    assert_eq!(d, p);
+    // a table too small for the map, and one above 65536 entries
+    assert_eq!(
+        quantize(&n, 1023, Quantizer::Exact),
+        Err(QuantizeError::ExactTooSmall {
+            distinct: 1024,
+            s_n: 1023
+        })
+    );
+    assert_eq!(
+        quantize(&n, 65537, Quantizer::Exact),
+        Err(QuantizeError::PaletteSize(65537))
+    );
+    // the other quantizers keep their 16384 limit
+    assert_eq!(
+        quantize(&n, 16385, Quantizer::MedianCut),
+        Err(QuantizeError::PaletteSize(16385))
+    );
+}

@@ -19,8 +19,9 @@ const LOD: &str = "lod";
 
 /// Quantized normal maps (Tarini et al. §3–6, `hw/src/units/quantized_fetch.rs`): the
 /// object-space normals baked at `size` x `size` are quantized to `s_n` entries (median
-/// cut or NeuQuant, optionally Floyd–Steinberg dithered; with several scene materials,
-/// one interval of entries per material, §6) stored as `index_bits`-bit indices; per
+/// cut, NeuQuant, k-means, or `Exact`: every distinct normal kept, the unquantized
+/// baseline; optionally Floyd–Steinberg dithered; with several scene materials, one
+/// interval of entries per material, §6) stored as `index_bits`-bit indices; per
 /// frame the table is shaded by each material's lighting model in object space and
 /// loaded into the colour LUT; per fragment the index under `uv` (nearest) reads its
 /// colour. `split` (§7.1): alpha holds the Lambert intensity and RGB the specular colour,
@@ -107,8 +108,9 @@ impl QuantizedNormalsSpec {
     ) -> Result<QuantizedFetch, String> {
         let (size, s_n, index_bits) = (self.size, self.s_n, self.index_bits);
         check_size(size)?;
-        if !(8..=14).contains(&index_bits) {
-            return Err(format!("index_bits {index_bits}: expected 8 to 14"));
+        let max_bits = bumpsim_hw::units::MAX_INDEX_BITS;
+        if !(8..=max_bits).contains(&index_bits) {
+            return Err(format!("index_bits {index_bits}: expected 8 to {max_bits}"));
         }
         if s_n < 1 || s_n > 1 << index_bits {
             return Err(format!(
