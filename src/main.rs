@@ -126,6 +126,24 @@ enum Command {
         #[arg(long)]
         out: PathBuf,
     },
+    /// Print chosen columns of a sweep's CSV as a Markdown table, the rows filtered by
+    /// --filter COLUMN=VALUE (docs/sweep.md).
+    Table {
+        /// A sweep's CSV (DIR/sweep.csv).
+        csv: PathBuf,
+        /// Columns, comma-separated.
+        #[arg(long, value_name = "COL,...")]
+        columns: String,
+        /// Headings, comma-separated, one per column (default: the column names).
+        #[arg(long, value_name = "TEXT,...")]
+        headings: Option<String>,
+        /// Keep only the rows whose COLUMN holds VALUE (repeatable: all must hold).
+        #[arg(long, value_name = "COLUMN=VALUE")]
+        filter: Vec<String>,
+        /// Decimals of a non-integer number.
+        #[arg(long, default_value_t = 2)]
+        digits: u32,
+    },
     /// Validate a config (parse, scene, wiring) without rendering.
     Check {
         #[command(flatten)]
@@ -345,6 +363,10 @@ fn execute(cmd: Command) -> Result<(), Failure> {
                         println!("plot: {line}");
                     }
                 }
+                let tables = &s.file.tables;
+                for line in plot::table::sweep_tables(tables, &o.table.to_csv(), &out)? {
+                    println!("table: {line}");
+                }
             }
         }
         Command::Plot {
@@ -374,6 +396,24 @@ fn execute(cmd: Command) -> Result<(), Failure> {
             let written = plot::write(&p, &out)?;
             let names: Vec<String> = written.iter().map(|w| w.display().to_string()).collect();
             println!("{}; wrote {}", p.summary(), names.join(" and "));
+        }
+        Command::Table {
+            csv,
+            columns,
+            headings,
+            filter,
+            digits,
+        } => {
+            let list = |s: &str| s.split(',').map(|c| c.trim().to_string()).collect();
+            let spec = plot::table::TableSpec {
+                name: String::new(),
+                columns: list(&columns),
+                headings: headings.as_deref().map(list).unwrap_or_default(),
+                filter,
+                digits,
+            };
+            let table = plot::read_csv(&csv)?;
+            print!("{}", spec.markdown(&table, &csv.display().to_string(), "")?);
         }
         Command::Check { args } => {
             let l = args.load()?;

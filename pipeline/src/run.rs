@@ -29,6 +29,8 @@ pub struct TraceRequest {
 pub struct RunResult {
     pub report: Report,
     pub image: image::RgbImage,
+    /// The pixels the engine wrote (row-major, as `image`).
+    pub mask: Vec<bool>,
     pub reference: image::RgbImage,
     pub error: image::RgbImage,
     pub trace: Option<Trace>,
@@ -474,6 +476,7 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
     timings.lap("metrics");
     Ok(RunResult {
         image: fb.rgb8,
+        mask: fb.mask,
         reference: measured.reference,
         error: measured.heatmap,
         report,

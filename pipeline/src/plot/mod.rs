@@ -7,6 +7,7 @@
 pub mod csv;
 pub mod draw;
 pub mod pareto;
+pub mod table;
 
 use crate::config::InputError;
 use crate::output::write_atomic;
@@ -291,6 +292,14 @@ pub fn write(plot: &Plot, out: &Path) -> Result<Vec<PathBuf>, InputError> {
     Ok(written)
 }
 
+/// A sweep's CSV text (of `DIR/sweep.csv`) parsed, and that file's name for messages.
+pub fn sweep_csv(csv_text: &str, dir: &Path) -> Result<(Csv, String), InputError> {
+    let name = dir.join("sweep.csv").display().to_string();
+    let csv =
+        Csv::parse(csv_text).map_err(|(l, m)| InputError::new(&name, "", m).at(Some((l, 1))))?;
+    Ok((csv, name))
+}
+
 /// The plots of a sweep file, from its CSV text: `DIR/NAME.png` and `DIR/NAME.svg` each
 /// (and `DIR/NAME.pareto.csv`); one summary line per plot.
 pub fn sweep_plots(
@@ -298,9 +307,7 @@ pub fn sweep_plots(
     csv_text: &str,
     dir: &Path,
 ) -> Result<Vec<String>, InputError> {
-    let name = dir.join("sweep.csv").display().to_string();
-    let csv =
-        Csv::parse(csv_text).map_err(|(l, m)| InputError::new(&name, "", m).at(Some((l, 1))))?;
+    let (csv, name) = sweep_csv(csv_text, dir)?;
     let mut lines = Vec::new();
     for (k, s) in specs.iter().enumerate() {
         let req = Request {

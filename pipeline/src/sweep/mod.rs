@@ -8,6 +8,7 @@
 //! order, so the output does not depend on the thread count. A point whose config is
 //! rejected (or whose run fails) gives a row with the error.
 
+pub mod baseline;
 pub mod journal;
 pub mod resume;
 pub mod table;
@@ -40,6 +41,15 @@ pub struct SweepFile {
     /// Plots of the output written into the directory after the sweep (`docs/sweep.md`).
     #[serde(default)]
     pub plots: Vec<crate::plot::PlotSpec>,
+    /// Overrides (after `sets`) of a baseline run: with any, every point's image is also
+    /// compared with the baseline's (`baseline_*` columns, [`baseline`]); none (the
+    /// default): no baseline.
+    #[serde(default)]
+    pub baseline: Vec<String>,
+    /// Markdown tables of the output written into the directory after the sweep
+    /// (`DIR/NAME.md`, [`crate::plot::table`]).
+    #[serde(default)]
+    pub tables: Vec<crate::plot::table::TableSpec>,
 }
 
 /// One axis: a `--set` path and its values.
@@ -52,6 +62,10 @@ pub struct Axis {
     #[serde(default)]
     pub name: String,
     pub values: Values,
+    /// More `--set` paths that take the same value at every point (e.g. one flag of several
+    /// attributes), set after `path`.
+    #[serde(default)]
+    pub also: Vec<String>,
 }
 
 impl Axis {
@@ -206,6 +220,7 @@ pub fn load(path: &Path) -> Result<Sweep, InputError> {
         units,
     };
     sweep.check_plots()?;
+    crate::plot::table::check_specs(&sweep.file.tables, &sweep.columns(), &name)?;
     Ok(sweep)
 }
 
@@ -291,6 +306,9 @@ pub fn points(file: &SweepFile) -> Result<Vec<Point>, (String, String)> {
     for (k, a) in file.axes.iter().enumerate() {
         if a.path.trim().is_empty() {
             return Err((format!("axes[{k}].path"), "expected a --set path".into()));
+        }
+        if a.also.iter().any(|p| p.trim().is_empty()) {
+            return Err((format!("axes[{k}].also"), "expected --set paths".into()));
         }
         per_axis.push(axis_values(&a.values, &format!("axes[{k}].values"))?);
     }
@@ -381,26 +399,52 @@ impl Sweep {
     pub fn sets(&self, p: &Point) -> Vec<String> {
         let mut sets = self.file.sets.clone();
         for (a, v) in self.file.axes.iter().zip(&p.values) {
-            sets.push(format!("{}={}", a.path, v.to_ron()));
+            for path in std::iter::once(&a.path).chain(&a.also) {
+                sets.push(format!("{path}={}", v.to_ron()));
+            }
         }
         sets
     }
 
-    /// Run one point: its row (with the error of a rejected config or a failed run).
-    pub fn run_point(&self, p: &Point, force: bool) -> Row {
+    /// The `--set` list of point `p`'s baseline, if the file has one: the point's sets,
+    /// then the baseline's overrides.
+    pub fn baseline_sets(&self, p: &Point) -> Option<Vec<String>> {
+        let b = &self.file.baseline;
+        (!b.is_empty()).then(|| self.sets(p).into_iter().chain(b.iter().cloned()).collect())
+    }
+
+    /// Run one point: its row (with the error of a rejected config or a failed run), its
+    /// image compared with its baseline's if the sweep has one (`base`: the rendered
+    /// baseline, or why it did not run, which makes the point's row an error).
+    pub fn run_point(
+        &self,
+        p: &Point,
+        force: bool,
+        base: Option<Result<&baseline::Baseline, &str>>,
+    ) -> Row {
         let sets = self.sets(p);
         let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            let base = base.transpose().map_err(|e| {
+                InputError::new(self.path.display().to_string(), "baseline", e.to_string())
+            })?;
             let l = config::load_with(&self.base, &sets, LoadOptions { force })?;
-            crate::run::run(&l, None)
+            let r = crate::run::run(&l, None)?;
+            let extra = base.map(|b| b.cells(&r)).unwrap_or_default();
+            Ok::<_, InputError>(Row::ok(p, &r.report, extra, &self.units))
         }));
+        let after = self.extra_columns().len() + self.units.len();
         match outcome {
-            Ok(Ok(r)) => Row::ok(p, &r.report, &self.units),
-            Ok(Err(e)) => Row::error(p, &e.to_string(), self.units.len()),
-            Err(_) => Row::error(
-                p,
-                "internal error: the run panicked (a bug)",
-                self.units.len(),
-            ),
+            Ok(Ok(row)) => row,
+            Ok(Err(e)) => Row::error(p, &e.to_string(), after),
+            Err(_) => Row::error(p, "internal error: the run panicked (a bug)", after),
+        }
+    }
+
+    /// The columns after the report columns: the baseline's, if the file has one.
+    fn extra_columns(&self) -> Vec<String> {
+        match self.file.baseline.is_empty() {
+            false => baseline::columns(),
+            true => Vec::new(),
         }
     }
 
@@ -444,6 +488,7 @@ impl Sweep {
     fn table(&self, rows: Vec<Row>) -> Table {
         Table {
             axes: self.file.axes.iter().map(Axis::column).collect(),
+            extra: self.extra_columns(),
             units: self.units.clone(),
             points: self.points.len(),
             rows,
@@ -472,20 +517,22 @@ impl Sweep {
     }
 
     /// Run the sweep's points (those of `opts.shard`), in parallel; rows in point order.
-    pub fn run(&self, opts: RunOptions) -> Result<Table, String> {
+    pub fn run(&self, opts: RunOptions) -> Result<Table, DirError> {
         self.run_with(opts, Vec::new(), None).map(|(t, _)| t)
     }
 
     /// [`Sweep::run`] past the rows `done` (of points of the shard, kept from an earlier
     /// run), appending each new row to `journal` as it finishes. The table holds both, in
     /// point order; the second value is the first journal write that failed (the sweep
-    /// goes on without the journal).
+    /// goes on without the journal). A sweep with a baseline renders the baselines of the
+    /// points to run first, each distinct baseline config once
+    /// ([`baseline::Baselines`]).
     pub fn run_with(
         &self,
         opts: RunOptions,
         done: Vec<Row>,
         journal: Option<&journal::Journal>,
-    ) -> Result<(Table, Option<String>), String> {
+    ) -> Result<(Table, Option<String>), DirError> {
         let have: std::collections::HashSet<usize> = done.iter().map(|r| r.index).collect();
         let todo: Vec<&Point> = self
             .points
@@ -493,12 +540,17 @@ impl Sweep {
             .filter(|p| self.in_shard(&opts, p.index) && !have.contains(&p.index))
             .collect();
         let columns = self.columns();
+        let bases = self
+            .on_pool(&opts, || {
+                baseline::Baselines::render(self, &todo, opts.force)
+            })
+            .map_err(DirError::Internal)?;
         let failed = std::sync::Mutex::new(None::<String>);
         let progress = crate::progress::bar(todo.len() as u64, "sweep");
         let work = || -> Vec<Row> {
             todo.par_iter()
                 .map(|p| {
-                    let row = self.run_point(p, opts.force);
+                    let row = self.run_point(p, opts.force, bases.of(p.index));
                     if let Some(j) = journal {
                         if let Err(e) = j.append(&row.json_line(&columns)) {
                             let mut f = failed.lock().unwrap_or_else(|e| e.into_inner());
@@ -510,7 +562,7 @@ impl Sweep {
                 })
                 .collect()
         };
-        let mut rows = self.on_pool(&opts, work)?;
+        let mut rows = self.on_pool(&opts, work).map_err(DirError::Internal)?;
         rows.extend(done);
         rows.sort_by_key(|r| r.index);
         let failed = failed.into_inner().unwrap_or_else(|e| e.into_inner());
@@ -589,6 +641,34 @@ mod tests {
             .collect();
         ints.sort();
         assert_eq!(ints, (0..10).collect::<Vec<_>>());
+    }
+
+    #[test]
+    fn an_axis_sets_its_also_paths_to_the_same_value() {
+        let f = file(
+            r#"(base: "x", sets: ["s=0"], axes: [
+            (path: "a", also: ["b", "c"], values: List([1, 2])),
+            (path: "d", values: List([true])),
+        ])"#,
+        );
+        let s = Sweep {
+            points: points(&f).unwrap(),
+            file: f,
+            path: "s.ron".into(),
+            base: "x".into(),
+            units: Vec::new(),
+        };
+        assert_eq!(s.sets(&s.points[1]), ["s=0", "a=2", "b=2", "c=2", "d=true"]);
+        // the baseline: the point's sets, then its own
+        assert_eq!(s.baseline_sets(&s.points[1]), None);
+        let mut b = s.clone();
+        b.file.baseline = vec!["a=0".into()];
+        assert_eq!(
+            b.baseline_sets(&b.points[0]).unwrap(),
+            ["s=0", "a=1", "b=1", "c=1", "d=true", "a=0"]
+        );
+        let f = file(r#"(base: "x", axes: [(path: "a", also: [" "], values: List([1]))])"#);
+        assert_eq!(points(&f).unwrap_err().0, "axes[0].also");
     }
 
     #[test]

@@ -5,8 +5,9 @@
 //!
 //! An earlier row is kept only if the sweep file still has its point (same `index`), the
 //! point is in this run's shard, the row is `ok` and its `config_hash` is the hash of the
-//! point's config as the sweep file now defines it. So an edited sweep reruns the points it
-//! changed (and a row with other columns, or an error row, is run again).
+//! point's config as the sweep file now defines it (and, with a baseline, its `baseline_hash`
+//! that of the baseline's config now). So an edited sweep reruns the points it changed (and
+//! a row with other columns, or an error row, is run again).
 
 use super::journal::{self, Journal, JOURNAL};
 use super::{RunOptions, Sweep};
@@ -21,6 +22,15 @@ use std::path::{Path, PathBuf};
 pub enum DirError {
     Input(InputError),
     Internal(String),
+}
+
+impl std::fmt::Display for DirError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            DirError::Input(e) => write!(f, "{e}"),
+            DirError::Internal(e) => write!(f, "internal error: {e}"),
+        }
+    }
 }
 
 /// What a sweep into a directory did.
@@ -66,9 +76,7 @@ pub fn run_into(
     let journal = Journal::create(&journal_path, &lines)
         .map_err(|e| out_err(format!("cannot write {}: {e}", journal_path.display())))?;
     let n_kept = kept.len();
-    let (table, journal_failure) = sweep
-        .run_with(opts, kept, Some(&journal))
-        .map_err(DirError::Internal)?;
+    let (table, journal_failure) = sweep.run_with(opts, kept, Some(&journal))?;
     drop(journal);
     let mut set = OutputSet::new(out);
     for (name, bytes) in table.files() {
@@ -120,12 +128,21 @@ fn earlier_rows(
         }
     }
     let rows: Vec<super::Row> = candidates.into_values().collect();
+    // with a baseline, a row is kept only if it was compared with the point's baseline now
+    let at = columns.iter().position(|c| c == "baseline_hash");
+    let same_baseline = |r: &super::Row, p: &super::Point| match (sweep.baseline_sets(p), at) {
+        (None, _) => true,
+        (Some(sets), Some(at)) => config::hash_with(&sweep.base, &sets)
+            .is_ok_and(|h| r.report.get(at - 1 - axes) == Some(&super::table::Cell::Text(h))),
+        _ => false,
+    };
     let check = || -> Vec<bool> {
         rows.par_iter()
             .map(|r| {
                 let p = &sweep.points[r.index];
-                config::hash_with(&sweep.base, &sweep.sets(p))
-                    .is_ok_and(|h| Some(h.as_str()) == r.config_hash())
+                same_baseline(r, p)
+                    && config::hash_with(&sweep.base, &sweep.sets(p))
+                        .is_ok_and(|h| Some(h.as_str()) == r.config_hash())
             })
             .collect()
     };

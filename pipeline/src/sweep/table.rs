@@ -58,6 +58,17 @@ impl Cell {
     }
 }
 
+/// The error figures of one comparison, in column order ([`errors`]).
+pub(crate) const ERRORS: [&str; 3] = ["psnr_db", "max_lsb", "mean_lsb"];
+/// The artifact figures of one comparison, in column order ([`artifacts`]).
+pub(crate) const ARTIFACTS: [&str; 5] = [
+    "banding",
+    "faceting_lsb",
+    "ringing_lsb",
+    "lowpass_psnr_db",
+    "half_ssim",
+];
+
 /// The report columns after the axes, in order.
 pub fn report_columns() -> Vec<String> {
     let mut c: Vec<String> = [
@@ -73,18 +84,12 @@ pub fn report_columns() -> Vec<String> {
     .map(String::from)
     .to_vec();
     for k in ["total", "algorithm", "quantization"] {
-        for s in ["psnr_db", "max_lsb", "mean_lsb"] {
+        for s in ERRORS {
             c.push(format!("{k}_{s}"));
         }
     }
     for k in ["total", "quantization"] {
-        for s in [
-            "banding",
-            "faceting_lsb",
-            "ringing_lsb",
-            "lowpass_psnr_db",
-            "half_ssim",
-        ] {
+        for s in ARTIFACTS {
             c.push(format!("{k}_{s}"));
         }
     }
@@ -101,11 +106,12 @@ pub fn report_columns() -> Vec<String> {
 pub struct Row {
     pub index: usize,
     pub values: Vec<Cell>,
-    /// One cell per [`report_columns`], then one per unit of [`Table::units`].
+    /// One cell per [`report_columns`], then one per [`Table::extra`] column, then one per
+    /// unit of [`Table::units`].
     pub report: Vec<Cell>,
 }
 
-fn errors(e: &ErrorStats) -> [Cell; 3] {
+pub(crate) fn errors(e: &ErrorStats) -> [Cell; 3] {
     [
         Cell::Float(e.psnr_db),
         Cell::Float(e.max_abs_lsb),
@@ -113,7 +119,7 @@ fn errors(e: &ErrorStats) -> [Cell; 3] {
     ]
 }
 
-fn artifacts(a: &ArtifactStats) -> [Cell; 5] {
+pub(crate) fn artifacts(a: &ArtifactStats) -> [Cell; 5] {
     [
         Cell::Float(a.banding),
         Cell::Float(a.faceting_lsb),
@@ -124,9 +130,10 @@ fn artifacts(a: &ArtifactStats) -> [Cell; 5] {
 }
 
 impl Row {
-    /// The row of a run with report `r`; `units`: the table's [`Table::units`] (a unit the
-    /// point's engine lacks is an empty cell).
-    pub fn ok(p: &Point, r: &Report, units: &[String]) -> Row {
+    /// The row of a run with report `r`; `extra`: the cells of the table's [`Table::extra`]
+    /// columns; `units`: the table's [`Table::units`] (a unit the point's engine lacks is an
+    /// empty cell).
+    pub fn ok(p: &Point, r: &Report, extra: Vec<Cell>, units: &[String]) -> Row {
         let mut c = vec![
             Cell::Text("ok".into()),
             Cell::Empty,
@@ -150,6 +157,7 @@ impl Row {
                 Cell::Float(e.worst_seam_lsb),
             ]);
         }
+        c.extend(extra);
         for u in units {
             c.push(
                 r.gates
@@ -165,11 +173,12 @@ impl Row {
         }
     }
 
-    /// The row of a point that failed with `message`, in a table of `units` unit columns.
-    pub fn error(p: &Point, message: &str, units: usize) -> Row {
+    /// The row of a point that failed with `message`, in a table of `after` columns after
+    /// the report columns (extra and unit columns).
+    pub fn error(p: &Point, message: &str, after: usize) -> Row {
         let one_line = message.split_whitespace().collect::<Vec<_>>().join(" ");
         let mut c = vec![Cell::Text("error".into()), Cell::Text(one_line)];
-        c.resize(report_columns().len() + units, Cell::Empty);
+        c.resize(report_columns().len() + after, Cell::Empty);
         Row {
             index: p.index,
             values: p.values.iter().map(Cell::of).collect(),
@@ -268,7 +277,10 @@ fn exact_number(line: &str, key: &str) -> Option<f64> {
 pub struct Table {
     /// The axes' column names.
     pub axes: Vec<String>,
-    /// The base config's unit names: a `gates.<unit>` column each, after the report columns.
+    /// Columns after the report columns: the baseline's (`baseline.rs`), or none.
+    pub extra: Vec<String>,
+    /// The base config's unit names: a `gates.<unit>` column each, after the report and
+    /// extra columns.
     pub units: Vec<String>,
     /// Points in the whole sweep (all shards).
     pub points: usize,
@@ -276,14 +288,31 @@ pub struct Table {
 }
 
 impl Table {
-    /// All column names: `index`, the axes, the report columns, `gates.<unit>` per unit
+    /// All column names: `index`, the axes, the report columns, the extra columns,
+    /// `gates.<unit>` per unit
     /// (unit names hold no `.`, so these collide with no other column).
     pub fn columns(&self) -> Vec<String> {
         std::iter::once("index".to_string())
             .chain(self.axes.iter().cloned())
             .chain(report_columns())
+            .chain(self.extra.iter().cloned())
             .chain(self.units.iter().map(|u| format!("gates.{u}")))
             .collect()
+    }
+
+    /// The cell of `row` in `column` (none for a column the table does not have).
+    pub fn cell(&self, row: &Row, column: &str) -> Option<Cell> {
+        let k = self.columns().iter().position(|c| c == column)?;
+        row.cells().nth(k)
+    }
+
+    /// The number in `row`'s `column` (none for an empty or text cell).
+    pub fn number(&self, row: &Row, column: &str) -> Option<f64> {
+        match self.cell(row, column)? {
+            Cell::Int(i) => Some(i as f64),
+            Cell::Float(x) => Some(x),
+            _ => None,
+        }
     }
 
     pub fn to_csv(&self) -> String {
@@ -473,6 +502,7 @@ mod tests {
         row.report[n - 2] = Cell::Float(874.5);
         let t = Table {
             axes: vec!["a".into(), "b".into(), "c".into()],
+            extra: Vec::new(),
             units: vec!["fetch".into(), "total".into()],
             points: 4,
             rows: vec![row.clone()],

@@ -1,0 +1,249 @@
+//! `bumpsim table CSV` and the `tables` of a sweep file (`docs/sweep.md`): chosen columns of a
+//! sweep's CSV as a Markdown table, the rows filtered by `COLUMN=VALUE` conditions, numbers
+//! with a fixed number of decimals. The studies' tables are these (`docs/studies/sweeps/`),
+//! so a number in a study is a cell of a sweep, not of a hand-written program.
+
+use super::csv::Csv;
+use crate::config::InputError;
+use crate::output::write_atomic;
+use serde::Deserialize;
+use std::path::Path;
+
+fn two() -> u32 {
+    2
+}
+
+/// Most decimals of a number.
+pub const MAX_DIGITS: u32 = 12;
+
+/// A table asked for by a sweep file: `(name: "dither", columns: ["s_n", "dither",
+/// "baseline_psnr_db"], headings: ["s_N", "dither", "PSNR dB"], filter: ["status=ok"],
+/// digits: 2)`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TableSpec {
+    /// The file's stem in the output directory: `NAME.md`.
+    pub name: String,
+    pub columns: Vec<String>,
+    /// One heading per column (default: the column names).
+    #[serde(default)]
+    pub headings: Vec<String>,
+    /// `COLUMN=VALUE` conditions a row must meet (the CSV text of the cell), all of them.
+    #[serde(default)]
+    pub filter: Vec<String>,
+    /// Decimals of a non-integer number (default 2).
+    #[serde(default = "two")]
+    pub digits: u32,
+}
+
+impl Default for TableSpec {
+    fn default() -> Self {
+        TableSpec {
+            name: String::new(),
+            columns: Vec::new(),
+            headings: Vec::new(),
+            filter: Vec::new(),
+            digits: two(),
+        }
+    }
+}
+
+impl TableSpec {
+    /// Check the spec against the CSV's header (`name`: the CSV in messages, `field`: where
+    /// the spec is, e.g. `tables[0]` or `--columns`).
+    fn check(&self, csv: &Csv, name: &str, field: &str) -> Result<Vec<usize>, InputError> {
+        // a sweep file's `tables[k].columns`, or the command's `--columns` (field "")
+        let e = |f: &str, m: String| match field {
+            "" => InputError::new(name, format!("--{}", &f[1..]), m),
+            _ => InputError::new(name, format!("{field}{f}"), m),
+        };
+        if self.columns.is_empty() {
+            return Err(e(".columns", "expected at least one column".into()));
+        }
+        if !self.headings.is_empty() && self.headings.len() != self.columns.len() {
+            let m = format!(
+                "{} headings for {} columns: expected one per column",
+                self.headings.len(),
+                self.columns.len()
+            );
+            return Err(e(".headings", m));
+        }
+        if self.digits > MAX_DIGITS {
+            let m = format!("{}: expected 0 to {MAX_DIGITS}", self.digits);
+            return Err(e(".digits", m));
+        }
+        for f in &self.filter {
+            let (c, _) = f
+                .split_once('=')
+                .ok_or_else(|| e(".filter", format!("{f:?}: expected COLUMN=VALUE")))?;
+            known(csv, c).map_err(|m| e(".filter", m))?;
+        }
+        self.columns
+            .iter()
+            .map(|c| known(csv, c).map_err(|m| e(".columns", m)))
+            .collect()
+    }
+
+    /// The Markdown table of `csv`'s rows that meet the filters.
+    pub fn markdown(&self, csv: &Csv, name: &str, field: &str) -> Result<String, InputError> {
+        let cols = self.check(csv, name, field)?;
+        let conds: Vec<(usize, &str)> = self
+            .filter
+            .iter()
+            .filter_map(|f| f.split_once('='))
+            .filter_map(|(c, v)| Some((csv.column(c)?, v)))
+            .collect();
+        let heads = match self.headings.is_empty() {
+            true => &self.columns,
+            false => &self.headings,
+        };
+        let digits = self.digits as usize;
+        let mut s = format!("| {} |\n", heads.join(" | "));
+        s += &format!("|{}\n", "---|".repeat(cols.len()));
+        for r in &csv.rows {
+            if conds.iter().any(|(c, v)| r[*c] != *v) {
+                continue;
+            }
+            let cells: Vec<String> = cols.iter().map(|&c| number(&r[c], digits)).collect();
+            s += &format!("| {} |\n", cells.join(" | "));
+        }
+        Ok(s)
+    }
+}
+
+/// The tables of a sweep file, from its CSV text: `DIR/NAME.md` each; one line per table.
+pub fn sweep_tables(
+    specs: &[TableSpec],
+    csv_text: &str,
+    dir: &Path,
+) -> Result<Vec<String>, InputError> {
+    let (csv, name) = super::sweep_csv(csv_text, dir)?;
+    let mut lines = Vec::new();
+    for (k, t) in specs.iter().enumerate() {
+        let md = t.markdown(&csv, &name, &format!("tables[{k}]"))?;
+        let out = dir.join(format!("{}.md", t.name));
+        write_atomic(&out, md.as_bytes()).map_err(|e| {
+            InputError::new(out.display().to_string(), "", format!("cannot write: {e}"))
+        })?;
+        let rows = md.lines().count() - 2;
+        lines.push(format!("{}: {rows} rows", out.display()));
+    }
+    Ok(lines)
+}
+
+/// Check a sweep file's tables against its columns (before any point runs): the columns and
+/// filters exist, the headings match, the names are file names.
+pub fn check_specs(specs: &[TableSpec], columns: &[String], name: &str) -> Result<(), InputError> {
+    let csv = Csv {
+        header: columns.to_vec(),
+        rows: Vec::new(),
+    };
+    let mut names = std::collections::BTreeSet::new();
+    for (k, t) in specs.iter().enumerate() {
+        let ok = !t.name.is_empty()
+            && t.name
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || "._-".contains(c))
+            && !t.name.starts_with('.');
+        if !ok {
+            let m = format!(
+                "{:?}: expected a file stem of letters, digits, ., - and _",
+                t.name
+            );
+            return Err(InputError::new(name, format!("tables[{k}].name"), m));
+        }
+        if !names.insert(&t.name) {
+            let m = format!("{:?}: two tables of one name", t.name);
+            return Err(InputError::new(name, format!("tables[{k}].name"), m));
+        }
+        t.check(&csv, name, &format!("tables[{k}]"))?;
+    }
+    Ok(())
+}
+
+fn known(csv: &Csv, c: &str) -> Result<usize, String> {
+    csv.column(c).ok_or_else(|| {
+        format!(
+            "{c:?}: no such column: expected one of {}",
+            csv.header.join(", ")
+        )
+    })
+}
+
+/// A cell as written: integers and text unchanged, other numbers with `digits` decimals;
+/// `|` escaped for Markdown.
+fn number(cell: &str, digits: usize) -> String {
+    if cell.parse::<i64>().is_ok() {
+        return cell.to_string();
+    }
+    match cell.parse::<f64>() {
+        Ok(x) if x.is_finite() && !cell.eq_ignore_ascii_case("nan") => format!("{x:.digits$}"),
+        _ => cell.replace('|', "\\|"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn csv() -> Csv {
+        Csv::parse("index,s_n,dither,psnr\n0,16,false,12.345\n1,16,true,11\n2,64,false,x|y\n")
+            .unwrap()
+    }
+
+    #[test]
+    fn a_table_of_chosen_columns_and_filtered_rows() {
+        let t = TableSpec {
+            name: "t".into(),
+            columns: vec!["s_n".into(), "psnr".into()],
+            headings: vec!["s_N".into(), "PSNR dB".into()],
+            filter: vec!["dither=false".into()],
+            digits: 1,
+        };
+        assert_eq!(
+            t.markdown(&csv(), "c.csv", "tables[0]").unwrap(),
+            "| s_N | PSNR dB |\n|---|---|\n| 16 | 12.3 |\n| 64 | x\\|y |\n"
+        );
+    }
+
+    #[test]
+    fn bad_tables_name_the_field() {
+        let bad = |t: TableSpec, field: &str| {
+            let e = t.markdown(&csv(), "c.csv", "tables[1]").unwrap_err();
+            assert_eq!(e.field, field, "{e}");
+        };
+        let cols = |c: &[&str]| c.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        bad(TableSpec::default(), "tables[1].columns");
+        bad(
+            TableSpec {
+                columns: cols(&["nope"]),
+                ..Default::default()
+            },
+            "tables[1].columns",
+        );
+        bad(
+            TableSpec {
+                columns: cols(&["s_n"]),
+                headings: cols(&["a", "b"]),
+                ..Default::default()
+            },
+            "tables[1].headings",
+        );
+        bad(
+            TableSpec {
+                columns: cols(&["s_n"]),
+                filter: cols(&["dither"]),
+                ..Default::default()
+            },
+            "tables[1].filter",
+        );
+        bad(
+            TableSpec {
+                columns: cols(&["s_n"]),
+                digits: 13,
+                ..Default::default()
+            },
+            "tables[1].digits",
+        );
+    }
+}
