@@ -1,5 +1,8 @@
-//! What the study generators share: the repository root and a config's framebuffers in
-//! both modes.
+//! What the study generators share: the repository root, a config's framebuffers in both
+//! modes, and the sweeps of `docs/studies/sweeps/` run as `bumpsim sweep` runs them.
+
+// each generator uses some of these
+#![allow(dead_code)]
 
 use bumpsim_hw::Mode;
 use bumpsim_pipeline::config;
@@ -25,4 +28,39 @@ pub fn framebuffers(name: &str, sets: &[String]) -> (Framebuffer, Framebuffer) {
         rop::write(&p.engine.rop, Mode::BitAccurate, w, h, frags, &bit.outputs),
         rop::write(&p.engine.rop, Mode::Exact, w, h, frags, &exact),
     )
+}
+
+/// Run `docs/studies/sweeps/{name}.ron` into `docs/studies/{out}` exactly as `bumpsim sweep
+/// FILE --out DIR` does (rows, plots, tables); the rows, and each table's Markdown by name.
+/// Every point must succeed.
+pub fn study_sweep(
+    name: &str,
+    out: &str,
+) -> (
+    bumpsim_pipeline::sweep::Table,
+    std::collections::BTreeMap<String, String>,
+) {
+    use bumpsim_pipeline::plot;
+    use bumpsim_pipeline::sweep::{self, RunOptions};
+    let file = root().join(format!("docs/studies/sweeps/{name}.ron"));
+    let s = sweep::load(&file).unwrap_or_else(|e| panic!("{e}"));
+    let dir = root().join("docs/studies").join(out);
+    let o =
+        sweep::run_into(&s, &dir, RunOptions::default(), false).unwrap_or_else(|e| panic!("{e}"));
+    let csv = o.table.to_csv();
+    plot::sweep_plots(&s.file.plots, &csv, &dir).unwrap_or_else(|e| panic!("{e}"));
+    plot::table::sweep_tables(&s.file.tables, &csv, &dir).unwrap_or_else(|e| panic!("{e}"));
+    let bad: Vec<_> = o.table.rows.iter().filter(|r| !r.is_ok()).collect();
+    assert!(bad.is_empty(), "{name}: points failed: {bad:?}");
+    let tables = s
+        .file
+        .tables
+        .iter()
+        .map(|t| {
+            let md = std::fs::read_to_string(dir.join(format!("{}.md", t.name)))
+                .unwrap_or_else(|e| panic!("{e}"));
+            (t.name.clone(), md.trim_end().to_string())
+        })
+        .collect();
+    (o.table, tables)
 }

@@ -254,6 +254,44 @@ fn stretched_u_blinn_versus_scale_invariant() {
 }
 
 #[test]
+fn uniform_scaling_flattens_blinn_bumps_but_not_lingards() {
+    // Lingard 1995: "when the surface is scaled by a factor of two, the surface normal is
+    // scaled by a factor of four, but the perturbation vector is only scaled by a factor of
+    // two. This has the effect of smoothing out the simulated wrinkles"; D' is scale
+    // invariant. The unit quad (Pu = x̂, Pv = ŷ) scaled by s in the model transform, F = a u +
+    // b v: Blinn's N' = s² ẑ + a s (ẑ × ŷ) + b s (x̂ × ẑ) ∝ (-a/s, -b/s, 1), tilt |∇F| / s;
+    // Lingard's keeps (-a, -b, 1) at every scale.
+    let (a, b) = (0.3, -0.2);
+    let l = DVec3::new(-0.1, 0.3, 1.0).normalize();
+    let lights = vec![directional(l.to_array(), [1.0; 3])];
+    let m = matte();
+    for scale in [0.5, 1.0, 2.0, 4.0] {
+        let blinn = DVec3::new(-a / scale, -b / scale, 1.0).normalize();
+        let si = DVec3::new(-a, -b, 1.0).normalize();
+        for (p, n) in [
+            (Perturbation::Blinn, blinn),
+            (Perturbation::ScaleInvariant, si),
+        ] {
+            let mut s = scene(
+                unit_quad(0.5),
+                ortho(),
+                plane(a, b),
+                lights.clone(),
+                m.clone(),
+            );
+            s.model = DMat4::from_scale(DVec3::splat(scale));
+            let c = DVec3::from(m.ambient) + DVec3::from(m.diffuse) * n.dot(l).max(0.0);
+            let img = render_reference(&s, &RASTER, p);
+            assert!(uniform(&img, n, c, 1e-12) > 0, "{p:?} at scale {scale}");
+        }
+        // the tilt (angle of N' from the unscaled normal): Blinn's falls as 1/s
+        let tilt = |n: DVec3| n.truncate().length() / n.z;
+        assert!((tilt(blinn) * scale - a.hypot(b)).abs() < 1e-12);
+        assert!((tilt(si) - a.hypot(b)).abs() < 1e-12);
+    }
+}
+
+#[test]
 fn specular_closed_form_with_orthographic_viewer() {
     let (a, b) = (0.1, 0.15);
     let l = DVec3::new(-0.3, 0.5, 1.0).normalize();

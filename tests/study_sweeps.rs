@@ -1,0 +1,94 @@
+//! The studies' tables come from the sweep files of `docs/studies/sweeps/` (issue 11): each
+//! sweep, run as `bumpsim sweep FILE --out DIR`, writes byte for byte the tables and rows
+//! committed in its study directory, and the study page quotes every table verbatim.
+
+mod common;
+
+use common::*;
+
+/// Each study sweep, the directory its generator runs it into, and the page quoting it.
+const STUDY_SWEEPS: [(&str, &str, &str); 4] = [
+    (
+        "tarini-quantization",
+        "quantized/sweep",
+        "quantized-normals.md",
+    ),
+    (
+        "tarini-constant-light-view",
+        "quantized/light-view",
+        "quantized-normals.md",
+    ),
+    ("ernst-palette", "gouraud/palette", "gouraud-bump.md"),
+    (
+        "ernst-torus-faceting",
+        "gouraud/faceting",
+        "gouraud-bump.md",
+    ),
+];
+
+#[test]
+fn every_study_sweep_writes_the_committed_tables() {
+    let studies = root().join("docs/studies");
+    // every sweep file is listed here
+    let mut files: Vec<String> = std::fs::read_dir(studies.join("sweeps"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    files.sort();
+    let mut listed: Vec<String> = STUDY_SWEEPS
+        .iter()
+        .map(|s| format!("{}.ron", s.0))
+        .collect();
+    listed.sort();
+    assert_eq!(
+        files, listed,
+        "docs/studies/sweeps/ and STUDY_SWEEPS differ"
+    );
+    let s = Scratch::new("study-sweeps");
+    for (name, dir, page) in STUDY_SWEEPS {
+        let file = studies.join(format!("sweeps/{name}.ron"));
+        let out = s.join(name);
+        let o = bumpsim(&[
+            "sweep",
+            file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        o.expect_code(0, name);
+        assert!(
+            o.stdout.contains(", 0 with errors;"),
+            "{name}: {}",
+            o.stdout
+        );
+        let committed = studies.join(dir);
+        let page = std::fs::read_to_string(studies.join(page)).unwrap();
+        let mut tables = 0;
+        for entry in std::fs::read_dir(&out).unwrap() {
+            let path = entry.unwrap().path();
+            let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+            if !["md", "csv"].contains(&ext) {
+                continue;
+            }
+            let fresh = std::fs::read_to_string(&path).unwrap();
+            let base = path.file_name().unwrap();
+            let old = std::fs::read_to_string(committed.join(base)).unwrap_or_else(|e| {
+                panic!(
+                    "{}: {e} (regenerate the study)",
+                    committed.join(base).display()
+                )
+            });
+            assert!(
+                fresh == old,
+                "{name}: {base:?} differs from {dir}: regenerate the study"
+            );
+            if ext == "md" {
+                tables += 1;
+                assert!(
+                    page.contains(fresh.trim_end()),
+                    "{page:.0}{name}: {base:?} is not quoted"
+                );
+            }
+        }
+        assert!(tables > 0, "{name} writes no table");
+    }
+}
