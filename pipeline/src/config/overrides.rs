@@ -54,13 +54,14 @@ pub fn apply(config: &Config, sets: &[String]) -> Result<Config, InputError> {
             (_, v) => v,
         };
     }
-    let first: Result<Config, _> = serde_path_to_error::deserialize(tree.clone());
-    let e = match first {
+    // the tree is copied for a second try only when a `None` may have to be read back
+    let retry = (!nones.is_empty()).then(|| tree.clone());
+    let e = match serde_path_to_error::deserialize::<_, Config>(tree) {
         Ok(c) => return Ok(c),
         Err(e) => e,
     };
     // an Option of an enum: `None` is the absent option after all
-    if !nones.is_empty() {
+    if let Some(mut tree) = retry {
         for segs in &nones {
             if let Ok(node) = walk(&mut tree, segs) {
                 *node = Value::Null;
