@@ -47,6 +47,7 @@ pub mod dither;
 pub mod kmeans;
 pub mod materials;
 pub mod median_cut;
+mod memo;
 pub mod mipmap;
 pub mod search;
 
@@ -71,7 +72,7 @@ pub const MAX_KMEANS_ITERATIONS: u32 = 300;
 
 /// How the table `N` is chosen (Tarini §4: "standard image processing software (RGB palette
 /// quantization)").
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub enum Quantizer {
     /// Heckbert's median cut as ppmquant does it, on the f64 normals (see [`median_cut`]).
@@ -117,7 +118,7 @@ impl Quantizer {
 }
 
 /// Initial centroids of [`Quantizer::KMeans`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub enum KMeansStart {
     /// Forgy: `min(s_n, distinct normals)` texels drawn by a `Xoshiro256Plus` seeded with
@@ -234,8 +235,22 @@ pub(crate) fn check_map(len: usize, w: usize, h: usize) -> Result<(), QuantizeEr
     }
 }
 
-/// The table alone (checks as [`quantize`]).
+/// The table alone (checks as [`quantize`]), built once per distinct input in this process
+/// ([`memo`]: a later call with the same normals, `s_n` and quantizer gets a copy).
 pub(crate) fn build_table(
+    normals: &[DVec3],
+    s_n: usize,
+    q: Quantizer,
+) -> Result<Vec<DVec3>, QuantizeError> {
+    if q == Quantizer::Exact {
+        // a hash pass over the map: as cheap as the key
+        return build_table_now(normals, s_n, q);
+    }
+    memo::table(normals, s_n, q, || build_table_now(normals, s_n, q))
+}
+
+/// [`build_table`] without the kept tables: always built now.
+pub(crate) fn build_table_now(
     normals: &[DVec3],
     s_n: usize,
     q: Quantizer,
