@@ -11,9 +11,9 @@
 //! RON map form (`{"Table": {"index_bits": 4, ...}}`), because the override parser drops the
 //! variant names of RON enum syntax inside a value.
 
-use bumpsim_pipeline::config;
 use bumpsim_pipeline::metrics::light_share;
-use bumpsim_pipeline::run::{run, RunResult};
+use bumpsim_pipeline::report::Gates;
+use bumpsim_pipeline::run::RunResult;
 use std::collections::BTreeSet;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
@@ -22,12 +22,6 @@ mod common;
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn go(name: &str, sets: &[String]) -> RunResult {
-    let path = root().join("configs").join(format!("{name}.ron"));
-    let l = config::load(&path, sets).unwrap_or_else(|e| panic!("{name} {sets:?}: {e}"));
-    run(&l, None).unwrap_or_else(|e| panic!("{name} {sets:?}: {e}"))
 }
 
 fn enc(signed: bool, width: u32, codec: &str) -> String {
@@ -43,11 +37,9 @@ fn u_enc(w: u32) -> String {
     enc(false, w, "UnitUnsigned")
 }
 
-/// Gate equivalents of the blend units (kind bump_blend) of a run.
-fn blend_ge(r: &RunResult) -> f64 {
-    r.report
-        .gates
-        .per_unit
+/// Gate equivalents of the blend units (kind bump_blend) of a report's gates.
+fn blend_ge(g: &Gates) -> f64 {
+    g.per_unit
         .values()
         .filter(|u| u.kind == "bump_blend")
         .map(|u| u.total)
@@ -169,9 +161,64 @@ fn main() {
             "gouraud-order-multiplicative",
         ),
     ];
+    // every render of the page in one batch on the machine's cores (results in job order);
+    // the gate sweep needs no render
+    let mut jobs: Vec<(&str, Vec<String>)> = figs.iter().map(|(_, n)| (*n, vec![])).collect();
+    let bw_variants = bandwidth_variants();
+    jobs.extend(
+        bw_variants
+            .iter()
+            .map(|(_, sets)| ("gouraud-quad-bandwidth", sets.clone())),
+    );
+    let light_jobs = light_jobs();
+    jobs.extend(
+        light_jobs
+            .iter()
+            .map(|(_, sets)| ("gouraud-cylinder-smooth", sets.clone())),
+    );
+    let gens = generators();
+    jobs.extend(gens.iter().map(|(_, g)| {
+        (
+            "gouraud-cylinder-smooth",
+            vec![
+                "scene.material.shininess=32.0".to_string(),
+                format!("engine.units.specular.unit.spec={g}"),
+                format!("engine.units.specular.unit.dot={}", u_enc(12)),
+            ],
+        )
+    }));
+    let caps = r#"scene.bump={"SphereCaps": {"cells": 1, "radius": 0.22, "depth": 0.05}}"#;
+    jobs.extend([
+        (
+            "gouraud-order-split",
+            vec![r#"engine.output="tex.t""#.to_string()],
+        ),
+        ("gouraud-flat-artifact", vec![caps.to_string()]),
+        ("gouraud-flat-fix", vec!["scene.bump=Flat".to_string()]),
+    ]);
+    // the two sweeps (rayon inside) beside the batch: their sections are appended at the end
+    let (runs, (palette_md, faceting_md)) = std::thread::scope(|sc| {
+        let sweeps = sc.spawn(|| {
+            let (mut a, mut b) = (String::new(), String::new());
+            palette_section(&mut a);
+            faceting_section(&mut b);
+            (a, b)
+        });
+        let runs = common::go_all(&jobs);
+        (runs, sweeps.join().expect("the sweeps"))
+    });
+    let mut runs = runs.into_iter();
+    let mut take = |n: usize| runs.by_ref().take(n).collect::<Vec<_>>();
+    let fig_rs = take(figs.len());
+    let bw_runs = take(bw_variants.len());
+    let light_runs = take(light_jobs.len());
+    let gen_runs = take(gens.len());
+    let [texture, art_caps, fix_flat]: [RunResult; 3] =
+        take(3).try_into().unwrap_or_else(|_| panic!("three runs"));
+    let texture = texture.image;
+
     let mut fig_runs = Vec::new();
-    for (what, name) in figs {
-        let r = go(name, &[]);
+    for ((what, name), r) in figs.into_iter().zip(fig_rs) {
         save(&r, &dir, name, true);
         let _ = writeln!(
             md,
@@ -234,17 +281,24 @@ fn main() {
             }),
         ),
     ];
-    for (label, f) in &sweeps {
+    let gate_sets: Vec<Vec<String>> = sweeps
+        .iter()
+        .flat_map(|(_, f)| widths.iter().map(|&w| f(w)))
+        .chain([vec![]])
+        .collect();
+    let mut gate_ge = common::par_map(&gate_sets, |sets| {
+        blend_ge(&common::gates("gouraud-teapot", sets))
+    });
+    let teapot_ge = gate_ge.pop().expect("the config's own gates");
+    for ((label, _), ges) in sweeps.iter().zip(gate_ge.chunks(widths.len())) {
         let _ = write!(md, "| {label} |");
-        for &w in &widths {
-            let ge = blend_ge(&go("gouraud-teapot", &f(w)));
-            all_ge.push(ge);
+        for ge in ges {
+            all_ge.push(*ge);
             let _ = write!(md, " {ge:.0} |");
         }
         md.push('\n');
     }
-    let base_ge = blend_ge(&fig_runs[0].1);
-    let teapot_ge = blend_ge(&go("gouraud-teapot", &[]));
+    let base_ge = blend_ge(&fig_runs[0].1.report.gates);
     let (lo, hi) = all_ge
         .iter()
         .fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x), b.max(x)));
@@ -280,24 +334,8 @@ fn main() {
          vertex). \"Bump extras\" are the attributes a textured Gouraud triangle does not \
          carry.\n\n| variant | bits/triangle | bump extra bits | bump extras % of 1056 |\n|---|---|---|---|\n",
     );
-    let bw_variants: Vec<(&str, Vec<String>)> = vec![
-        ("H per triangle, L in state (config)", vec![]),
-        (
-            "+ L per triangle (port)",
-            vec![
-                r#"engine.attributes=[{"name": "uv", "source": "Uv", "enc": {"format": {"signed": false, "width": 16, "frac": 12}, "overflow": "Wrap"}}, {"name": "gouraud", "source": {"Gouraud": {"ambient": true}}, "enc": {"format": {"signed": false, "width": 8, "frac": 0}, "codec": "UnitUnsigned"}}, {"name": "l0", "source": {"LightDir": {"light": 0, "frame": "Object", "per_triangle": true}}, "enc": {"format": {"signed": true, "width": 16, "frac": 15}, "codec": "UnitSigned"}}, {"name": "h0", "source": {"HalfVec": {"light": 0, "frame": "Object", "per_triangle": true}}, "enc": {"format": {"signed": true, "width": 16, "frac": 15}, "codec": "UnitSigned"}}]"#.to_string(),
-                "engine.units.diffuse.unit.l_source=Port".to_string(),
-                r#"engine.units.diffuse.inputs={"c": "gouraud", "b": "bump.t", "l0": "l0"}"#.to_string(),
-            ],
-        ),
-        (
-            "H interpolated per vertex, L in state",
-            vec![r#"engine.attributes.h0.source={"HalfVec": {"light": 0, "frame": "Object", "per_triangle": false}}"#.to_string()],
-        ),
-    ];
     let mut bw_first = (0, 0.0);
-    for (i, (label, sets)) in bw_variants.iter().enumerate() {
-        let r = go("gouraud-quad-bandwidth", sets);
+    for (i, ((label, _), r)) in bw_variants.iter().zip(&bw_runs).enumerate() {
         let b = &r.report.bandwidth;
         if i == 0 {
             bw_first = (b.bump_extra_bits_per_triangle, b.bump_extra_percent);
@@ -324,32 +362,16 @@ fn main() {
          2 datapaths (`parallel`, at most the number of lights). GE = both blend units.\n\n\
          | lights | cycles/fragment, parallel 1 | blend GE, parallel 1 | cycles/fragment, parallel 2 | blend GE, parallel 2 |\n|---|---|---|---|---|\n",
     );
-    let dirs = [
-        [0.6, 0.4, 1.0],
-        [-0.6, 0.4, 1.0],
-        [0.0, -0.5, 1.0],
-        [0.2, 0.9, 0.6],
-    ];
     let mut cyc = Vec::new();
-    for n in 1..=4usize {
-        let lights: Vec<String> = (0..n)
-            .map(|i| directional(dirs[i], [0.45, 0.45, 0.45]))
-            .collect();
-        let mut row = format!("| {n} |");
-        for p in [1usize, 2] {
-            let p = p.min(n);
-            let sets = vec![
-                format!("scene.lights=[{}]", lights.join(", ")),
-                format!("engine.units.diffuse.unit.parallel={p}"),
-                format!("engine.units.specular.unit.parallel={p}"),
-            ];
-            let r = go("gouraud-cylinder-smooth", &sets);
+    for (k, pair) in light_runs.chunks(2).enumerate() {
+        let mut row = format!("| {} |", k + 1);
+        for r in pair {
             cyc.push(r.report.cycles.per_fragment);
             let _ = write!(
                 row,
                 " {:.3} | {:.0} |",
                 r.report.cycles.per_fragment,
-                blend_ge(&r)
+                blend_ge(&r.report.gates)
             );
         }
         md.push_str(&row);
@@ -376,40 +398,9 @@ fn main() {
          pixels where the reference changes by at most 3 LSB (LSB).\n\n\
          | generator | total RMSE | total max LSB | quantization RMSE | quantization max LSB | distinct values on row | largest step (LSB) |\n|---|---|---|---|---|---|---|\n",
     );
-    let mut gens: Vec<(String, String)> = Vec::new();
-    for ib in 3..=10u32 {
-        gens.push((
-            format!("Table {ib} x 8"),
-            format!(r#"{{"Table": {{"index_bits": {ib}, "value_bits": 8}}}}"#),
-        ));
-    }
-    for vb in [4u32, 6, 10, 12] {
-        gens.push((
-            format!("Table 8 x {vb}"),
-            format!(r#"{{"Table": {{"index_bits": 8, "value_bits": {vb}}}}}"#),
-        ));
-    }
-    for ib in [4u32, 5, 6] {
-        gens.push((
-            format!("TableLerp {ib} x 12, 6 frac"),
-            format!(r#"{{"TableLerp": {{"index_bits": {ib}, "value_bits": 12, "frac_bits": 6}}}}"#),
-        ));
-    }
-    for w in [8u32, 10, 12] {
-        gens.push((
-            format!("Squaring {w} bits"),
-            format!(r#"{{"Squaring": {{"width": {w}}}}}"#),
-        ));
-    }
     let mut spec_rows = Vec::new();
-    for (label, g) in &gens {
-        let sets = vec![
-            "scene.material.shininess=32.0".to_string(),
-            format!("engine.units.specular.unit.spec={g}"),
-            format!("engine.units.specular.unit.dot={}", u_enc(12)),
-        ];
-        let r = go("gouraud-cylinder-smooth", &sets);
-        let (distinct, step, _row) = banding(&r);
+    for ((label, _), r) in gens.iter().zip(&gen_runs) {
+        let (distinct, step, _row) = banding(r);
         let e = &r.report.error;
         let _ = writeln!(
             md,
@@ -418,7 +409,7 @@ fn main() {
         );
         if label == "Table 3 x 8" || label == "Table 8 x 8" {
             save(
-                &r,
+                r,
                 &dir,
                 &format!("highlight-{}", label.replace(' ', "")),
                 false,
@@ -455,11 +446,6 @@ fn main() {
          | run | total PSNR dB | total RMSE | total max LSB | total mean LSB | algorithm PSNR dB | quantization RMSE | quantization max LSB | light on black texels | light on white texels |\n\
          |---|---|---|---|---|---|---|---|---|---|\n",
     );
-    let texture = go(
-        "gouraud-order-split",
-        &[r#"engine.output="tex.t""#.to_string()],
-    )
-    .image;
     let orders = [
         (
             "split: DiffuseBlend -> Texture -> SpecularBlend",
@@ -510,11 +496,8 @@ fn main() {
          other's bump map, so that the two algorithms are compared on the same scene.\n\n",
     );
     md.push_str(ERR_HEAD);
-    let caps = r#"scene.bump={"SphereCaps": {"cells": 1, "radius": 0.22, "depth": 0.05}}"#;
     let art = &fig_runs[2].1;
     let fix = &fig_runs[3].1;
-    let art_caps = go("gouraud-flat-artifact", &[caps.to_string()]);
-    let fix_flat = go("gouraud-flat-fix", &["scene.bump=Flat".to_string()]);
     err_row(&mut md, "artifact (flat map, blend everywhere)", art);
     err_row(
         &mut md,
@@ -541,8 +524,8 @@ fn main() {
         art_caps.report.error.total.psnr_db
     );
 
-    palette_section(&mut md);
-    faceting_section(&mut md);
+    md.push_str(&palette_md);
+    md.push_str(&faceting_md);
 
     let out = root().join("docs/studies/gouraud-bump.md");
     std::fs::write(&out, md).unwrap();
@@ -663,4 +646,82 @@ fn faceting_section(md: &mut String) {
         n(tri_fine, "total_edge_excess_lsb"),
         n(tri, "algorithm_edge_excess_lsb"),
     );
+}
+
+/// The bandwidth table's variants of `gouraud-quad-bandwidth`: (label, sets).
+fn bandwidth_variants() -> Vec<(&'static str, Vec<String>)> {
+    vec![
+        ("H per triangle, L in state (config)", vec![]),
+        (
+            "+ L per triangle (port)",
+            vec![
+                r#"engine.attributes=[{"name": "uv", "source": "Uv", "enc": {"format": {"signed": false, "width": 16, "frac": 12}, "overflow": "Wrap"}}, {"name": "gouraud", "source": {"Gouraud": {"ambient": true}}, "enc": {"format": {"signed": false, "width": 8, "frac": 0}, "codec": "UnitUnsigned"}}, {"name": "l0", "source": {"LightDir": {"light": 0, "frame": "Object", "per_triangle": true}}, "enc": {"format": {"signed": true, "width": 16, "frac": 15}, "codec": "UnitSigned"}}, {"name": "h0", "source": {"HalfVec": {"light": 0, "frame": "Object", "per_triangle": true}}, "enc": {"format": {"signed": true, "width": 16, "frac": 15}, "codec": "UnitSigned"}}]"#.to_string(),
+                "engine.units.diffuse.unit.l_source=Port".to_string(),
+                r#"engine.units.diffuse.inputs={"c": "gouraud", "b": "bump.t", "l0": "l0"}"#.to_string(),
+            ],
+        ),
+        (
+            "H interpolated per vertex, L in state",
+            vec![r#"engine.attributes.h0.source={"HalfVec": {"light": 0, "frame": "Object", "per_triangle": false}}"#.to_string()],
+        ),
+    ]
+}
+
+/// The specular generators of the power-table section: (label, spec RON).
+fn generators() -> Vec<(String, String)> {
+    let mut gens: Vec<(String, String)> = Vec::new();
+    for ib in 3..=10u32 {
+        gens.push((
+            format!("Table {ib} x 8"),
+            format!(r#"{{"Table": {{"index_bits": {ib}, "value_bits": 8}}}}"#),
+        ));
+    }
+    for vb in [4u32, 6, 10, 12] {
+        gens.push((
+            format!("Table 8 x {vb}"),
+            format!(r#"{{"Table": {{"index_bits": 8, "value_bits": {vb}}}}}"#),
+        ));
+    }
+    for ib in [4u32, 5, 6] {
+        gens.push((
+            format!("TableLerp {ib} x 12, 6 frac"),
+            format!(r#"{{"TableLerp": {{"index_bits": {ib}, "value_bits": 12, "frac_bits": 6}}}}"#),
+        ));
+    }
+    for w in [8u32, 10, 12] {
+        gens.push((
+            format!("Squaring {w} bits"),
+            format!(r#"{{"Squaring": {{"width": {w}}}}}"#),
+        ));
+    }
+    gens
+}
+
+/// The cycles-vs-lights jobs of `gouraud-cylinder-smooth`: 1 to 4 lights, each with 1 and
+/// 2 datapaths (at most the number of lights), as (lights, sets).
+fn light_jobs() -> Vec<(usize, Vec<String>)> {
+    let dirs = [
+        [0.6, 0.4, 1.0],
+        [-0.6, 0.4, 1.0],
+        [0.0, -0.5, 1.0],
+        [0.2, 0.9, 0.6],
+    ];
+    let mut jobs = Vec::new();
+    for n in 1..=4usize {
+        let lights: Vec<String> = (0..n)
+            .map(|i| directional(dirs[i], [0.45, 0.45, 0.45]))
+            .collect();
+        for p in [1usize, 2] {
+            let p = p.min(n);
+            jobs.push((
+                n,
+                vec![
+                    format!("scene.lights=[{}]", lights.join(", ")),
+                    format!("engine.units.diffuse.unit.parallel={p}"),
+                    format!("engine.units.specular.unit.parallel={p}"),
+                ],
+            ));
+        }
+    }
+    jobs
 }

@@ -19,7 +19,7 @@ use bumpsim_pipeline::quantize::{
     angular_error_deg, decode, dither, mip_indices, quantize, KMeansStart, MipMode, Quantizer, Scan,
 };
 use bumpsim_pipeline::reference::Perturbation;
-use bumpsim_pipeline::run::{build_scene, run, RunResult};
+use bumpsim_pipeline::run::{build_scene, RunResult};
 use bumpsim_pipeline::scene::bake::{bake, BakeSpace};
 use bumpsim_pipeline::scene::NormalMap;
 use std::fmt::Write;
@@ -46,39 +46,7 @@ fn cfg_path(cfg: &str) -> PathBuf {
     root().join("configs").join(format!("{cfg}.ron"))
 }
 
-fn go(cfg: &str, sets: &[String]) -> RunResult {
-    let l = config::load(&cfg_path(cfg), sets).unwrap_or_else(|e| panic!("{cfg} {sets:?}: {e}"));
-    run(&l, None).unwrap_or_else(|e| panic!("{cfg} {sets:?}: {e}"))
-}
-
-/// Map `f` over `items` on the machine's cores (results in item order).
-fn par_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
-    let n = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let next = std::sync::atomic::AtomicUsize::new(0);
-    let out = std::sync::Mutex::new((0..items.len()).map(|_| None).collect::<Vec<_>>());
-    std::thread::scope(|s| {
-        for _ in 0..n {
-            s.spawn(|| loop {
-                let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                if i >= items.len() {
-                    break;
-                }
-                let r = f(&items[i]);
-                out.lock().unwrap()[i] = Some(r);
-            });
-        }
-    });
-    out.into_inner()
-        .unwrap()
-        .into_iter()
-        .map(Option::unwrap)
-        .collect()
-}
-
-/// Run every `(config, sets)` job on the machine's cores (results in job order).
-fn go_all(jobs: &[(&str, Vec<String>)]) -> Vec<RunResult> {
-    par_map(jobs, |(c, s)| go(c, s))
-}
+use common::{go, go_all, par_map};
 
 /// Smallest index width (8..=14) that holds `s_n` entries: `max(8, ceil(log2 s_n))`.
 fn index_bits(s_n: usize) -> u32 {

@@ -6,12 +6,57 @@
 
 use bumpsim_hw::Mode;
 use bumpsim_pipeline::config;
+use bumpsim_pipeline::report::Gates;
 use bumpsim_pipeline::rop::{self, Framebuffer};
-use bumpsim_pipeline::run;
+use bumpsim_pipeline::run::{self, RunResult};
 use std::path::PathBuf;
 
 pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn load(cfg: &str, sets: &[String]) -> config::Loaded {
+    let path = root().join("configs").join(format!("{cfg}.ron"));
+    config::load(&path, sets).unwrap_or_else(|e| panic!("{cfg} {sets:?}: {e}"))
+}
+
+/// A full run of bundled config `cfg` with `--set` overrides `sets`.
+pub fn go(cfg: &str, sets: &[String]) -> RunResult {
+    run::run(&load(cfg, sets), None).unwrap_or_else(|e| panic!("{cfg} {sets:?}: {e}"))
+}
+
+/// The report's gate figures of bundled config `cfg` with `sets`, without rendering.
+pub fn gates(cfg: &str, sets: &[String]) -> Gates {
+    run::gates(&load(cfg, sets)).unwrap_or_else(|e| panic!("{cfg} {sets:?}: {e}"))
+}
+
+/// Map `f` over `items` on the machine's cores (results in item order).
+pub fn par_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
+    let n = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let out = std::sync::Mutex::new((0..items.len()).map(|_| None).collect::<Vec<_>>());
+    std::thread::scope(|s| {
+        for _ in 0..n {
+            s.spawn(|| loop {
+                let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                if i >= items.len() {
+                    break;
+                }
+                let r = f(&items[i]);
+                out.lock().unwrap()[i] = Some(r);
+            });
+        }
+    });
+    out.into_inner()
+        .unwrap()
+        .into_iter()
+        .map(Option::unwrap)
+        .collect()
+}
+
+/// Run every `(config, sets)` job on the machine's cores (results in job order).
+pub fn go_all<S: AsRef<str> + Sync>(jobs: &[(S, Vec<String>)]) -> Vec<RunResult> {
+    par_map(jobs, |(c, s)| go(c.as_ref(), s))
 }
 
 /// The framebuffers of bundled config `name` (with `--set` overrides `sets`) in bit-accurate

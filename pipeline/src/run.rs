@@ -324,6 +324,31 @@ fn timed_call<T>(f: impl FnOnce() -> T) -> (T, std::time::Duration) {
 }
 
 /// Run a loaded config.
+/// The gate budgets of `engine` as the report states them: every unit, the fixed-point
+/// interpolator if there is one, the ROP.
+fn engine_gates(cfg: &crate::config::Config, engine: &Engine) -> Gates {
+    let mut units: Vec<(String, String, bumpsim_hw::GateBudget)> = engine
+        .stages
+        .iter()
+        .zip(&engine.gates)
+        .map(|(s, (_, g))| (s.name.clone(), s.unit().kind().to_string(), g.clone()))
+        .collect();
+    if let crate::config::Interpolator::Fixed { weight_bits } = cfg.engine.interpolator {
+        let g = attributes::interpolator_gates(&engine.attributes, weight_bits, &cfg.cost);
+        units.push(("attribute interpolator".into(), "interpolator".into(), g));
+    }
+    Gates::new(&units, &engine.rop.gates(&cfg.cost))
+}
+
+/// The report's `gates` of config `l` without rendering: the scene and the engine are built
+/// (assets included, as the units' budgets may depend on them), nothing is rasterised or run.
+/// The same figures as `run(l, ..).report.gates`.
+pub fn gates(l: &Loaded) -> Result<Gates, InputError> {
+    let scene = build_scene(l)?;
+    let engine = engine::build(l, &scene)?;
+    Ok(engine_gates(&l.config, &engine))
+}
+
 pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputError> {
     let cfg = &l.config;
     let mut timings = Timings::start();
@@ -404,16 +429,6 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
     let baseline = PacketLayout::baseline_textured_gouraud();
     let bits = packet.bits_per_triangle();
     let base_bits = baseline.bits_per_triangle();
-    let mut units: Vec<(String, String, bumpsim_hw::GateBudget)> = bit
-        .stages
-        .iter()
-        .zip(&bit.gates)
-        .map(|(s, (_, g))| (s.name.clone(), s.unit().kind().to_string(), g.clone()))
-        .collect();
-    if let crate::config::Interpolator::Fixed { weight_bits } = cfg.engine.interpolator {
-        let g = attributes::interpolator_gates(&bit.attributes, weight_bits, &cfg.cost);
-        units.push(("attribute interpolator".into(), "interpolator".into(), g));
-    }
     let blend = cfg.engine.units.iter().find_map(|u| match u.unit {
         engine::units::UnitSpec::FbBlend(ref fb) => Some(fb.equation),
         _ => None,
@@ -444,7 +459,7 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
         },
         bake: p.scene.bake,
         cycles: result.cycles,
-        gates: Gates::new(&units, &bit.rop.gates(&cfg.cost)),
+        gates: engine_gates(cfg, bit),
         bandwidth: Bandwidth {
             bits_per_triangle: bits,
             baseline_bits_per_triangle: base_bits,

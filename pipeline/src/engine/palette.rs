@@ -6,6 +6,7 @@
 //! unperturbed normal (0, 0, 1) as entry 0 so that flat texels stay exact. Quantizers that
 //! adapt the table to the map belong to the quantized-normal-map engine (Tarini et al.).
 
+use crate::quantize::NearestIndex;
 use glam::DVec3;
 
 /// `n` unit vectors over the hemisphere z >= 0, entry 0 = (0, 0, 1).
@@ -25,23 +26,18 @@ pub fn hemisphere(n: usize) -> Vec<[f64; 4]> {
 }
 
 /// Replace every texel by the palette entry with the largest dot product (the nearest
-/// direction); ties go to the lower index.
+/// direction); ties go to the lower index. The search is the exact k-d tree of the quantized
+/// normal maps ([`NearestIndex`]: the brute-force answer bit for bit), texels in parallel.
 pub fn quantize(texels: &mut [[f64; 4]], palette: &[[f64; 4]]) {
+    use rayon::prelude::*;
     let p: Vec<DVec3> = palette
         .iter()
         .map(|e| DVec3::new(e[0], e[1], e[2]))
         .collect();
-    for t in texels.iter_mut() {
-        let d = DVec3::new(t[0], t[1], t[2]);
-        let mut best = (f64::NEG_INFINITY, 0);
-        for (i, e) in p.iter().enumerate() {
-            let s = d.dot(*e);
-            if s > best.0 {
-                best = (s, i);
-            }
-        }
-        *t = palette[best.1];
-    }
+    let index = NearestIndex::of(&p);
+    texels.par_iter_mut().for_each(|t| {
+        *t = palette[index.nearest(DVec3::new(t[0], t[1], t[2])) as usize];
+    });
 }
 
 #[cfg(test)]
@@ -78,6 +74,38 @@ mod tests {
             "largest gap {} degrees",
             worst.acos().to_degrees()
         );
+    }
+
+    #[test]
+    fn quantize_is_the_brute_force_answer_on_every_texel() {
+        for n in [1usize, 2, 16, 256, 4096] {
+            let pal = hemisphere(n);
+            // texels on a grid over the hemisphere and below it, some on entries exactly
+            let mut t: Vec<[f64; 4]> = (0..4000)
+                .map(|i| {
+                    let (a, z) = (i as f64 * 0.7, (i % 97) as f64 / 48.0 - 1.0);
+                    let r = (1.0 - z * z).max(0.0).sqrt();
+                    [r * a.cos(), r * a.sin(), z, 0.0]
+                })
+                .chain(pal.iter().copied())
+                .collect();
+            let want: Vec<[f64; 4]> = t
+                .iter()
+                .map(|v| {
+                    let d = DVec3::new(v[0], v[1], v[2]);
+                    let mut best = (f64::NEG_INFINITY, 0);
+                    for (i, e) in pal.iter().enumerate() {
+                        let s = d.dot(DVec3::new(e[0], e[1], e[2]));
+                        if s > best.0 {
+                            best = (s, i);
+                        }
+                    }
+                    pal[best.1]
+                })
+                .collect();
+            quantize(&mut t, &pal);
+            assert_eq!(t, want, "{n} entries");
+        }
     }
 
     #[test]

@@ -92,3 +92,32 @@ fn the_concurrent_paths_are_the_paths_one_after_another() {
         );
     }
 }
+
+#[test]
+fn gates_without_rendering_are_the_reports() {
+    let mut seen_interpolator = false;
+    let fixed = "engine.interpolator=Fixed(weight_bits: 12)";
+    for (name, more) in [
+        ("sgi-teapot", None),
+        ("sgi-teapot", Some(fixed)),
+        ("gouraud-teapot", None),
+        ("quantized-bunny-materials", None),
+        ("nv20-combiner-bump", None),
+        ("texram-teapot", None),
+        ("rop-alpha-test", None),
+    ] {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../configs/{name}.ron"));
+        let mut sets = vec!["scene.width=32".to_string(), "scene.height=32".to_string()];
+        sets.extend(more.map(String::from));
+        let l = crate::config::load(&path, &sets).unwrap();
+        let g = serde_json::to_value(gates(&l).unwrap()).unwrap();
+        let r = serde_json::to_value(run(&l, None).unwrap().report.gates).unwrap();
+        assert_eq!(g, r, "{name}");
+        assert!(g["total"].as_f64().unwrap() > 0.0, "{name}");
+        seen_interpolator |= g["per_unit"].get("attribute interpolator").is_some();
+    }
+    assert!(
+        seen_interpolator,
+        "the fixed-point interpolator is not priced"
+    );
+}
