@@ -9,6 +9,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+mod gates_cmd;
 mod rtl_cmd;
 
 #[derive(Parser)]
@@ -149,6 +150,17 @@ enum Command {
         #[command(flatten)]
         args: ConfigArgs,
     },
+    /// Print the engine's gate figures without rendering (the report's `gates`, the model's
+    /// estimate, docs/gates.md); --synth adds the yosys synthesis of every unit with a
+    /// Verilog generator beside them (docs/rtl.md).
+    Gates {
+        #[command(flatten)]
+        args: ConfigArgs,
+        #[arg(long)]
+        synth: bool,
+        #[arg(long)]
+        json: bool,
+    },
     /// Write Verilog of the engine's units into DIR (docs/rtl.md): NAME.v and NAME.regs per
     /// unit with a generator; --cosim N replays N vectors with iverilog, --synth runs yosys.
     Rtl {
@@ -219,6 +231,7 @@ fn parse_cycles(s: &str) -> Result<(u64, u64), InputError> {
 
 fn execute(cmd: Command) -> Result<(), Failure> {
     match cmd {
+        Command::Gates { args, synth, json } => gates_cmd::execute(&args.load()?, synth, json)?,
         Command::Rtl {
             args,
             out,

@@ -24,9 +24,9 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 /// A generated unit: the Verilog and the unit rebuilt from the same parameters.
-struct Generated {
-    rtl: RtlUnit,
-    model: Box<dyn Unit>,
+pub(crate) struct Generated {
+    pub(crate) rtl: RtlUnit,
+    pub(crate) model: Box<dyn Unit>,
 }
 
 fn enc_of(ports: &[PortSpec], name: &str) -> Option<bumpsim_hw::Encoding> {
@@ -83,8 +83,20 @@ fn blend_params(s: &engine::units::BumpBlendSpec, scene: &Scene) -> BumpBlendPar
     }
 }
 
+/// The engine's unit named `name` (every config unit is one).
+pub(crate) fn engine_unit<'a>(
+    eng: &'a engine::Engine,
+    name: &str,
+) -> Result<&'a dyn Unit, Failure> {
+    eng.stages
+        .iter()
+        .find(|s| s.name == name)
+        .map(|s| s.unit())
+        .ok_or_else(|| Failure::Internal(format!("unit {name} not in the engine")))
+}
+
 /// Verilog module name for a unit instance.
-fn module_name(unit: &str) -> String {
+pub(crate) fn module_name(unit: &str) -> String {
     let s: String = unit
         .chars()
         .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
@@ -93,7 +105,7 @@ fn module_name(unit: &str) -> String {
 }
 
 /// The generator for one unit; `Ok(None)` for a kind without one.
-fn generate(
+pub(crate) fn generate(
     spec: &UnitSpec,
     unit: &dyn Unit,
     scene: &Scene,
@@ -169,6 +181,18 @@ fn generate(
     Ok(Some(g))
 }
 
+/// The model's loadable tables (the power table's SRAM items) in a budget: synthesis builds
+/// them as ROMs of their contents, so they are compared apart from the logic.
+pub(crate) fn loadable_tables_ge(b: &bumpsim_hw::GateBudget) -> f64 {
+    b.items
+        .iter()
+        .filter(|i| i.what.contains("power table"))
+        .map(|i| i.ge)
+        // an empty f64 sum is -0.0
+        .sum::<f64>()
+        + 0.0
+}
+
 fn regs_text(u: &RtlUnit) -> String {
     let mut s = String::from("# addr width value what (host-loaded registers, cfg_* port)\n");
     for (i, c) in u.config.iter().enumerate() {
@@ -202,12 +226,7 @@ pub fn execute(l: &Loaded, out: &Path, cosim: usize, synth_on: bool) -> Result<(
     let mut lines = Vec::new();
     let mut failures = Vec::new();
     for (i, uc) in l.config.engine.units.iter().enumerate() {
-        let stage = eng
-            .stages
-            .iter()
-            .find(|s| s.name == uc.name)
-            .ok_or_else(|| Failure::Internal(format!("unit {} not in the engine", uc.name)))?;
-        let unit = stage.unit();
+        let unit = engine_unit(&eng, &uc.name)?;
         let top = module_name(&uc.name);
         let g = match generate(&uc.unit, unit, &scene, &top) {
             Ok(Some(g)) => g,
@@ -280,14 +299,7 @@ pub fn execute(l: &Loaded, out: &Path, cosim: usize, synth_on: bool) -> Result<(
         if synth_on {
             match synth::synthesise(&g.rtl, &out.join("synth").join(&uc.name)) {
                 Ok(s) => {
-                    // the model's loadable tables against the ROMs: priced apart
-                    let tables: f64 = unit
-                        .gates(table)
-                        .items
-                        .iter()
-                        .filter(|i| i.what.contains("power table"))
-                        .map(|i| i.ge)
-                        .sum();
+                    let tables = loadable_tables_ge(&unit.gates(table));
                     let _ = write!(
                         line,
                         "  yosys {:.1} GE; logic model {:.1} / yosys {:.1} = {:.3}",

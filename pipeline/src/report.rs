@@ -73,6 +73,9 @@ pub struct UnitGates {
 
 #[derive(Debug, Clone, Serialize)]
 pub struct Gates {
+    /// What the figures are: always `"model"`, the itemised estimate of `docs/gates.md`
+    /// (`bumpsim gates CONFIG --synth` puts yosys's synthesis beside it).
+    pub estimate: &'static str,
     /// Gate equivalents of all engine units (2-input NAND = 1).
     pub total: f64,
     pub per_unit: BTreeMap<String, UnitGates>,
@@ -97,6 +100,7 @@ impl Gates {
             })
             .collect();
         Gates {
+            estimate: "model",
             total: round2(per_unit.values().map(|u| u.total).sum()),
             per_unit,
             rop: UnitGates {
@@ -200,7 +204,11 @@ impl Report {
                 name, k.busy, k.idle, k.stall, util
             );
         }
-        let _ = writeln!(s, "\ngates {:.0} GE", self.gates.total);
+        let _ = writeln!(
+            s,
+            "\ngates {:.0} GE (model estimate, docs/gates.md; `bumpsim gates --synth` for yosys)",
+            self.gates.total
+        );
         for (name, u) in &self.gates.per_unit {
             let _ = writeln!(s, "  {:<14} {:<14} {:>10.0}", name, u.kind, u.total);
         }

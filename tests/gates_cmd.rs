@@ -1,0 +1,101 @@
+//! `bumpsim gates CONFIG [--synth] [--json]`: the report's gate figures without a render, and
+//! with `--synth` yosys's synthesis beside them. yosys is required for the synthesis test
+//! (`.ci/install-yosys.sh`): it **fails** without it unless `BUMPSIM_SKIP_YOSYS=1` is set.
+
+mod common;
+
+use common::*;
+use serde_json::Value;
+
+fn skip_yosys() -> bool {
+    std::env::var_os("BUMPSIM_SKIP_YOSYS").is_some_and(|v| !v.is_empty() && v != "0")
+}
+
+fn gates_json(cfg: &str, extra: &[&str]) -> Value {
+    let path = config(cfg);
+    let mut args = vec!["gates", path.to_str().unwrap(), "--json"];
+    args.extend(extra);
+    let o = bumpsim(&args);
+    o.expect_code(0, "gates --json");
+    json(&o.stdout)
+}
+
+#[test]
+fn gates_are_the_reports_figures_without_a_render() {
+    for cfg in ["sgi-teapot", "gouraud-teapot", "quantized-sphere"] {
+        let path = config(cfg);
+        let sets = ["--set", "scene.width=48", "--set", "scene.height=48"];
+        let g = gates_json(cfg, &sets);
+        let mut args = vec!["report", path.to_str().unwrap(), "--json"];
+        args.extend(sets);
+        let o = bumpsim(&args);
+        o.expect_code(0, "report --json");
+        let r = json(&o.stdout);
+        assert_eq!(at(&g, "gates"), at(&r, "gates"), "{cfg}");
+        assert_eq!(at(&g, "config_hash"), at(&r, "config_hash"), "{cfg}");
+        assert_eq!(at(&g, "gates.estimate").as_str(), Some("model"), "{cfg}");
+        assert!(num(&g, "gates.total") > 1000.0, "{cfg}");
+    }
+    // an override moves the figure as it moves the report's
+    let wide = gates_json(
+        "sgi-teapot",
+        &["--set", r#"engine.units.spec.unit.index_bits=10"#],
+    );
+    let base = gates_json("sgi-teapot", &[]);
+    assert!(
+        num(&wide, "gates.per_unit.spec.total") > 3.5 * num(&base, "gates.per_unit.spec.total"),
+        "a 4x power table"
+    );
+    // the text form names every unit and the total
+    let path = config("emboss");
+    let o = bumpsim(&["gates", path.to_str().unwrap()]);
+    o.expect_code(0, "gates");
+    for needle in [
+        "dot",
+        "emboss",
+        "norm",
+        "shade",
+        "total",
+        "model's estimate",
+    ] {
+        assert!(o.stdout.contains(needle), "{needle}: {}", o.stdout);
+    }
+    // bad input: exit 2 naming the file
+    let o = bumpsim(&["gates", "configs/no-such-config.ron"]);
+    o.expect_code(2, "missing config");
+    assert!(o.stderr.contains("no-such-config.ron"), "{}", o.stderr);
+}
+
+#[test]
+fn synth_puts_yosys_beside_the_model_for_every_generated_unit() {
+    if skip_yosys() {
+        println!("gates --synth: skipped (BUMPSIM_SKIP_YOSYS is set)");
+        return;
+    }
+    let g = gates_json("emboss", &["--synth"]);
+    for unit in ["dot", "shade"] {
+        let s = at(&g, &format!("gates.per_unit.{unit}.synth"));
+        let ge = num(s, "ge");
+        let ratio = num(s, "logic_ratio");
+        let model = num(&g, &format!("gates.per_unit.{unit}.total"));
+        assert!(ge > 1000.0, "{unit}: {ge} GE");
+        // the band of hw/tests/rtl_synth.rs (measured 0.78-0.88 for these kinds)
+        assert!(
+            (0.7..=1.1).contains(&ratio),
+            "{unit}: model / yosys {ratio}"
+        );
+        assert!(
+            (num(s, "logic_model_ge") - model).abs() < 0.01,
+            "{unit}: no table, so the logic is the whole model"
+        );
+        assert!((num(s, "logic_model_ge") / num(s, "logic_synth_ge") - ratio).abs() < 1e-3);
+    }
+    for unit in ["emboss", "norm"] {
+        let why = at(&g, &format!("gates.per_unit.{unit}.synth.none"));
+        assert!(
+            why.as_str()
+                .is_some_and(|w| w.contains("no Verilog generator")),
+            "{unit}: {why}"
+        );
+    }
+}
