@@ -326,6 +326,8 @@ fn main() {
         }
     );
 
+    tables_section(&mut md);
+
     // ---------------------------------------------------------------- bandwidth
     md.push_str(
         "## Bits per triangle vs the 1056-bit textured Gouraud baseline (§4.2)\n\n\
@@ -724,4 +726,60 @@ fn light_jobs() -> Vec<(usize, Vec<String>)> {
         }
     }
     jobs
+}
+
+/// Issue 13 item 6: the blend pair of `gouraud-teapot` with its power table built as each
+/// memory kind (`cost.tables`), against the paper's 10,000-25,000 GE.
+fn tables_section(md: &mut String) {
+    md.push_str(
+        "### The power table as SRAM, latch RAM, flip-flop RAM or ROM\n\n\
+         The budget above prices the specular unit's 256 x 8 power table as a loadable SRAM \
+         (1.5 GE/bit). Standard-cell designs without a memory macro build it from latches or \
+         flip-flops; a table fixed at design time is a ROM (`cost.tables`, docs/gates.md, \
+         \"Memory\"). `gouraud-teapot`'s diffuse + specular blend units (`run::gates`, no \
+         render):\n\n\
+         | tables built as | GE per bit | power table GE | blend pair GE | in 10,000-25,000 |\n\
+         |---|---|---|---|---|\n",
+    );
+    let kinds = ["Sram", "LatchRam", "FlopRam", "Rom"];
+    let sets: Vec<Vec<String>> = kinds
+        .iter()
+        .map(|k| vec![format!("cost.tables={k}")])
+        .collect();
+    let gates = common::par_map(&sets, |s| common::gates("gouraud-teapot", s));
+    let mut inside = Vec::new();
+    for g in &gates {
+        let pair = blend_ge(g);
+        let table: f64 = g
+            .per_unit
+            .values()
+            .filter(|u| u.kind == "bump_blend")
+            .map(|u| u.memory)
+            .sum();
+        let per_bit = table / (256.0 * 8.0);
+        let ok = (10_000.0..=25_000.0).contains(&pair);
+        if ok {
+            inside.push(g.tables);
+        }
+        let _ = writeln!(
+            md,
+            "| {} | {per_bit:.2} | {table:.0} | {pair:.0} | {} |",
+            g.tables,
+            if ok { "yes" } else { "no" }
+        );
+    }
+    let _ = writeln!(
+        md,
+        "\nThe paper's range holds for {} of the four: {}. A loadable table (the specular \
+         exponent is a material parameter) keeps the pair inside it only as an SRAM macro: \
+         latches give {:.0} GE, flip-flops {:.0} GE. A ROM (the exponent fixed at design time) \
+         is cheaper still; `bumpsim gates configs/gouraud-teapot.ron --synth` synthesises the \
+         table as a ROM of its contents, far below `rom_bit`'s random-contents price (the \
+         smooth x^16 table, docs/gates.md). So the paper's 10k-25k GE (C1) agrees for a \
+         table in a memory macro or a ROM, not for one built of standard-cell storage.\n",
+        inside.len(),
+        inside.join(", "),
+        blend_ge(&gates[1]),
+        blend_ge(&gates[2])
+    );
 }

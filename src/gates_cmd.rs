@@ -115,9 +115,12 @@ fn round4(x: f64) -> f64 {
 fn text(l: &Loaded, g: &Gates, rows: Option<&[Row]>) -> String {
     let mut s = format!(
         "bumpsim {VERSION}  config {}  hash {}\n\
-         gates: the model's estimate (docs/gates.md), no render\n",
+         gates: the model's estimate (docs/gates.md), no render; tables {:.1} GE of it, \
+         built as {} (cost.tables)\n",
         l.config.name,
-        &l.hash[..16.min(l.hash.len())]
+        &l.hash[..16.min(l.hash.len())],
+        g.memory,
+        g.tables
     );
     if rows.is_some() {
         s.push_str(

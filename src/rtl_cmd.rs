@@ -181,16 +181,10 @@ pub(crate) fn generate(
     Ok(Some(g))
 }
 
-/// The model's loadable tables (the power table's SRAM items) in a budget: synthesis builds
-/// them as ROMs of their contents, so they are compared apart from the logic.
+/// The model's loadable tables (its memory items) in a budget: synthesis builds them as ROMs
+/// of their contents, so they are compared apart from the logic.
 pub(crate) fn loadable_tables_ge(b: &bumpsim_hw::GateBudget) -> f64 {
-    b.items
-        .iter()
-        .filter(|i| i.what.contains("power table"))
-        .map(|i| i.ge)
-        // an empty f64 sum is -0.0
-        .sum::<f64>()
-        + 0.0
+    b.memory()
 }
 
 fn regs_text(u: &RtlUnit) -> String {

@@ -1019,6 +1019,25 @@ fn gate_cost_overrides_must_be_finite_and_not_negative() {
         &["cost.sram_bit", "NaN"],
     );
     assert!(msg.contains("not allowed"), "{msg}");
+    // the memory kind of the tables: one of four, and so are the new prices
+    set_fails(
+        "cost-tables",
+        "cost.tables=Dram",
+        &[
+            "cost.tables",
+            "unknown variant `Dram`",
+            "`Sram`, `LatchRam`, `FlopRam`, `Rom`",
+        ],
+    );
+    fails(
+        &b,
+        &["--set", "cost.flop_ram_bit=-2"],
+        &[
+            "with --set cost.flop_ram_bit=-2",
+            "cost.flop_ram_bit",
+            "price -2",
+        ],
+    );
 }
 
 #[test]

@@ -15,7 +15,8 @@ pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-fn load(cfg: &str, sets: &[String]) -> config::Loaded {
+/// Bundled config `cfg` loaded with `--set` overrides `sets`.
+pub fn load(cfg: &str, sets: &[String]) -> config::Loaded {
     let path = root().join("configs").join(format!("{cfg}.ron"));
     config::load(&path, sets).unwrap_or_else(|e| panic!("{cfg} {sets:?}: {e}"))
 }

@@ -31,6 +31,45 @@ pub struct CostTable {
     pub rom_bit: f64,
     /// Loadable SRAM table (colour-LUT style), per bit.
     pub sram_bit: f64,
+    /// Latch RAM, per bit: a latch (3.33) and its share of the read multiplexer tree (one
+    /// 2:1 mux per stored bit, 2.33); the write decoder is not counted.
+    pub latch_ram_bit: f64,
+    /// Flip-flop RAM, per bit: a register bit with load enable (8.0) and its share of the read
+    /// multiplexer tree (2.33); the write decoder is not counted.
+    pub flop_ram_bit: f64,
+    /// What every loadable table of the engine is built as (docs/gates.md, "Memory"): the
+    /// table's bits priced at `sram_bit`, `latch_ram_bit`, `flop_ram_bit`, or `rom_bit` for a
+    /// table fixed at design time (its contents known: `bumpsim gates --synth` synthesises it).
+    pub tables: MemoryKind,
+}
+
+/// How a table is built, and so priced per bit (`CostTable::tables`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum MemoryKind {
+    /// A loadable SRAM macro (`sram_bit`): the dense choice, with a macro's periphery.
+    #[default]
+    Sram,
+    /// Latches with a read mux tree (`latch_ram_bit`), standard cells only.
+    LatchRam,
+    /// Flip-flops with load enables and a read mux tree (`flop_ram_bit`): what synthesis
+    /// builds from a plain Verilog memory.
+    FlopRam,
+    /// Hard-wired contents (`rom_bit`, random contents; smooth tables synthesise smaller):
+    /// not loadable, so the table cannot follow a material change at run time.
+    Rom,
+}
+
+impl MemoryKind {
+    /// The name the reports print.
+    pub fn name(self) -> &'static str {
+        match self {
+            MemoryKind::Sram => "SRAM",
+            MemoryKind::LatchRam => "latch RAM",
+            MemoryKind::FlopRam => "flip-flop RAM",
+            MemoryKind::Rom => "ROM",
+        }
+    }
 }
 
 impl Default for CostTable {
@@ -46,6 +85,9 @@ impl Default for CostTable {
             reg_bit: 8.0,
             rom_bit: 0.4,
             sram_bit: 1.5,
+            latch_ram_bit: 5.66,
+            flop_ram_bit: 10.33,
+            tables: MemoryKind::Sram,
         }
     }
 }
@@ -55,7 +97,7 @@ impl CostTable {
     pub const MAX_PRICE: f64 = 1e6;
 
     /// Every price with its field name, in declaration order.
-    pub fn prices(&self) -> [(&'static str, f64); 10] {
+    pub fn prices(&self) -> [(&'static str, f64); 12] {
         [
             ("inv", self.inv),
             ("and2", self.and2),
@@ -67,6 +109,8 @@ impl CostTable {
             ("reg_bit", self.reg_bit),
             ("rom_bit", self.rom_bit),
             ("sram_bit", self.sram_bit),
+            ("latch_ram_bit", self.latch_ram_bit),
+            ("flop_ram_bit", self.flop_ram_bit),
         ]
     }
 
@@ -116,9 +160,15 @@ impl CostTable {
     pub fn rom(&self, entries: u64, bits: u32) -> f64 {
         self.rom_bit * entries as f64 * bits as f64
     }
-    /// Loadable table of `entries` words of `bits` bits.
-    pub fn sram(&self, entries: u64, bits: u32) -> f64 {
-        self.sram_bit * entries as f64 * bits as f64
+    /// Loadable table of `entries` words of `bits` bits, built as `self.tables` says.
+    pub fn table(&self, entries: u64, bits: u32) -> f64 {
+        let per_bit = match self.tables {
+            MemoryKind::Sram => self.sram_bit,
+            MemoryKind::LatchRam => self.latch_ram_bit,
+            MemoryKind::FlopRam => self.flop_ram_bit,
+            MemoryKind::Rom => self.rom_bit,
+        };
+        per_bit * entries as f64 * bits as f64
     }
     /// Saturation / clamp logic on n bits: per bit an AND with the in-range flag and an OR
     /// with the overflow flag (about 2 GE a bit; yosys measures 16 GE for a 10-to-8 bit clamp,
@@ -133,6 +183,9 @@ impl CostTable {
 pub struct GateItem {
     pub what: String,
     pub ge: f64,
+    /// A table's storage (priced by [`CostTable::table`]), reported apart from the logic.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub memory: bool,
 }
 
 /// A unit's itemised gate estimate.
@@ -147,13 +200,38 @@ impl GateBudget {
     }
     /// Add `count` copies of a primitive costing `ge` each.
     pub fn add(&mut self, what: impl Into<String>, count: u32, ge: f64) -> &mut Self {
+        self.push(what.into(), count, ge, false)
+    }
+    /// Add `count` copies of a table's storage costing `ge` each ([`CostTable::table`]).
+    pub fn add_memory(&mut self, what: impl Into<String>, count: u32, ge: f64) -> &mut Self {
+        self.push(what.into(), count, ge, true)
+    }
+    fn push(&mut self, what: String, count: u32, ge: f64, memory: bool) -> &mut Self {
         if count > 0 && ge > 0.0 {
             self.items.push(GateItem {
-                what: what.into(),
+                what,
                 ge: ge * count as f64,
+                memory,
             });
         }
         self
+    }
+    /// Add `count` copies of every item of a part's budget, named `prefix` + the item (the
+    /// memory items stay memory).
+    pub fn add_part(&mut self, prefix: &str, count: u32, part: GateBudget) -> &mut Self {
+        for i in part.items {
+            self.push(format!("{prefix}{}", i.what), count, i.ge, i.memory);
+        }
+        self
+    }
+    /// The tables' storage ([`GateBudget::add_memory`] items) in the total.
+    pub fn memory(&self) -> f64 {
+        self.items
+            .iter()
+            .filter(|i| i.memory)
+            .map(|i| i.ge)
+            .sum::<f64>()
+            + 0.0
     }
     pub fn total(&self) -> f64 {
         self.items.iter().map(|i| i.ge).sum()
@@ -192,6 +270,38 @@ mod tests {
             assert_eq!(field, "full_adder");
             assert!(msg.contains(&format!("price {bad}")), "{msg}");
         }
+    }
+
+    #[test]
+    fn tables_are_priced_by_their_kind_and_kept_apart() {
+        let bits = 256.0 * 8.0;
+        for (kind, per_bit) in [
+            (MemoryKind::Sram, 1.5),
+            (MemoryKind::LatchRam, 3.33 + 2.33),
+            (MemoryKind::FlopRam, 8.0 + 2.33),
+            (MemoryKind::Rom, 0.4),
+        ] {
+            let t = CostTable {
+                tables: kind,
+                ..CostTable::default()
+            };
+            assert!((t.table(256, 8) - per_bit * bits).abs() < 1e-6, "{kind:?}");
+            let mut part = GateBudget::new();
+            part.add_memory("table", 1, t.table(256, 8));
+            part.add("index adder", 1, t.adder(8));
+            let mut g = GateBudget::new();
+            g.add_part("gen: ", 2, part);
+            g.add("output register", 1, t.register(8));
+            assert!((g.memory() - 2.0 * per_bit * bits).abs() < 1e-6, "{kind:?}");
+            assert_eq!(g.items[0].what, "gen: table");
+            assert!(g.items[0].memory && !g.items[1].memory && !g.items[2].memory);
+            assert!(
+                (g.total() - g.memory() - 2.0 * t.adder(8) - t.register(8)).abs() < 1e-9,
+                "{kind:?}"
+            );
+        }
+        // no tables: memory is +0, not -0
+        assert!(GateBudget::new().memory().is_sign_positive());
     }
 
     #[test]

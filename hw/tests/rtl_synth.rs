@@ -35,18 +35,9 @@ fn yosys_available() -> bool {
         .unwrap_or(false)
 }
 
-/// The model's table items (the loadable power tables).
-fn is_table(what: &str) -> bool {
-    what.contains("power table")
-}
-
 fn split(g: &GateBudget) -> (f64, f64) {
-    let table: f64 = g
-        .items
-        .iter()
-        .filter(|i| is_table(&i.what))
-        .map(|i| i.ge)
-        .sum();
+    // the model's tables: its memory items (the loadable power tables)
+    let table = g.memory();
     (g.total() - table, table)
 }
 

@@ -68,6 +68,9 @@ pub struct ImageInfo {
 pub struct UnitGates {
     pub kind: String,
     pub total: f64,
+    /// The tables' storage in `total` (items marked `memory`; `cost.tables` says how they
+    /// are built).
+    pub memory: f64,
     pub items: Vec<bumpsim_hw::gates::GateItem>,
 }
 
@@ -78,6 +81,11 @@ pub struct Gates {
     pub estimate: &'static str,
     /// Gate equivalents of all engine units (2-input NAND = 1).
     pub total: f64,
+    /// The tables' storage in `total`, built as `tables` says.
+    pub memory: f64,
+    /// What the loadable tables are built as (`cost.tables`): SRAM, latch RAM, flip-flop RAM
+    /// or ROM.
+    pub tables: &'static str,
     pub per_unit: BTreeMap<String, UnitGates>,
     /// The raster operations (depth and alpha tests, blending, colour write): beside the
     /// engine's total, not in it, as the papers' budgets leave the raster back end out.
@@ -85,7 +93,11 @@ pub struct Gates {
 }
 
 impl Gates {
-    pub fn new(units: &[(String, String, GateBudget)], rop: &GateBudget) -> Gates {
+    pub fn new(
+        units: &[(String, String, GateBudget)],
+        rop: &GateBudget,
+        tables: bumpsim_hw::gates::MemoryKind,
+    ) -> Gates {
         let per_unit: BTreeMap<String, UnitGates> = units
             .iter()
             .map(|(name, kind, b)| {
@@ -94,6 +106,7 @@ impl Gates {
                     UnitGates {
                         kind: kind.clone(),
                         total: round2(b.total()),
+                        memory: round2(b.memory()),
                         items: b.items.clone(),
                     },
                 )
@@ -102,10 +115,13 @@ impl Gates {
         Gates {
             estimate: "model",
             total: round2(per_unit.values().map(|u| u.total).sum()),
+            memory: round2(per_unit.values().map(|u| u.memory).sum::<f64>() + 0.0),
+            tables: tables.name(),
             per_unit,
             rop: UnitGates {
                 kind: "rop".into(),
                 total: round2(rop.total()),
+                memory: round2(rop.memory()),
                 items: rop.items.clone(),
             },
         }
@@ -206,11 +222,16 @@ impl Report {
         }
         let _ = writeln!(
             s,
-            "\ngates {:.0} GE (model estimate, docs/gates.md; `bumpsim gates --synth` for yosys)",
-            self.gates.total
+            "\ngates {:.0} GE (model estimate, docs/gates.md; `bumpsim gates --synth` for yosys), \
+             tables {:.0} GE of it as {}",
+            self.gates.total, self.gates.memory, self.gates.tables
         );
         for (name, u) in &self.gates.per_unit {
-            let _ = writeln!(s, "  {:<14} {:<14} {:>10.0}", name, u.kind, u.total);
+            let _ = write!(s, "  {:<14} {:<14} {:>10.0}", name, u.kind, u.total);
+            if u.memory > 0.0 {
+                let _ = write!(s, "  (tables {:.0})", u.memory);
+            }
+            s.push('\n');
         }
         let _ = writeln!(
             s,

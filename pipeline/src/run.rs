@@ -337,7 +337,7 @@ fn engine_gates(cfg: &crate::config::Config, engine: &Engine) -> Gates {
         let g = attributes::interpolator_gates(&engine.attributes, weight_bits, &cfg.cost);
         units.push(("attribute interpolator".into(), "interpolator".into(), g));
     }
-    Gates::new(&units, &engine.rop.gates(&cfg.cost))
+    Gates::new(&units, &engine.rop.gates(&cfg.cost), cfg.cost.tables)
 }
 
 /// The report's `gates` of config `l` without rendering: the scene and the engine are built

@@ -530,9 +530,7 @@ impl Unit for BumpBlend {
         let mut wf = wd;
         if let Some(gen) = &self.gen {
             dot("B.H", wh);
-            for item in gen.gates(t).items {
-                g.add(format!("specular generator: {}", item.what), p, item.ge);
-            }
+            g.add_part("specular generator: ", p, gen.gates(t));
             wf = gen.out_bits();
             if self.p.kind.diffuse() {
                 wf = wf.max(wd) + 1;

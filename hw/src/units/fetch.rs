@@ -177,10 +177,10 @@ impl Unit for TexFetch {
             t.register(wo * lanes),
         );
         if let Some(n) = self.tex.palette() {
-            g.add(
+            g.add_memory(
                 format!("bump palette {n}x{} (loadable)", wt * lanes),
                 self.ports,
-                t.sram(n as u64, wt * lanes),
+                t.table(n as u64, wt * lanes),
             );
         }
         g

@@ -514,10 +514,10 @@ impl PaletteBuilder {
         let p = self.entries_per_clock;
         let n = self.entries() as u64;
         let mut g = GateBudget::new();
-        g.add(
+        g.add_memory(
             format!("normal table {n}x{} (loadable)", 3 * wn),
             1,
-            t.sram(n, 3 * wn),
+            t.table(n, 3 * wn),
         );
         // host-loaded registers: every vector and colour of every material
         let (mut vecs, mut cols) = (0u32, 0u32);
@@ -592,9 +592,7 @@ impl PaletteBuilder {
         }
         if power {
             if let Some(gen) = self.gens.iter().flatten().next() {
-                for item in gen.gates(t).items {
-                    g.add(item.what, p, item.ge);
-                }
+                g.add_part("", p, gen.gates(t));
             }
             // doubled angle: 2 x^2 - 1
             if self

@@ -189,10 +189,10 @@ impl Unit for PaletteLut {
         let w = self.entry().width();
         let n = self.entries() as u64;
         let mut g = GateBudget::new();
-        g.add(
+        g.add_memory(
             format!("colour table {n}x{} (loadable)", 4 * w),
             1,
-            t.sram(n, 4 * w),
+            t.table(n, 4 * w),
         );
         g.add(
             format!("index register {}", self.index_bits),

@@ -88,10 +88,10 @@ impl Unit for PowerTable {
         let wi = self.inputs.first().map_or(8, |p| p.enc.width());
         let vb = self.outputs.first().map_or(8, |p| p.enc.width());
         let mut g = GateBudget::new();
-        g.add(
+        g.add_memory(
             format!("power table {}x{vb} (loadable)", self.table.len()),
             self.parallel,
-            t.sram(self.table.len() as u64, vb),
+            t.table(self.table.len() as u64, vb),
         );
         g.add(
             format!("index rounding {wi}"),

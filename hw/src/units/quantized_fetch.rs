@@ -202,9 +202,7 @@ impl Unit for QuantizedFetch {
             ("lut", self.lut_bits.gates(t)),
             ("index fetch", self.fetch.gates(t)),
         ] {
-            for it in part.items {
-                g.add(format!("{who}: {}", it.what), 1, it.ge);
-            }
+            g.add_part(&format!("{who}: "), 1, part);
         }
         if let Some(lod) = self.inputs.get(1) {
             // round and clamp the LOD to a level, then the level's base address plus the

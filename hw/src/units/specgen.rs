@@ -324,10 +324,10 @@ impl SpecularGenerator {
                 index_bits,
                 value_bits,
             } => {
-                g.add(
+                g.add_memory(
                     format!("power table {}x{value_bits} (loadable)", self.table.len()),
                     1,
-                    t.sram(self.table.len() as u64, value_bits),
+                    t.table(self.table.len() as u64, value_bits),
                 );
                 g.add(
                     format!("index rounding {wi}"),
@@ -341,13 +341,13 @@ impl SpecularGenerator {
                 frac_bits,
             } => {
                 let (b, v, f) = (index_bits, value_bits, frac_bits);
-                g.add(
+                g.add_memory(
                     format!(
                         "power table {}x{v} (loadable, even/odd banks)",
                         self.table.len()
                     ),
                     1,
-                    t.sram(self.table.len() as u64, v),
+                    t.table(self.table.len() as u64, v),
                 );
                 g.add(
                     format!("index scaling x(2^{b}-1) {}", wi + b),
