@@ -153,7 +153,12 @@ impl Arith for ExactArith {
     }
     fn scale(&self, texel: &mut Word, prev: &Word, st: &Compiled, _: &Compiled) {
         let o = &st.offset;
-        let l = (o.scale * prev.lanes[o.lanes[2]].x + o.bias).clamp(0.0, 1.0);
+        let hi = if o.luminance_unclamped {
+            f64::INFINITY
+        } else {
+            1.0
+        };
+        let l = (o.scale * prev.lanes[o.lanes[2]].x + o.bias).clamp(0.0, hi);
         for s in texel.lanes.iter_mut().take(3) {
             s.x *= l;
             s.raw = st.out_enc.encode(s.x);
@@ -274,12 +279,26 @@ impl Arith for FixedArith {
         (self.cast(s2), self.cast(t2))
     }
     fn scale(&self, texel: &mut Word, prev: &Word, st: &Compiled, p: &Compiled) {
-        let mag = Acc::from_code(prev.lanes[st.offset.lanes[2]].raw, &p.out_enc);
+        let m = prev.lanes[st.offset.lanes[2]].raw;
         let of = self.offset_frac;
+        if st.offset.luminance_unclamped {
+            if let Some(()) = nv2a_luminance(texel, m, st, &p.out_enc, of) {
+                return;
+            }
+        }
+        let mag = Acc::from_code(m, &p.out_enc);
         let l = Acc::new(st.scale_raw[0] as i128, of)
             .mul(mag)
-            .add(Acc::new(st.scale_raw[1] as i128, of))
-            .clamp(Acc::ZERO, Acc::new(1, 0));
+            .add(Acc::new(st.scale_raw[1] as i128, of));
+        let l = if st.offset.luminance_unclamped {
+            if l.lt(Acc::ZERO) {
+                Acc::ZERO
+            } else {
+                l
+            }
+        } else {
+            l.clamp(Acc::ZERO, Acc::new(1, 0))
+        };
         for s in texel.lanes.iter_mut().take(3) {
             s.raw = Acc::from_code(s.raw, &st.out_enc)
                 .mul(l)
@@ -434,4 +453,33 @@ pub(crate) fn run<A: Arith>(a: &A, u: &TextureShader, ins: &[Word]) -> Fragment<
         live,
         depth,
     }
+}
+
+/// The NV2A's BUMPENVMAPLUMINANCE product (hypothesis 20, frame `BumpEnvMapLuminance`) on
+/// unsigned unit codes: `l = scale m / (2^wm - 1) + bias` with the magnitude code `m` read
+/// exactly, clamped at 0 only, and each RGB code `c` becomes `min(floor(c l), 2^w - 1)`,
+/// computed as one integer quotient. `None` (the generic path) for other codecs.
+fn nv2a_luminance(
+    texel: &mut Word,
+    m: i64,
+    st: &Compiled,
+    mag_enc: &crate::Encoding,
+    of: u32,
+) -> Option<()> {
+    use crate::Codec;
+    let unit = |e: &crate::Encoding| e.codec == Codec::UnitUnsigned && !e.format.signed;
+    if !(unit(mag_enc) && unit(&st.out_enc)) {
+        return None;
+    }
+    let nm = (1i128 << mag_enc.format.width) - 1;
+    let top = (1i128 << st.out_enc.format.width) - 1;
+    // l = num / (nm 2^of)
+    let num = (st.scale_raw[0] as i128 * m as i128 + st.scale_raw[1] as i128 * nm).max(0);
+    let den = nm << of;
+    for s in texel.lanes.iter_mut().take(3) {
+        let c = s.raw as i128;
+        s.raw = (c.saturating_mul(num) / den).clamp(0, top) as i64;
+        s.x = st.out_enc.decode(s.raw);
+    }
+    Some(())
 }

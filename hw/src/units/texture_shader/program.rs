@@ -84,6 +84,13 @@ pub struct Offset {
     pub lanes: [usize; 3],
     #[serde(default)]
     pub twos_complement: bool,
+    /// The _SCALE program's luminance clamped at 0 only, not at 1: the NV2A reading
+    /// (`docs/units/texture-shader.md`, hypothesis 20, frame `BumpEnvMapLuminance`: a clamp
+    /// at 1 reproduces 53.4 % of its pixels, none 96.9 %); the RGB product saturates at the
+    /// texel's largest code. Off (the default), `clamp(scale mag + bias, 0, 1)` as
+    /// NV_texture_shader specifies.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub luminance_unclamped: bool,
 }
 
 impl Default for Offset {
@@ -94,6 +101,7 @@ impl Default for Offset {
             bias: 0.0,
             lanes: [0, 1, 2],
             twos_complement: false,
+            luminance_unclamped: false,
         }
     }
 }

@@ -312,6 +312,7 @@ fn offset_dependent_and_dot_programs_agree_between_modes() {
         bias: 0.25,
         lanes: [0, 1, 2],
         twos_complement: false,
+        luminance_unclamped: false,
     };
     let programs: Vec<Vec<StageSpec>> = vec![
         vec![
