@@ -1,6 +1,6 @@
 //! Texture-shader programs as config units, end to end: Direct3D 6 environment-mapped bump
-//! mapping (`configs/d3d6-embm-quad.ron`, Ernst et al. 1998 §3.3) and the checks of the
-//! `TextureShader` spec.
+//! mapping (`configs/d3d6-embm-quad.ron`, Ernst et al. 1998 §3.3), with luminance
+//! (`configs/d3d6-embm-luminance-quad.ron`) and the checks of the `TextureShader` spec.
 
 mod common;
 
@@ -39,6 +39,59 @@ fn bump_env_map_follows_the_reference_where_its_one_matrix_fits_the_surface() {
     // two textures in one unit are two textures of the memory, each named after its stage
     let names: Vec<&String> = quad.bandwidth.texture_memory.keys().collect();
     assert_eq!(names, ["shader.tex0", "shader.tex1"]);
+}
+
+#[test]
+fn bump_env_map_luminance_darkens_the_grooves_and_nothing_else() {
+    let plain = config_run("d3d6-embm-quad", &SMALL).image;
+    let lum = config_run("d3d6-embm-luminance-quad", &SMALL).image;
+    // the same offsets, RGB times l = 0.6 h + 0.4 <= 1: never brighter, as dark as 0.4x
+    let (mut sum_p, mut sum_l, mut same, mut darkest) = (0u64, 0u64, 0u64, 1.0f64);
+    for (p, l) in plain.pixels().zip(lum.pixels()) {
+        for c in 0..3 {
+            let (a, b) = (p.0[c], l.0[c]);
+            assert!(b <= a, "a channel got brighter: {a} -> {b}");
+            sum_p += u64::from(a);
+            sum_l += u64::from(b);
+            if a >= 64 {
+                darkest = darkest.min(f64::from(b) / f64::from(a));
+            }
+        }
+        same += u64::from((0..3).all(|c| p.0[c] - l.0[c] <= 1));
+    }
+    let ratio = sum_l as f64 / sum_p as f64;
+    // measured at 128 x 128: 0.82 of the light overall, 0.40 at the darkest (h = 0)
+    assert!((0.7..0.95).contains(&ratio), "{ratio}");
+    assert!((0.38..0.45).contains(&darkest), "{darkest}");
+    println!("luminance: ratio {ratio:.3}, darkest {darkest:.3}, within 1 code {same}");
+    // the brick tops (h = 1, read as 127/128: l = 0.995) and the background keep their colour
+    assert!(same > 128 * 128 / 2, "{same}");
+    // scale + bias = 1: the NV2A's unclamped luminance changes nothing; with bias 0.8 it
+    // brightens past the plain map where scale h + bias > 1
+    let path = "engine.units.shader.unit.programs[1].program.offset";
+    let unclamped = format!("{path}.luminance_unclamped=true");
+    let nv2a = config_run(
+        "d3d6-embm-luminance-quad",
+        &[SMALL[0], SMALL[1], &unclamped],
+    )
+    .image;
+    assert_eq!(nv2a, lum);
+    let bias = format!("{path}.bias=0.8");
+    let bright = config_run(
+        "d3d6-embm-luminance-quad",
+        &[SMALL[0], SMALL[1], &unclamped, &bias],
+    )
+    .image;
+    let clamped = config_run("d3d6-embm-luminance-quad", &[SMALL[0], SMALL[1], &bias]).image;
+    let brighter = |x: &image::RgbImage| {
+        plain
+            .pixels()
+            .zip(x.pixels())
+            .filter(|(p, q)| (0..3).any(|c| q.0[c] > p.0[c]))
+            .count()
+    };
+    assert_eq!(brighter(&clamped), 0);
+    assert!(brighter(&bright) > 1000, "{}", brighter(&bright));
 }
 
 #[test]

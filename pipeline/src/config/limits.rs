@@ -89,7 +89,7 @@ fn texture_source(s: &TextureSource) -> Result<(), Bad> {
         TextureSource::BumpNormals { size, .. }
         | TextureSource::BumpHilo { size, .. }
         | TextureSource::BumpHeights { size }
-        | TextureSource::BumpGradient { size }
+        | TextureSource::BumpGradient { size, .. }
         | TextureSource::ObjectNormals { size }
         | TextureSource::LightingTable { size, .. }
         | TextureSource::SphereLighting { size, .. }
@@ -414,7 +414,7 @@ pub fn estimate(c: &Config) -> Estimate {
                     TextureSource::BumpNormals { size, .. }
                     | TextureSource::BumpHilo { size, .. }
                     | TextureSource::BumpHeights { size }
-                    | TextureSource::BumpGradient { size }
+                    | TextureSource::BumpGradient { size, .. }
                     | TextureSource::LightingTable { size, .. }
                     | TextureSource::SphereLighting { size, .. }
                     | TextureSource::NdfNoise { size, .. }

@@ -38,8 +38,15 @@ pub enum TextureSource {
     /// two lanes at texel centres: the "precalculated derivatives, offset vectors, stored in a
     /// bump map" of VISA+ and Texram (Ernst et al. §3.2), read by the per-pixel perturbation
     /// engines (`Perturb`). Analytic for height fields; from a normal map's texels as
-    /// `(-x / z, -y / z)` (z at least 1/64).
-    BumpGradient { size: u32 },
+    /// `(-x / z, -y / z)` (z at least 1/64). `height: true` adds a third lane, the height
+    /// normalised to [0, 1] as in `BumpHeights` (a DSDT8_MAG8-style texel: the magnitude of
+    /// Direct3D 6's BUMPENVMAPLUMINANCE, Ernst et al. §3.3, dark in the grooves); it needs a
+    /// height map.
+    BumpGradient {
+        size: u32,
+        #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+        height: bool,
+    },
     /// A diffuse and specular lighting map of light `light` in sphere-map form, for Direct3D
     /// 6 environment-mapped bump mapping (Ernst et al. §3.3: "the lighting environment of the
     /// scene ... represented in an image environment map"): texel `(i, j)` at
@@ -108,8 +115,13 @@ pub(super) fn texels(source: &TextureSource, ctx: &BuildCtx) -> Result<Texels, S
                 .collect();
             Ok(square(size, 1, values))
         }
-        TextureSource::BumpGradient { size } => {
+        TextureSource::BumpGradient { size, height } => {
             check_size(size)?;
+            let h = if height {
+                normalise_heights(&heights(ctx, size)?)
+            } else {
+                Vec::new()
+            };
             let bump = &ctx.scene.bump;
             let n = f64::from(size);
             let values = (0..size)
@@ -121,10 +133,15 @@ pub(super) fn texels(source: &TextureSource, ctx: &BuildCtx) -> Result<Texels, S
                         let z = t.z.max(1.0 / 64.0);
                         glam::DVec2::new(-t.x / z, -t.y / z)
                     });
-                    [g.x, g.y, 0.0, 0.0]
+                    [
+                        g.x,
+                        g.y,
+                        h.get((j * size + i) as usize).copied().unwrap_or(0.0),
+                        0.0,
+                    ]
                 })
                 .collect();
-            Ok(square(size, 2, values))
+            Ok(square(size, if height { 3 } else { 2 }, values))
         }
         TextureSource::SphereLighting { size, light } => {
             check_size(size)?;
