@@ -185,6 +185,9 @@ config_errors! {
         &["engine.units[1].inputs.b3", "no signal \"h9\"", "expected one of", "fetch.t"]);
     unwired_input_port: ("unwired", "sgi-teapot", &[(", \"b3\": \"h1\"}", "}")], Some("name: \"dot\""),
         &["engine.units[1].inputs", "\"b3\"", "not wired", "expected a signal"]);
+    // a unit's name names its files (`bumpsim rtl`, `gates --synth`): no path in it
+    unit_name_with_a_path: ("unit-path", "sgi-teapot", &[("name: \"fetch\"", "name: \"/tmp/x\"")], Some("name: \"/tmp/x\""),
+        &["engine.units[0].name", "\"/tmp/x\"", "expected a unique name of ASCII letters, digits, '_' and '-'"]);
     input_port_that_does_not_exist: ("no-port", "sgi-teapot", &[("\"b3\": \"h1\"}", "\"b3\": \"h1\", \"b4\": \"h1\"}")], Some("name: \"dot\""),
         &["engine.units[1].inputs", "no input port \"b4\"", "expected a, b0, b1, b2, b3"]);
 }

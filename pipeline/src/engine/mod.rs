@@ -133,11 +133,16 @@ pub fn build(l: &Loaded, scene: &Scene) -> Result<Engine, InputError> {
     for (i, u) in cfg.units.iter().enumerate() {
         let field = format!("engine.units[{i}].name");
         let needle = format!("\"{}\"", u.name);
-        if u.name.is_empty() || u.name.contains('.') || unit_names[u.name.as_str()] != i {
+        // a unit's name also names its files (`bumpsim rtl`, `gates --synth`) and signals
+        let plain = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '-';
+        if u.name.is_empty() || !u.name.chars().all(plain) || unit_names[u.name.as_str()] != i {
             return Err(l.error(
                 &field,
                 &needle,
-                format!("unit name {:?}: expected a unique name without '.'", u.name),
+                format!(
+                    "unit name {:?}: expected a unique name of ASCII letters, digits, '_' and '-'",
+                    u.name
+                ),
             ));
         }
         if signals.iter().any(|s| s.name == u.name) {
