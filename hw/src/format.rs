@@ -170,7 +170,29 @@ impl Format {
     }
     /// Raw word for a real number, with the given rounding and overflow modes.
     /// NaN becomes 0; infinities saturate (or wrap to 0 in `Wrap` mode).
+    #[inline]
     pub fn from_f64(&self, x: f64, q: Quant, o: Overflow) -> i64 {
+        let scaled = x * self.frac_scale();
+        // The common case, in i64 and without branching on the remainder's class: |scaled|
+        // below 2^62 (NaN fails the test). The same words as the general path below
+        // (`from_f64_wide`; `tests::fast_path_is_the_general_path` checks it exhaustively
+        // for small formats, `format_props` for wide ones).
+        if scaled.abs() < 4.0e18 {
+            let t = scaled as i64; // toward zero
+            let fl = t - ((t as f64) > scaled) as i64;
+            let rem = scaled - fl as f64; // exact, in [0, 1)
+            let r = fl + round_up(fl, rem, q) as i64;
+            let sym_min = o == Overflow::SatSym && self.signed && r == self.min_raw();
+            if r >= self.min_raw() && r <= self.max_raw() && !sym_min {
+                return r;
+            }
+            return self.overflow(r as i128, o);
+        }
+        self.from_f64_wide(x, q, o)
+    }
+    /// [`Format::from_f64`] for any value, in i128 (NaN, infinities, huge values).
+    #[doc(hidden)]
+    pub fn from_f64_wide(&self, x: f64, q: Quant, o: Overflow) -> i64 {
         if x.is_nan() {
             return 0;
         }
@@ -275,6 +297,25 @@ fn rem_class(rem: f64) -> Rem {
         Rem::Half
     } else {
         Rem::AboveHalf
+    }
+}
+
+/// Whether `floor + rem` (`floor` the floor of the exact value, `rem` in [0, 1)) rounds up
+/// to `floor + 1` under `q`: [`round_with_remainder`] as one boolean expression per mode.
+#[inline]
+fn round_up(floor: i64, rem: f64, q: Quant) -> bool {
+    let negative = floor < 0;
+    let above = rem > 0.5;
+    let half = rem == 0.5;
+    match q {
+        Quant::Trn => false,
+        Quant::TrnZero => negative & (rem != 0.0),
+        Quant::Rnd => rem >= 0.5,
+        Quant::RndZero => above | (half & negative),
+        Quant::RndInf => above | (half & !negative),
+        Quant::RndMinInf => above,
+        Quant::RndConv => above | (half & (floor & 1 == 1)),
+        Quant::RndConvOdd => above | (half & (floor & 1 == 0)),
     }
 }
 
@@ -518,6 +559,83 @@ impl fmt::Display for Encoding {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    const QUANTS: [Quant; 8] = [
+        Quant::Trn,
+        Quant::TrnZero,
+        Quant::Rnd,
+        Quant::RndZero,
+        Quant::RndInf,
+        Quant::RndMinInf,
+        Quant::RndConv,
+        Quant::RndConvOdd,
+    ];
+    const OVERFLOWS: [Overflow; 4] = [
+        Overflow::Wrap,
+        Overflow::Sat,
+        Overflow::SatZero,
+        Overflow::SatSym,
+    ];
+
+    /// `from_f64`'s i64 path against the general i128 one: every format up to 12 bits, at
+    /// every half LSB and the doubles either side of it, across and beyond the range, and
+    /// at pseudo-random values of every width.
+    #[test]
+    fn fast_path_is_the_general_path() {
+        let mut checked = 0u64;
+        let mut check = |f: &Format, x: f64| {
+            for q in QUANTS {
+                for o in OVERFLOWS {
+                    assert_eq!(
+                        f.from_f64(x, q, o),
+                        f.from_f64_wide(x, q, o),
+                        "{f} from_f64({x:e}) {q:?} {o:?}"
+                    );
+                    checked += 1;
+                }
+            }
+        };
+        for width in 1..=12u32 {
+            for frac in 0..=width {
+                for signed in [false, true] {
+                    let f = Format::new(signed, width, frac).unwrap();
+                    let half = f.lsb() / 2.0;
+                    let span = (1i64 << (width + 1)) + 4;
+                    for k in -span..=span {
+                        let x = k as f64 * half;
+                        check(&f, x);
+                        check(&f, x.next_up());
+                        check(&f, x.next_down());
+                    }
+                }
+            }
+        }
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        for _ in 0..200_000 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let width = 1 + (state % 32) as u32;
+            let frac = ((state >> 8) % (width as u64 + 1)) as u32;
+            let f = Format::new(state >> 16 & 1 == 1, width, frac).unwrap();
+            // magnitudes from 2^-40 to 2^70 of the LSB, either sign
+            let e = ((state >> 20) % 110) as i32 - 40;
+            let m = (state >> 32) as f64 / 4_294_967_296.0;
+            let sign = if state >> 63 == 1 { -1.0 } else { 1.0 };
+            check(&f, sign * m * pow2(e) * f.lsb());
+        }
+        for x in [
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            -0.0,
+            4.0e18,
+            -4.0e18,
+        ] {
+            check(&Format::s(16, 8), x);
+        }
+        assert!(checked > 10_000_000, "{checked}");
+    }
 
     #[test]
     fn signed_texel_conventions_match_the_facts() {

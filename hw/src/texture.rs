@@ -217,8 +217,11 @@ impl Texture {
             }
             values.extend(f.values);
         }
+        // each texel's codes are a pure function of its values: encoded in parallel, in order
+        use rayon::prelude::*;
         let codes = values
-            .iter()
+            .par_iter()
+            .with_min_len(4096)
             .map(|t| {
                 std::array::from_fn(|l| {
                     if l < lanes as usize {

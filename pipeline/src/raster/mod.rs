@@ -199,6 +199,11 @@ pub fn rasterize_with(
     let sub = cfg.subpixel_bits.min(8);
     let depth_bits = cfg.depth_bits.clamp(16, 32);
     let mut out = RasterOutput::default();
+    out.triangles.reserve_exact(tris.len());
+    // room for half a fragment per pixel up front (pages are only touched when written):
+    // most frames need no regrowth, each of which copies the whole list
+    out.fragments
+        .reserve((width as usize * height as usize / 2).min(1 << 24));
     let mut zbuf = DepthBuffer::new(width, height, scan::depth_max(depth_bits));
     for (ti, tri) in tris.iter().enumerate() {
         let mut stats = TriangleStats {
