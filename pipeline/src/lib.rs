@@ -4,6 +4,7 @@ pub mod artifacts;
 pub mod config;
 pub mod edges;
 pub mod engine;
+pub mod memo;
 pub mod metrics;
 pub mod ndf;
 pub mod output;

@@ -43,11 +43,9 @@ pub use shade::{base_color, shade, shade_with_view, view_vector};
 /// The reference image.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ReferenceImage {
-    pub width: u32,
-    pub height: u32,
     /// Linear RGB per pixel, row-major, row 0 at the top; each channel clamped to [0, 1].
     /// Black where uncovered.
-    pub px: Vec<[f64; 3]>,
+    pub image: crate::metrics::Rgb64,
     /// Whether a triangle covers the pixel.
     pub mask: Vec<bool>,
     /// World-space perturbed unit normal per pixel, zero where uncovered; empty unless asked
@@ -70,7 +68,7 @@ pub struct Options {
 impl ReferenceImage {
     /// Index of pixel `(x, y)` (y = 0 the top row) in `px`, `mask` and `normals`.
     pub fn index(&self, x: u32, y: u32) -> usize {
-        y as usize * self.width as usize + x as usize
+        y as usize * self.image.width as usize + x as usize
     }
     /// Number of covered pixels.
     pub fn covered(&self) -> usize {
@@ -289,9 +287,11 @@ pub fn render_covered(
     let (w, h) = (coverage.width, coverage.height);
     let n_px = w as usize * h as usize;
     let mut img = ReferenceImage {
-        width: w,
-        height: h,
-        px: vec![[0.0; 3]; n_px],
+        image: crate::metrics::Rgb64 {
+            width: w,
+            height: h,
+            px: vec![[0.0; 3]; n_px],
+        },
         mask: vec![false; n_px],
         normals: if opts.normals {
             vec![[0.0; 3]; n_px]
@@ -312,7 +312,8 @@ pub fn render_covered(
     };
     // Each pixel depends only on the scene and its own winner: rows are computed
     // independently into their own slices, so the result does not depend on the pool size.
-    img.px
+    img.image
+        .px
         .par_chunks_mut(wu)
         .zip(img.mask.par_chunks_mut(wu))
         .zip(normal_rows.par_iter_mut())

@@ -3,11 +3,11 @@
 
 mod front;
 mod measures;
+mod shared;
 mod timings;
 
 use crate::config::{AttrSource, InputError, Loaded};
 use crate::engine::{self, attributes, Engine};
-use crate::metrics::Rgb64;
 use crate::raster::{self, packet::PacketLayout};
 use crate::reference;
 use crate::report::{Bandwidth, Gates, ImageInfo, Report, VERSION};
@@ -16,6 +16,7 @@ use crate::sim;
 use crate::trace::{Trace, TraceUnit};
 use bumpsim_hw::{Mode, Token, Word};
 use front::{fixed, triangle_ranges, Front};
+use std::sync::Arc;
 pub use timings::Timings;
 
 /// What to trace: a half-open cycle window and optionally a subset of units.
@@ -39,8 +40,40 @@ pub struct RunResult {
     pub timings: Timings,
 }
 
-/// Build the scene a config describes. Errors name the config file and the field.
+/// Build the scene a config describes. Errors name the config file and the field. Its
+/// [`Scene::key`] digests the scene's config (and apart, its bump map's and mesh's), the
+/// config's directory and every file read.
 pub fn build_scene(l: &Loaded) -> Result<Scene, InputError> {
+    let (scene, files) = crate::scene::files::recorded(|| build_scene_unkeyed(l));
+    let mut scene = scene?;
+    let c = &l.config.scene;
+    let specs = (
+        ron::to_string(c),
+        ron::to_string(&c.bump),
+        ron::to_string(&c.mesh),
+    );
+    scene.key = match (files, specs) {
+        (Some(files), (Ok(all), Ok(bump), Ok(mesh))) => {
+            let key = |parts: &[&str]| {
+                crate::memo::digest(|mut h| {
+                    use std::hash::Hash;
+                    parts.hash(&mut h);
+                    l.base_dir.hash(&mut h);
+                    files.hash(&mut h);
+                })
+            };
+            Some(crate::scene::SceneKey {
+                scene: key(&[&all]),
+                // a `Baked` bump map is the mesh's
+                bump: key(&[&bump, &mesh]),
+            })
+        }
+        _ => None,
+    };
+    Ok(scene)
+}
+
+fn build_scene_unkeyed(l: &Loaded) -> Result<Scene, InputError> {
     let c = &l.config.scene;
     let (mesh, baked) = c
         .mesh
@@ -81,6 +114,7 @@ pub fn build_scene(l: &Loaded) -> Result<Scene, InputError> {
         color_texture,
         width: c.width.0,
         height: c.height.0,
+        key: None,
     })
 }
 
@@ -269,7 +303,7 @@ impl Prepared {
 
     /// The float reference of the same scene, on the engine's coverage (the winning fragment
     /// of each pixel), without normals.
-    pub fn reference(&self, r: crate::config::ReferenceConfig) -> reference::ReferenceImage {
+    pub fn reference(&self, r: crate::config::ReferenceConfig) -> Arc<reference::ReferenceImage> {
         let (w, h) = (self.scene.width, self.scene.height);
         let frags = &self.raster.fragments;
         let coverage = reference::Coverage::of_fragments(frags, w, h, &self.raster_config);
@@ -278,7 +312,7 @@ impl Prepared {
             samples: r.samples,
             normals: false,
         };
-        reference::render_covered(&self.scene, &coverage, frags, opts)
+        shared::reference(&self.scene, &coverage, frags, opts)
     }
 
     /// The three paths of the frame concurrently (rayon): the timed bit-accurate run, exact
@@ -311,7 +345,7 @@ impl Prepared {
 pub struct Paths {
     pub sim: sim::Timed,
     pub exact: sim::Outputs,
-    pub reference: reference::ReferenceImage,
+    pub reference: Arc<reference::ReferenceImage>,
     /// The wall time of each path (they overlap).
     pub walls: [(&'static str, std::time::Duration); 3],
 }
@@ -402,13 +436,9 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
     let exact_tri = if shared_tri { &fb.tri } else { &fb_exact.tri };
     timings.lap("ROP");
     let mask = &fb.mask;
-    let rimg = Rgb64 {
-        width: w,
-        height: h,
-        px: refimg.px,
-    };
+    let rimg = &refimg.image;
     let rmask = &refimg.mask;
-    let measured = measures::measure(&fb, &fb_exact, exact_tri, &rimg, rmask);
+    let measured = measures::measure(&fb, &fb_exact, exact_tri, rimg, rmask);
     let covered = mask.iter().filter(|&&m| m).count() as u64;
     let mismatch = mask.iter().zip(rmask).filter(|(a, b)| a != b).count() as u64;
 

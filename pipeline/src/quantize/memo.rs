@@ -10,15 +10,14 @@
 //!
 //! * The key: the map's length, a 128-bit digest of its normals' bits (two SipHash passes
 //!   with different prefixes), `s_n` and the quantizer with all its parameters.
-//! * Threads asking for the same key while it is being built wait for that build (one
-//!   `OnceLock` per key) instead of building it again.
+//! * A thread asking for a table being built on another thread builds it too (no waiting
+//!   inside the rayon pool: `crate::memo`); the first is kept.
 //! * Bounded memory: at most [`CAPACITY`] tables (each at most 65,536 entries of 24 bytes),
 //!   least recently used evicted first. Errors are kept like tables (they are cheap anyway).
 
 use super::{QuantizeError, Quantizer};
 use glam::DVec3;
-use std::hash::{Hash, Hasher};
-use std::sync::{Arc, Mutex, OnceLock};
+use std::hash::Hash;
 
 /// Tables kept at most.
 pub const CAPACITY: usize = 8;
@@ -33,24 +32,19 @@ struct Key {
     q: Quantizer,
 }
 
-type Slot = (Key, Arc<OnceLock<Built>>);
-
-/// Kept tables, least recently used first.
-pub(crate) struct Memo(Mutex<Vec<Slot>>);
+/// Kept tables (`crate::memo`).
+pub(crate) struct Memo(crate::memo::Memo<Key, Built>);
 
 /// The tables of this process.
 static TABLES: Memo = Memo::new();
 
 fn digest(normals: &[DVec3]) -> [u64; 2] {
-    std::array::from_fn(|pass| {
-        let mut h = std::collections::hash_map::DefaultHasher::new();
-        (pass as u64).hash(&mut h);
+    crate::memo::digest(|mut h| {
         for n in normals {
             n.x.to_bits().hash(&mut h);
             n.y.to_bits().hash(&mut h);
             n.z.to_bits().hash(&mut h);
         }
-        h.finish()
     })
 }
 
@@ -66,7 +60,7 @@ pub(crate) fn table(
 
 impl Memo {
     const fn new() -> Self {
-        Memo(Mutex::new(Vec::new()))
+        Memo(crate::memo::Memo::new(CAPACITY))
     }
 
     fn table(
@@ -82,26 +76,13 @@ impl Memo {
             s_n,
             q,
         };
-        let cell = {
-            // a panic elsewhere while holding the lock leaves the list itself consistent
-            let mut t = self.0.lock().unwrap_or_else(|p| p.into_inner());
-            let cell = match t.iter().position(|(k, _)| *k == key) {
-                Some(i) => t.remove(i).1,
-                None => Arc::new(OnceLock::new()),
-            };
-            if t.len() >= CAPACITY {
-                t.remove(0);
-            }
-            t.push((key, cell.clone()));
-            cell
-        };
-        cell.get_or_init(build).clone()
+        self.0.get_or_build(key, build)
     }
 
     /// How many tables are kept now (tests).
     #[cfg(test)]
     fn kept(&self) -> usize {
-        self.0.lock().unwrap_or_else(|p| p.into_inner()).len()
+        self.0.kept()
     }
 }
 
@@ -171,21 +152,30 @@ mod tests {
     }
 
     #[test]
-    fn waits_for_a_build_in_flight_instead_of_building_twice() {
+    fn concurrent_askers_get_one_table_and_it_is_kept_once() {
         let builds = AtomicUsize::new(0);
         let (m, memo) = (map(3000), Memo::new());
-        std::thread::scope(|s| {
-            for _ in 0..4 {
-                s.spawn(|| {
-                    memo.table(&m, 5, Quantizer::MedianCut, || {
-                        builds.fetch_add(1, Ordering::SeqCst);
-                        std::thread::sleep(std::time::Duration::from_millis(50));
-                        Ok(vec![DVec3::Y; 5])
+        let got: Vec<_> = std::thread::scope(|s| {
+            let hs: Vec<_> = (0..4)
+                .map(|_| {
+                    s.spawn(|| {
+                        memo.table(&m, 5, Quantizer::MedianCut, || {
+                            builds.fetch_add(1, Ordering::SeqCst);
+                            std::thread::sleep(std::time::Duration::from_millis(20));
+                            Ok(vec![DVec3::Y; 5])
+                        })
+                        .unwrap()
                     })
-                    .unwrap()
-                });
-            }
+                })
+                .collect();
+            hs.into_iter().map(|h| h.join().unwrap()).collect()
         });
-        assert_eq!(builds.load(Ordering::SeqCst), 1);
+        assert!(got.iter().all(|t| *t == vec![DVec3::Y; 5]));
+        assert_eq!(memo.kept(), 1);
+        // every later ask is a hit
+        let n = builds.load(Ordering::SeqCst);
+        memo.table(&m, 5, Quantizer::MedianCut, || unreachable!())
+            .unwrap();
+        assert_eq!(builds.load(Ordering::SeqCst), n);
     }
 }

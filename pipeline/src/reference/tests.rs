@@ -140,6 +140,7 @@ fn scene(
         color_texture: None,
         width: 16,
         height: 16,
+        key: None,
     }
 }
 
@@ -154,12 +155,12 @@ fn close(a: DVec3, b: DVec3, tol: f64, what: &str) {
 /// Every covered pixel has normal `n` and colour `c`; uncovered pixels are black with a zero
 /// normal. Returns the covered count.
 fn uniform(img: &ReferenceImage, n: DVec3, c: DVec3, tol: f64) -> usize {
-    for i in 0..img.px.len() {
+    for i in 0..img.image.px.len() {
         if img.mask[i] {
             close(DVec3::from(img.normals[i]), n, tol, &format!("normal {i}"));
-            close(DVec3::from(img.px[i]), c, tol, &format!("colour {i}"));
+            close(DVec3::from(img.image.px[i]), c, tol, &format!("colour {i}"));
         } else {
-            assert_eq!(img.px[i], [0.0; 3]);
+            assert_eq!(img.image.px[i], [0.0; 3]);
             assert_eq!(img.normals[i], [0.0; 3]);
         }
     }
@@ -168,8 +169,8 @@ fn uniform(img: &ReferenceImage, n: DVec3, c: DVec3, tol: f64) -> usize {
 
 /// Pixels `x0..x1` x `y0..y1` (image rows) are exactly the covered ones.
 fn covers_exactly(img: &ReferenceImage, xs: std::ops::Range<u32>, ys: std::ops::Range<u32>) {
-    for y in 0..img.height {
-        for x in 0..img.width {
+    for y in 0..img.image.height {
+        for x in 0..img.image.width {
             let inside = xs.contains(&x) && ys.contains(&y);
             assert_eq!(img.mask[img.index(x, y)], inside, "pixel ({x}, {y})");
         }
@@ -507,7 +508,7 @@ fn bit_identical_at_any_thread_count() {
     s.model = DMat4::from_rotation_z(0.2);
     let bits = |img: &ReferenceImage| {
         let f = |v: &Vec<[f64; 3]>| v.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
-        (f(&img.px), f(&img.normals), img.mask.clone())
+        (f(&img.image.px), f(&img.normals), img.mask.clone())
     };
     for p in [Perturbation::Blinn, Perturbation::ScaleInvariant] {
         let run = |threads: usize| {
@@ -519,7 +520,7 @@ fn bit_identical_at_any_thread_count() {
         };
         let (one, two) = (run(1), run(2));
         assert!(one.covered() > 300, "{}", one.covered());
-        assert!(one.px.iter().flatten().any(|&c| c > 0.2));
+        assert!(one.image.px.iter().flatten().any(|&c| c > 0.2));
         assert_eq!(bits(&one), bits(&two), "{p:?}");
     }
 }
@@ -883,12 +884,12 @@ fn supersampled_reference_is_the_mean_of_its_samples() {
     }
     let k = nine.index(x, y);
     close(
-        DVec3::from(nine.px[k]),
+        DVec3::from(nine.image.px[k]),
         sum / 9.0,
         1e-12,
         "mean of 9 samples",
     );
-    assert!((DVec3::from(nine.px[k]) - DVec3::from(one.px[k])).length() > 1e-4);
+    assert!((DVec3::from(nine.image.px[k]) - DVec3::from(one.image.px[k])).length() > 1e-4);
     assert_eq!(nine.normals, one.normals);
 }
 
@@ -957,7 +958,7 @@ fn the_coverage_of_late_tested_fragments_is_the_early_tests() {
     };
     for (c, frags) in [(&ce, &early.fragments), (&cl, &late.fragments)] {
         let img = render_covered(&s, c, frags, opts);
-        assert_eq!((&img.px, &img.mask), (&whole.px, &whole.mask));
+        assert_eq!((&img.image.px, &img.mask), (&whole.image.px, &whole.mask));
         assert!(img.normals.is_empty());
     }
     let with_normals = render_covered(

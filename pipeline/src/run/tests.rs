@@ -86,8 +86,8 @@ fn the_concurrent_paths_are_the_paths_one_after_another() {
             r.samples,
         );
         assert_eq!(
-            (&all.reference.px, &all.reference.mask),
-            (&again.px, &again.mask),
+            (&all.reference.image.px, &all.reference.mask),
+            (&again.image.px, &again.mask),
             "{name}"
         );
     }
@@ -120,4 +120,57 @@ fn gates_without_rendering_are_the_reports() {
         seen_interpolator,
         "the fixed-point interpolator is not priced"
     );
+}
+
+fn small_with(name: &str, more: &[&str]) -> Prepared {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../configs/{name}.ron"));
+    let mut sets = vec!["scene.width=48".to_string(), "scene.height=48".to_string()];
+    sets.extend(more.iter().map(|s| s.to_string()));
+    let l = crate::config::load(&path, &sets).unwrap();
+    prepare(&l).unwrap()
+}
+
+/// The keys under which runs share a reference and a bake: equal for two engines of one
+/// scene, apart for another scene, and the bump key apart only where the bump map may be.
+#[test]
+fn frames_of_one_scene_share_their_keys_and_only_they() {
+    let base = small_with("sgi-teapot", &[]);
+    let engine = small_with("sgi-teapot", &["sim.fifo_depth=3"]);
+    let light = small_with("sgi-teapot", &["scene.lights[0].color=(0.5, 0.5, 0.5)"]);
+    let bump = small_with("sgi-teapot", &["scene.bump.MexicanHat.depth=0.02"]);
+    let key = |p: &Prepared| p.scene.key.expect("a bundled scene has a key");
+    assert_eq!(key(&base), key(&engine));
+    assert_ne!(key(&base).scene, key(&light).scene);
+    assert_eq!(
+        key(&base).bump,
+        key(&light).bump,
+        "the lights do not touch the bump map"
+    );
+    assert_ne!(key(&base).bump, key(&bump).bump);
+    assert_ne!(key(&base).scene, key(&bump).scene);
+    let opts = reference::Options {
+        perturbation: Default::default(),
+        samples: 1,
+        normals: false,
+    };
+    let frame = |p: &Prepared, o: reference::Options| {
+        let frags = &p.raster.fragments;
+        let c = reference::Coverage::of_fragments(frags, 48, 48, &p.raster_config);
+        shared::key(key(p).scene, &c, frags, o)
+    };
+    assert_eq!(frame(&base, opts), frame(&engine, opts));
+    assert_ne!(frame(&base, opts), frame(&light, opts));
+    assert_ne!(
+        frame(&base, opts),
+        frame(&base, reference::Options { samples: 2, ..opts })
+    );
+    // a shared reference is the one rendered for the frame itself
+    let r = crate::config::ReferenceConfig::default();
+    for p in [&base, &engine, &light] {
+        let frags = &p.raster.fragments;
+        let c = reference::Coverage::of_fragments(frags, 48, 48, &p.raster_config);
+        let fresh = reference::render_covered(&p.scene, &c, frags, opts);
+        let got = p.reference(r);
+        assert_eq!((&got.image.px, &got.mask), (&fresh.image.px, &fresh.mask));
+    }
 }

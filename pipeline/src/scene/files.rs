@@ -2,8 +2,10 @@
 //! directory is "is a directory", a missing file "no such file"), at most a size limit, and
 //! for PNG images the dimensions read from the header and checked before anything is decoded.
 
+use std::hash::{Hash, Hasher};
 use std::io::Read;
 use std::path::Path;
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 
 use super::SceneError;
 
@@ -35,9 +37,84 @@ fn not_a_file(path: &Path, what: &str) -> Option<String> {
     }
 }
 
+/// What [`recorded`] has seen on this thread: the digests of the paths and bytes read.
+struct Record {
+    hashers: [std::collections::hash_map::DefaultHasher; 2],
+}
+
+thread_local! {
+    static RECORD: std::cell::RefCell<Option<Record>> = const { std::cell::RefCell::new(None) };
+}
+
+/// Recordings in progress on any thread.
+static RECORDING: AtomicUsize = AtomicUsize::new(0);
+/// Files read by a thread that was not recording while some recording was in progress.
+static MISSED: AtomicU64 = AtomicU64::new(0);
+
+/// `f()` and a digest of every file it read (paths and bytes, in order): what a result
+/// built from files depends on beyond its config (`crate::memo`). None if `f` read a file
+/// on another thread (or a recording is already running on this one), since such reads
+/// cannot be told apart from another recording's.
+pub fn recorded<T>(f: impl FnOnce() -> T) -> (T, Option<[u64; 2]>) {
+    if RECORD.with(|r| r.borrow().is_some()) {
+        return (f(), None);
+    }
+    /// Ends the recording however `f` returns (a panic included).
+    struct Guard;
+    impl Drop for Guard {
+        fn drop(&mut self) {
+            RECORD.with(|r| r.borrow_mut().take());
+            RECORDING.fetch_sub(1, Ordering::SeqCst);
+        }
+    }
+    let missed = MISSED.load(Ordering::SeqCst);
+    RECORDING.fetch_add(1, Ordering::SeqCst);
+    RECORD.with(|r| {
+        *r.borrow_mut() = Some(Record {
+            hashers: std::array::from_fn(|pass| {
+                let mut h = std::collections::hash_map::DefaultHasher::new();
+                (pass as u64).hash(&mut h);
+                h
+            }),
+        })
+    });
+    let guard = Guard;
+    let out = f();
+    let record = RECORD.with(|r| r.borrow_mut().take());
+    drop(guard);
+    let clean = MISSED.load(Ordering::SeqCst) == missed;
+    let digest = record
+        .filter(|_| clean)
+        .map(|r| r.hashers.map(|h| h.finish()));
+    (out, digest)
+}
+
+/// Account for the bytes of `path` in this thread's recording.
+fn note(path: &Path, bytes: &[u8]) {
+    let recorded = RECORD.with(|r| match r.borrow_mut().as_mut() {
+        Some(rec) => {
+            for h in &mut rec.hashers {
+                path.hash(h);
+                bytes.hash(h);
+            }
+            true
+        }
+        None => false,
+    });
+    if !recorded && RECORDING.load(Ordering::SeqCst) > 0 {
+        MISSED.fetch_add(1, Ordering::SeqCst);
+    }
+}
+
 /// The bytes of `path`, at most `max` of them; `what` names the kind of file ("OBJ") in
 /// the messages, which are file errors naming the path.
 pub fn read_bounded(path: &Path, max: u64, what: &str) -> Result<Vec<u8>, SceneError> {
+    let bytes = read_bounded_unrecorded(path, max, what)?;
+    note(path, &bytes);
+    Ok(bytes)
+}
+
+fn read_bounded_unrecorded(path: &Path, max: u64, what: &str) -> Result<Vec<u8>, SceneError> {
     let fail = |m: String| SceneError::file(path.display(), m);
     if let Some(m) = not_a_file(path, what) {
         return Err(fail(m));
@@ -109,6 +186,40 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("bumpsim-files-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         dir.join(name)
+    }
+
+    /// The digest of a recording: the same for the same bytes, apart for one changed byte,
+    /// none when a file is read on another thread meanwhile or when recordings nest.
+    #[test]
+    fn recordings_digest_the_files_read_and_only_on_their_thread() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("mesh.obj");
+        let read = || read_bounded(&path, 1 << 20, "OBJ").unwrap();
+        // Another test of this process reading a file meanwhile also spoils a recording (it
+        // cannot be told apart from a read of this one on another thread): retry until clean.
+        let clean = |f: &dyn Fn()| {
+            (0..100)
+                .find_map(|_| recorded(f).1)
+                .expect("a recording without reads elsewhere")
+        };
+        std::fs::write(&path, b"v 0 0 0\n").unwrap();
+        assert_eq!(recorded(read).0, b"v 0 0 0\n");
+        let a = clean(&|| drop(read()));
+        assert_eq!(clean(&|| drop(read())), a);
+        assert_ne!(clean(&|| ()), a, "no file read");
+        std::fs::write(&path, b"v 0 0 1\n").unwrap();
+        let b = clean(&|| drop(read()));
+        assert_ne!(a, b);
+        // a file read on another thread while recording cannot be attributed
+        let (_, c) = recorded(|| {
+            read();
+            std::thread::scope(|s| {
+                s.spawn(read);
+            });
+        });
+        assert_eq!(c, None);
+        assert_eq!(recorded(|| recorded(read).1).0, None, "nested");
+        assert_eq!(clean(&|| drop(read())), b, "the state is left clean");
     }
 
     #[test]

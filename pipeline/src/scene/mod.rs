@@ -243,6 +243,19 @@ pub struct Scene {
     pub color_texture: Option<image::RgbImage>,
     pub width: u32,
     pub height: u32,
+    /// Digests of what the scene was built from, under which results computed from it are
+    /// shared (`crate::memo`); None: never shared.
+    pub key: Option<SceneKey>,
+}
+
+/// What a scene was built from (`run::build_scene`): digests of its config, the config's
+/// directory and the bytes of every file read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct SceneKey {
+    /// The whole scene.
+    pub scene: [u64; 2],
+    /// What the bump map depends on: its spec and the mesh's (a `Baked` map is the mesh's).
+    pub bump: [u64; 2],
 }
 
 impl Scene {

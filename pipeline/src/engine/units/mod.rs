@@ -14,6 +14,7 @@
 //! here and adding its `mod` line and its line in `unit_specs!` below; the simulator does not
 //! change.
 
+mod baked;
 mod bump_blend;
 mod checks;
 mod cull_fragment;

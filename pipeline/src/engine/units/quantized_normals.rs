@@ -4,7 +4,6 @@ use super::checks::check_size;
 use super::defaults::{mem_latency, one};
 use super::palette_lighting::lighting_fn;
 use super::ports::input;
-use super::textures::object_normals;
 use super::{BuildCtx, Spec};
 use crate::quantize::{self, MipMode, Quantizer, Scan};
 use bumpsim_hw::units::{BuilderFormats, PaletteBuilder, QuantizedFetch, SpecGen};
@@ -120,7 +119,7 @@ impl QuantizedNormalsSpec {
         }
         let uv = input(ins, UV)?.enc;
         let scene = ctx.scene;
-        let normals = &object_normals(ctx, size);
+        let normals = &super::baked::object_normals(ctx, size)[..];
         let (w, n) = (size as usize, s_n as usize);
         let (pal, intervals) = match &scene.looks.regions {
             None => {

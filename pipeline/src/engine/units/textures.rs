@@ -97,14 +97,14 @@ pub(super) fn texels(source: &TextureSource, ctx: &BuildCtx) -> Result<Texels, S
     match *source {
         TextureSource::BumpNormals { size, method } => {
             check_size(size)?;
-            let nm = ctx.scene.bump.bake_normals(size, size, method);
-            let values = nm.texels.iter().map(|n| [n.x, n.y, n.z, 0.0]).collect();
+            let nm = super::baked::tangent_normals(ctx, size, method);
+            let values = nm.iter().map(|n| [n.x, n.y, n.z, 0.0]).collect();
             Ok(square(size, 3, values))
         }
         TextureSource::BumpHilo { size, method } => {
             check_size(size)?;
-            let nm = ctx.scene.bump.bake_normals(size, size, method);
-            let values = nm.texels.iter().map(|n| [n.x, n.y, 0.0, 0.0]).collect();
+            let nm = super::baked::tangent_normals(ctx, size, method);
+            let values = nm.iter().map(|n| [n.x, n.y, 0.0, 0.0]).collect();
             Ok(square(size, 2, values))
         }
         TextureSource::BumpHeights { size } => {
@@ -190,7 +190,7 @@ pub(super) fn texels(source: &TextureSource, ctx: &BuildCtx) -> Result<Texels, S
         }
         TextureSource::ObjectNormals { size } => {
             check_size(size)?;
-            let values = object_normals(ctx, size)
+            let values = super::baked::object_normals(ctx, size)
                 .iter()
                 .map(|n| [n.x, n.y, n.z, 0.0])
                 .collect();
@@ -297,19 +297,6 @@ pub(super) fn heights(ctx: &BuildCtx, size: u32) -> Result<Vec<f64>, String> {
     ctx.scene.bump.bake_heights(size, size).ok_or_else(|| {
         "the scene's bump map holds normals, not heights: expected a height map".into()
     })
-}
-
-/// The mesh's perturbed object-space normals, baked to `size` x `size` texels.
-pub(super) fn object_normals(ctx: &BuildCtx, size: u32) -> Vec<glam::DVec3> {
-    crate::scene::bake::bake(
-        &ctx.scene.mesh,
-        &ctx.scene.bump,
-        size,
-        crate::scene::bake::BakeSpace::Object,
-        crate::reference::Perturbation::ScaleInvariant,
-    )
-    .map
-    .texels
 }
 
 /// Smallest and largest height.
