@@ -18,6 +18,8 @@ pub mod report;
 pub mod rop;
 pub mod run;
 pub mod scene;
+#[cfg(test)]
+mod scratch;
 pub mod sim;
 pub mod sweep;
 pub mod trace;

@@ -225,12 +225,9 @@ fn sync_dir(dir: &Path) {
 mod tests {
     use super::*;
 
-    /// A fresh, empty scratch directory for one test.
-    fn scratch(tag: &str) -> PathBuf {
-        let d = std::env::temp_dir().join(format!("bumpsim-output-{}-{tag}", std::process::id()));
-        let _ = fs::remove_dir_all(&d);
-        fs::create_dir_all(&d).unwrap();
-        d
+    /// A fresh, empty scratch directory for one test (removed when dropped).
+    fn scratch() -> crate::scratch::Scratch {
+        crate::scratch::Scratch::dir()
     }
 
     fn listing(dir: &Path) -> Vec<String> {
@@ -244,7 +241,7 @@ mod tests {
 
     #[test]
     fn commit_writes_every_file_and_creates_the_directory() {
-        let root = scratch("all");
+        let root = scratch();
         let dir = root.join("a").join("b");
         let mut img = image::RgbImage::new(3, 2);
         img.put_pixel(2, 1, image::Rgb([10, 20, 30]));
@@ -282,7 +279,7 @@ mod tests {
 
     #[test]
     fn a_directory_that_is_a_file_fails_and_writes_nothing() {
-        let root = scratch("isfile");
+        let root = scratch();
         let blocker = root.join("out");
         fs::write(&blocker, b"keep").unwrap();
         for dir in [blocker.clone(), blocker.join("sub")] {
@@ -299,7 +296,7 @@ mod tests {
 
     #[test]
     fn a_failed_write_removes_the_files_already_written() {
-        let root = scratch("midway");
+        let root = scratch();
         fs::write(root.join("first.txt"), b"old").unwrap();
         let long = "x".repeat(300); // too long a file name: its temp file cannot be created
         let mut set = OutputSet::new(&root);
@@ -320,7 +317,7 @@ mod tests {
 
     #[test]
     fn a_failed_commit_removes_the_directories_it_created() {
-        let root = scratch("stray");
+        let root = scratch();
         fs::create_dir(root.join("kept")).unwrap();
         // a name too long for the file system: `a/` and `a/b/` are created, then removed
         let long = root.join("a").join("b").join("x".repeat(300));
@@ -346,7 +343,7 @@ mod tests {
 
     #[test]
     fn a_target_that_is_a_directory_fails_before_writing() {
-        let root = scratch("targetdir");
+        let root = scratch();
         fs::create_dir(root.join("b.txt")).unwrap();
         let mut set = OutputSet::new(&root);
         set.add("a.txt", b"a".to_vec());
@@ -365,7 +362,7 @@ mod tests {
 
     #[test]
     fn bad_names_are_rejected_before_writing() {
-        let root = scratch("names");
+        let root = scratch();
         for bad in ["", ".", "..", "../x", "a/b", "a\\b", "nul\0"] {
             let mut set = OutputSet::new(&root);
             set.add("ok.txt", b"ok".to_vec());
@@ -379,7 +376,7 @@ mod tests {
 
     #[test]
     fn write_atomic_writes_and_replaces_whole_files() {
-        let root = scratch("atomic");
+        let root = scratch();
         let p = root.join("trace.vcd");
         write_atomic(&p, b"one").unwrap();
         write_atomic(&p, b"two, longer").unwrap();

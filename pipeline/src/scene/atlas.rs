@@ -166,7 +166,7 @@ pub fn atlas_mesh(
 #[cfg(test)]
 mod tests {
     use std::collections::HashMap;
-    use std::path::{Path, PathBuf};
+    use std::path::Path;
 
     use super::*;
     use crate::scene::bake::{bake, BakeSpace};
@@ -271,10 +271,9 @@ mod tests {
                               f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\n\
                               f 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n";
 
-    fn temp_dir() -> PathBuf {
-        let dir = std::env::temp_dir().join(format!("bumpsim-atlas-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        dir
+    /// A fresh, empty directory (removed when dropped).
+    fn temp_dir() -> crate::scratch::Scratch {
+        crate::scratch::Scratch::dir()
     }
 
     #[test]

@@ -1162,10 +1162,9 @@ mod tests {
         assert!((a.height(0.31, 0.77) - b.height(0.31, 0.77)).abs() > 1e-6);
     }
 
-    fn temp_dir() -> std::path::PathBuf {
-        let dir = std::env::temp_dir().join(format!("bumpsim-bumpmap-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        dir
+    /// A fresh, empty directory (removed when dropped).
+    fn temp_dir() -> crate::scratch::Scratch {
+        crate::scratch::Scratch::dir()
     }
 
     #[test]

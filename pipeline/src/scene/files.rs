@@ -182,10 +182,9 @@ pub fn read_png(path: &Path, max_side: u32) -> Result<image::DynamicImage, Scene
 mod tests {
     use super::*;
 
-    fn temp(name: &str) -> std::path::PathBuf {
-        let dir = std::env::temp_dir().join(format!("bumpsim-files-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        dir.join(name)
+    /// `name` in a fresh, empty directory (removed when dropped).
+    fn temp(name: &str) -> crate::scratch::Scratch {
+        crate::scratch::Scratch::file(name)
     }
 
     /// The digest of a recording: the same for the same bytes, apart for one changed byte,

@@ -408,11 +408,9 @@ mod tests {
             e.contains("/nonexistent/env.png") && e.contains("RGB PNG"),
             "{e}"
         );
-        let p =
-            std::env::temp_dir().join(format!("bumpsim-not-an-image-{}.png", std::process::id()));
+        let p = crate::scratch::Scratch::file("not-an-image.png");
         std::fs::write(&p, b"plain text").unwrap();
         let e = EnvImage::load(&p).unwrap_err().to_string();
-        let _ = std::fs::remove_file(&p);
         assert!(e.contains("not-an-image"), "{e}");
     }
 }

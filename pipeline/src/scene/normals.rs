@@ -350,10 +350,9 @@ mod tests {
         );
     }
 
-    fn temp_path(name: &str) -> std::path::PathBuf {
-        let dir = std::env::temp_dir().join(format!("bumpsim-normals-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        dir.join(name)
+    /// `name` in a fresh, empty directory (removed when dropped).
+    fn temp_path(name: &str) -> crate::scratch::Scratch {
+        crate::scratch::Scratch::file(name)
     }
 
     #[test]

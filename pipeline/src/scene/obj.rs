@@ -312,9 +312,7 @@ mod tests {
 
     #[test]
     fn read_names_the_file_and_a_line_that_is_not_utf8() {
-        let dir = std::env::temp_dir().join(format!("bumpsim-obj-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let p = dir.join("latin1.obj");
+        let p = crate::scratch::Scratch::file("latin1.obj");
         std::fs::write(&p, b"v 0 0 0\n# caf\xe9\n").unwrap();
         match read(&p) {
             Err(SceneError::File { path, message }) => {

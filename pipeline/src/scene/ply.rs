@@ -738,10 +738,9 @@ mod tests {
         (p, uv, faces)
     }
 
-    fn temp(name: &str, bytes: &[u8]) -> std::path::PathBuf {
-        let dir = std::env::temp_dir().join(format!("bumpsim-ply-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let p = dir.join(name);
+    /// A file `name` holding `bytes` in a fresh directory (removed when dropped).
+    fn temp(name: &str, bytes: &[u8]) -> crate::scratch::Scratch {
+        let p = crate::scratch::Scratch::file(name);
         std::fs::write(&p, bytes).unwrap();
         p
     }

@@ -1627,10 +1627,9 @@ mod tests {
         }
     }
 
-    fn temp_dir() -> std::path::PathBuf {
-        let dir = std::env::temp_dir().join(format!("bumpsim-mesh-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        dir
+    /// A fresh, empty directory (removed when dropped).
+    fn temp_dir() -> crate::scratch::Scratch {
+        crate::scratch::Scratch::dir()
     }
 
     #[test]
