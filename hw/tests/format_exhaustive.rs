@@ -520,3 +520,63 @@ fn encoding_validation() {
         .validate()
         .is_err());
 }
+
+/// `from_f64`'s i64 path against the general i128 one: every format up to 12 bits, at
+/// every half LSB and the doubles either side of it, across and beyond the range, and
+/// at pseudo-random values of every width.
+#[test]
+fn fast_path_is_the_general_path() {
+    let mut checked = 0u64;
+    let mut check = |f: &Format, x: f64| {
+        for q in QUANTS {
+            for o in OVERFLOWS {
+                assert_eq!(
+                    f.from_f64(x, q, o),
+                    f.from_f64_wide(x, q, o),
+                    "{f} from_f64({x:e}) {q:?} {o:?}"
+                );
+                checked += 1;
+            }
+        }
+    };
+    for width in 1..=12u32 {
+        for frac in 0..=width {
+            for signed in [false, true] {
+                let f = Format::new(signed, width, frac).unwrap();
+                let half = f.lsb() / 2.0;
+                let span = (1i64 << (width + 1)) + 4;
+                for k in -span..=span {
+                    let x = k as f64 * half;
+                    check(&f, x);
+                    check(&f, x.next_up());
+                    check(&f, x.next_down());
+                }
+            }
+        }
+    }
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    for _ in 0..200_000 {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        let width = 1 + (state % 32) as u32;
+        let frac = ((state >> 8) % (width as u64 + 1)) as u32;
+        let f = Format::new(state >> 16 & 1 == 1, width, frac).unwrap();
+        // magnitudes from 2^-40 to 2^70 of the LSB, either sign
+        let e = ((state >> 20) % 110) as i32 - 40;
+        let m = (state >> 32) as f64 / 4_294_967_296.0;
+        let sign = if state >> 63 == 1 { -1.0 } else { 1.0 };
+        check(&f, sign * m * bumpsim_hw::format::pow2(e) * f.lsb());
+    }
+    for x in [
+        f64::NAN,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        -0.0,
+        4.0e18,
+        -4.0e18,
+    ] {
+        check(&Format::s(16, 8), x);
+    }
+    assert!(checked > 10_000_000, "{checked}");
+}
