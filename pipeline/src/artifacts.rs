@@ -390,15 +390,18 @@ fn ringing(p: &Pair) -> (f64, u64) {
                     hi[c] = hi[c].max(hi_h[k][c]);
                 }
             }
-            let ai = p.pa(i);
-            let over = (0..3)
-                .map(|c| (ai[c] - hi[c]).max(0.0) + (lo[c] - ai[c]).max(0.0))
-                .fold(0.0, f64::max);
-            sum += over;
+            sum += overshoot(p.pa(i), lo, hi);
             count += 1;
         }
     }
     (if count == 0 { 0.0 } else { sum / count as f64 }, count)
+}
+
+/// The largest over channels of `a`'s distance outside `[lo, hi]` (ringing).
+fn overshoot(a: [f64; 3], lo: [f64; 3], hi: [f64; 3]) -> f64 {
+    (0..3)
+        .map(|c| (a[c] - hi[c]).max(0.0) + (lo[c] - a[c]).max(0.0))
+        .fold(0.0, f64::max)
 }
 
 /// The strong edge pixels of the reference (see [`ringing`]), per grid pixel.
@@ -661,11 +664,7 @@ mod tests {
                         }
                     }
                 }
-                let ai = p.pa(i);
-                let over = (0..3)
-                    .map(|c| (ai[c] - hi[c]).max(0.0) + (lo[c] - ai[c]).max(0.0))
-                    .fold(0.0, f64::max);
-                sum += over;
+                sum += overshoot(p.pa(i), lo, hi);
                 count += 1;
             }
         }
