@@ -2,10 +2,10 @@
 # Whole-run figures of a render (README, "Whole-run speed and memory"): not a cargo bench,
 # a measurement of the release binary as a user runs it.
 #
-#   benches/whole_run.sh speed OLD_BIN NEW_BIN [ROUNDS]   sgi-teapot 256x256, end to end
+#   benches/whole_run.sh speed OLD_BIN NEW_BIN [ROUNDS] [CONFIG]   end to end (sgi-teapot)
 #   benches/whole_run.sh memory BIN [CONFIG] [SIZE]       peak RSS per pixel at SIZE x SIZE
 #
-# speed: ROUNDS rounds (default 20), each runs OLD then NEW, or NEW then OLD on odd rounds
+# speed: ROUNDS rounds (default 20) of configs/CONFIG.ron, each runs OLD then NEW, or NEW then OLD on odd rounds
 # (interleaved, so both see the same machine), and prints the median wall time of each and
 # the median of the per-round ratios OLD / NEW.
 # memory: B/px = (peak RSS at SIZE x SIZE - peak RSS at 64x64) / SIZE^2, the peak RSS from
@@ -27,8 +27,8 @@ median() { sort -g | awk '{v[NR]=$1} END {print (NR % 2) ? v[(NR+1)/2] : (v[NR/2
 
 case "${1:-}" in
 speed)
-    old="$2" new="$3" rounds="${4:-20}"
-    args=(render "$cfg_dir/sgi-teapot.ron" --out "$out")
+    old="$2" new="$3" rounds="${4:-20}" cfg="${5:-sgi-teapot}"
+    args=(render "$cfg_dir/$cfg.ron" --out "$out")
     : >"$out.old"; : >"$out.new"; : >"$out.ratio"
     for ((i = 0; i < rounds; i++)); do
         if ((i % 2 == 0)); then

@@ -242,12 +242,12 @@ fn execute(cmd: Command) -> Result<(), Failure> {
             let l = args.load()?;
             let mut r = run::run(&l, None)?;
             let mut set = OutputSet::new(&out);
-            set.add_png("image.png", &r.image)
-                .map_err(Failure::Internal)?;
-            set.add_png("reference.png", &r.reference)
-                .map_err(Failure::Internal)?;
-            set.add_png("error.png", &r.error)
-                .map_err(Failure::Internal)?;
+            set.add_pngs(&[
+                ("image.png", &r.image),
+                ("reference.png", &r.reference),
+                ("error.png", &r.error),
+            ])
+            .map_err(Failure::Internal)?;
             set.add("report.json", r.report.to_json().into_bytes());
             set.commit().map_err(|e| {
                 Failure::Input(InputError::new(out.display().to_string(), "--out", e))

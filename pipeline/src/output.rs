@@ -50,8 +50,22 @@ impl OutputSet {
 
     /// Add an image encoded as PNG.
     pub fn add_png(&mut self, name: &str, img: &image::RgbImage) -> Result<(), String> {
-        let bytes = encode_png(img).map_err(|e| format!("cannot encode {name} as PNG: {e}"))?;
-        self.add(name, bytes);
+        self.add_pngs(&[(name, img)])
+    }
+
+    /// [`Self::add_png`] of several images, encoded concurrently (rayon) and added in the
+    /// order given. On an error nothing is added.
+    pub fn add_pngs(&mut self, imgs: &[(&str, &image::RgbImage)]) -> Result<(), String> {
+        use rayon::prelude::*;
+        let encoded: Vec<Vec<u8>> = imgs
+            .par_iter()
+            .map(|(name, img)| {
+                encode_png(img).map_err(|e| format!("cannot encode {name} as PNG: {e}"))
+            })
+            .collect::<Result<_, _>>()?;
+        for ((name, _), bytes) in imgs.iter().zip(encoded) {
+            self.add(name, bytes);
+        }
         Ok(())
     }
 

@@ -161,34 +161,60 @@ pub struct Prepared {
 
 /// Build the scene, wire the engine (its assets built once), run geometry and the rasterizer.
 pub fn prepare(l: &Loaded) -> Result<Prepared, InputError> {
+    prepare_with(l, None).map(|(p, _)| p)
+}
+
+/// The reference image of a run and its wall time, when [`prepare_with`] rendered it.
+type Early = Option<(Arc<reference::ReferenceImage>, std::time::Duration)>;
+
+/// [`prepare`], the rasterizer running while the engine's assets are built; with
+/// `reference`, the reference image is rendered there too (it reads the scene and the
+/// fragments, not the engine). Both assume early depth: an engine that needs the depth test
+/// after shading (known once it is built) gets its fragments again, and no reference.
+fn prepare_with(
+    l: &Loaded,
+    reference: Option<crate::config::ReferenceConfig>,
+) -> Result<(Prepared, Early), InputError> {
     let scene = build_scene(l)?;
     let cfg = &l.config;
     let vertices = attributes::compute(&scene, &cfg.engine.attributes);
-    let engine = engine::build(l, &scene)?;
+    let rasterize = |depth| {
+        let mut r = raster::rasterize_with(
+            &vertices.clip,
+            &scene.mesh.triangles,
+            scene.width,
+            scene.height,
+            &cfg.raster,
+            depth,
+        );
+        // the list grew by doubling: up to half of it is spare capacity that the whole run
+        // holds
+        r.fragments.shrink_to_fit();
+        r
+    };
+    let (engine, (raster, early)) = rayon::join(
+        || engine::build(l, &scene),
+        || {
+            let r = rasterize(raster::DepthTest::Early);
+            let img = reference.map(|rc| timed_call(|| reference_of(&scene, &r, &cfg.raster, rc)));
+            (r, img)
+        },
+    );
+    let engine = engine?;
     // an engine that may kill fragments, or a ROP with other tests, needs the depth test
     // after shading
-    let depth = if engine.late_depth() {
-        raster::DepthTest::Late
+    let (raster, early) = if engine.late_depth() {
+        (rasterize(raster::DepthTest::Late), None)
     } else {
-        raster::DepthTest::Early
+        (raster, early)
     };
-    let mut raster = raster::rasterize_with(
-        &vertices.clip,
-        &scene.mesh.triangles,
-        scene.width,
-        scene.height,
-        &cfg.raster,
-        depth,
-    );
-    // the list grew by doubling: up to half of it is spare capacity that the whole run holds
-    raster.fragments.shrink_to_fit();
     let snapped = vertices.snapped(&cfg.engine.attributes);
     let interpolator = cfg.engine.interpolator;
     let codes = match interpolator {
         crate::config::Interpolator::Exact => Vec::new(),
         crate::config::Interpolator::Fixed { .. } => vertices.codes(&cfg.engine.attributes),
     };
-    Ok(Prepared {
+    let p = Prepared {
         scene,
         snapped,
         codes,
@@ -198,7 +224,26 @@ pub fn prepare(l: &Loaded) -> Result<Prepared, InputError> {
         engine,
         raster_config: cfg.raster,
         fifo_depth: cfg.sim.fifo_depth as usize,
-    })
+    };
+    Ok((p, early))
+}
+
+/// The f64 reference of `scene` over the coverage of `raster`'s fragments.
+fn reference_of(
+    scene: &Scene,
+    raster: &raster::RasterOutput,
+    raster_config: &raster::RasterConfig,
+    r: crate::config::ReferenceConfig,
+) -> Arc<reference::ReferenceImage> {
+    let (w, h) = (scene.width, scene.height);
+    let frags = &raster.fragments;
+    let coverage = reference::Coverage::of_fragments(frags, w, h, raster_config);
+    let opts = reference::Options {
+        perturbation: r.perturbation,
+        samples: r.samples,
+        normals: false,
+    };
+    shared::reference(scene, &coverage, frags, opts)
 }
 
 impl Prepared {
@@ -304,39 +349,45 @@ impl Prepared {
     /// The float reference of the same scene, on the engine's coverage (the winning fragment
     /// of each pixel), without normals.
     pub fn reference(&self, r: crate::config::ReferenceConfig) -> Arc<reference::ReferenceImage> {
-        let (w, h) = (self.scene.width, self.scene.height);
-        let frags = &self.raster.fragments;
-        let coverage = reference::Coverage::of_fragments(frags, w, h, &self.raster_config);
-        let opts = reference::Options {
-            perturbation: r.perturbation,
-            samples: r.samples,
-            normals: false,
-        };
-        shared::reference(&self.scene, &coverage, frags, opts)
+        reference_of(&self.scene, &self.raster, &self.raster_config, r)
     }
 
     /// The three paths of the frame concurrently (rayon): the timed bit-accurate run, exact
     /// mode and the reference. Each only reads the prepared frame and stores its results by
     /// index, so they are the same as one after another.
     pub fn paths(&self, r: crate::config::ReferenceConfig, trace: Option<(u64, u64)>) -> Paths {
+        self.paths_with(r, trace, None)
+    }
+
+    /// [`Self::paths`] with the reference already rendered (`early`: by [`prepare_with`]).
+    fn paths_with(
+        &self,
+        r: crate::config::ReferenceConfig,
+        trace: Option<(u64, u64)>,
+        early: Early,
+    ) -> Paths {
         let ((sim, t_sim), ((exact, t_exact), (reference, t_ref))) = rayon::join(
             || timed_call(|| self.simulate_lanes(trace)),
             || {
                 rayon::join(
                     || timed_call(|| self.evaluate_exact()),
-                    || timed_call(|| self.reference(r)),
+                    || match early {
+                        Some((img, _)) => (img, None),
+                        None => {
+                            let (img, t) = timed_call(|| self.reference(r));
+                            (img, Some(t))
+                        }
+                    },
                 )
             },
         );
+        let mut walls = vec![("simulation", t_sim), ("exact mode", t_exact)];
+        walls.extend(t_ref.map(|t| ("reference", t)));
         Paths {
             sim,
             exact,
             reference,
-            walls: [
-                ("simulation", t_sim),
-                ("exact mode", t_exact),
-                ("reference", t_ref),
-            ],
+            walls,
         }
     }
 }
@@ -346,8 +397,9 @@ pub struct Paths {
     pub sim: sim::Timed,
     pub exact: sim::Outputs,
     pub reference: Arc<reference::ReferenceImage>,
-    /// The wall time of each path (they overlap).
-    pub walls: [(&'static str, std::time::Duration); 3],
+    /// The wall time of each path run here (they overlap; the reference is missing when it
+    /// was rendered beside the assets).
+    pub walls: Vec<(&'static str, std::time::Duration)>,
 }
 
 /// `f()` and its wall time.
@@ -386,8 +438,11 @@ pub fn gates(l: &Loaded) -> Result<Gates, InputError> {
 pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputError> {
     let cfg = &l.config;
     let mut timings = Timings::start();
-    let mut p = prepare(l)?;
+    let (mut p, early) = prepare_with(l, Some(cfg.reference))?;
     timings.lap("scene and assets");
+    if let Some((_, d)) = &early {
+        timings.part("reference", *d);
+    }
     if let Some(t) = trace {
         if let Some(names) = &t.units {
             for n in names {
@@ -403,7 +458,7 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
             }
         }
     }
-    let paths = p.paths(cfg.reference, trace.map(|t| t.cycles));
+    let paths = p.paths_with(cfg.reference, trace.map(|t| t.cycles), early);
     timings.lap("paths (concurrent)");
     for (name, d) in paths.walls {
         timings.part(name, d);

@@ -35,6 +35,7 @@
 pub mod reference;
 
 use glam::DVec3;
+use rayon::prelude::*;
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
@@ -125,11 +126,9 @@ fn bits(v: DVec3) -> [u64; 3] {
 
 /// The histogram of `normals`: distinct vectors (bitwise) with counts, sorted.
 pub(crate) fn histogram(normals: &[DVec3]) -> Vec<(DVec3, usize)> {
-    let mut keys: Vec<[u64; 3]> = normals
-        .iter()
-        .map(|n| [n.x.to_bits(), n.y.to_bits(), n.z.to_bits()])
-        .collect();
-    keys.sort_unstable();
+    let mut keys: Vec<[u64; 3]> = normals.par_iter().map(|&n| bits(n)).collect();
+    // equal keys are equal bits: any sort gives the same list
+    keys.par_sort_unstable();
     let mut out: Vec<(DVec3, usize)> = Vec::new();
     let mut last: Option<[u64; 3]> = None;
     for k in keys {
@@ -236,33 +235,52 @@ pub fn median_cut(normals: &[DVec3], s_n: usize) -> Vec<DVec3> {
         order += 1;
         heap.push(make_cut(&h[split..c.end], split, order, chain));
     }
+    // the boxes tile the histogram: their entries are computed at once (rayon, each from
+    // its own slice), then listed in the order the boxes were made
     let mut cuts: Vec<Cut> = done.into_iter().chain(heap).collect();
-    cuts.sort_by_key(|c| c.order);
-    cuts.iter()
-        .map(|c| {
-            let part = &mut h[c.start..c.end];
-            // a single distinct normal is kept as given (already unit), bit for bit
-            if part.len() == 1 {
-                return part[0].0;
-            }
-            // the sum's rounding depends on the order: the sort-every-box algorithm's
-            part.sort_unstable_by(chains.order(c.chain));
-            let sum = part
-                .iter()
-                .fold(DVec3::ZERO, |s, (v, n)| s + *v * *n as f64);
-            let m = sum.normalize_or_zero();
-            // opposite normals can cancel: fall back to the most frequent one
-            if m == DVec3::ZERO {
-                part.iter()
-                    .max_by_key(|p| p.1)
-                    .expect("non-empty box")
-                    .0
-                    .normalize()
-            } else {
-                m
-            }
-        })
-        .collect()
+    cuts.sort_by_key(|c| c.start);
+    let mut parts = Vec::with_capacity(cuts.len());
+    let mut rest = &mut h[..];
+    for c in &cuts {
+        let (part, r) = std::mem::take(&mut rest).split_at_mut(c.end - c.start);
+        parts.push(part);
+        rest = r;
+    }
+    let mut entries: Vec<(usize, DVec3)> = cuts
+        .par_iter()
+        .zip(parts)
+        .map(|(c, part)| (c.order, entry(part, chains.order(c.chain))))
+        .collect();
+    entries.sort_by_key(|e| e.0);
+    entries.into_iter().map(|e| e.1).collect()
+}
+
+/// The entry of a box: the texel-weighted mean of its normals, summed in the order `order`
+/// (the sum's rounding depends on it), renormalised.
+fn entry(
+    part: &mut [(DVec3, usize)],
+    order: impl Fn(&(DVec3, usize), &(DVec3, usize)) -> Ordering,
+) -> DVec3 {
+    // a single distinct normal is kept as given (already unit), bit for bit
+    if part.len() == 1 {
+        return part[0].0;
+    }
+    // the sum's rounding depends on the order: the sort-every-box algorithm's
+    part.sort_unstable_by(order);
+    let sum = part
+        .iter()
+        .fold(DVec3::ZERO, |s, (v, n)| s + *v * *n as f64);
+    let m = sum.normalize_or_zero();
+    // opposite normals can cancel: fall back to the most frequent one
+    if m == DVec3::ZERO {
+        part.iter()
+            .max_by_key(|p| p.1)
+            .expect("non-empty box")
+            .0
+            .normalize()
+    } else {
+        m
+    }
 }
 
 #[cfg(test)]
