@@ -1,9 +1,9 @@
 //! `bumpsim rtl CONFIG --out DIR [--cosim N] [--synth]`: Verilog of the engine's units
 //! (`bumpsim_hw::rtl`, `docs/rtl.md`).
 //!
-//! For every unit with a generator (Dot3, PowerTable, Shade, BumpBlend) the unit's parameters
-//! are taken from its config spec, the encodings of the signals wired to it (the built
-//! engine's unit) and the scene (material, bump lights), and the unit is rebuilt from them
+//! For every unit with a generator (Dot3, PowerTable, Shade, BumpBlend, Modulate) the unit's
+//! parameters are taken from its config spec, the encodings of the signals wired to it (the
+//! built engine's unit) and the scene (material, bump lights), and the unit is rebuilt from them
 //! with the hw constructors; the rebuilt unit must have the engine's gate budget (the same
 //! structure) and, with `--cosim`, the same outputs as the engine's unit on every vector.
 //! Writes `DIR/NAME.v` (the unit and its ROMs) and `DIR/NAME.regs` (the host-loaded register
@@ -11,7 +11,9 @@
 //! in `DIR/cosim/NAME/`; `--synth` runs yosys and prints the model's GE beside synthesis.
 
 use crate::Failure;
-use bumpsim_hw::rtl::{self, synth, testbench, vectors, Dot3Rtl, PowerTableRtl, RtlUnit, ShadeRtl};
+use bumpsim_hw::rtl::{
+    self, synth, testbench, vectors, Dot3Rtl, ModulateRtl, PowerTableRtl, RtlUnit, ShadeRtl,
+};
 use bumpsim_hw::units::{
     BlendKind, BumpBlend, BumpBlendParams, LightState, ShadeInputs, ShadeParams,
 };
@@ -162,6 +164,17 @@ pub(crate) fn generate(
                 },
                 coef: s.coef,
                 parallel: s.parallel,
+                out: s.out,
+            };
+            Generated {
+                rtl: p.rtl(top),
+                model: Box::new(p.unit()),
+            }
+        }
+        UnitSpec::Modulate(s) => {
+            let p = ModulateRtl {
+                c: enc_of(ins, "c").ok_or("no c")?,
+                t: enc_of(ins, "t").ok_or("no t")?,
                 out: s.out,
             };
             Generated {

@@ -2,7 +2,7 @@
 //! bit-exact with their bit-accurate mode (`docs/rtl.md`).
 //!
 //! Each generator takes the parameters that build the unit ([`Dot3Rtl`], [`PowerTableRtl`],
-//! [`ShadeRtl`], [`blend::rtl`] reads a built [`crate::units::BumpBlend`]) and writes the
+//! [`ShadeRtl`], [`ModulateRtl`], [`blend::rtl`] reads a built [`crate::units::BumpBlend`]) and writes the
 //! datapath with the twins of [`crate::arith::Acc`]'s operations in [`fixed`], so the widths,
 //! rounding, clamps and casts are those of the model's code. Co-simulation against the model
 //! (`hw/tests/rtl_cosim.rs`) checks every output word; [`synth`] prices the result with yosys.
@@ -21,6 +21,7 @@ pub mod blend;
 pub mod cast;
 pub mod dot3;
 pub mod fixed;
+pub mod modulate;
 pub mod power;
 pub mod shade;
 pub mod synth;
@@ -29,6 +30,7 @@ pub mod vectors;
 pub mod verilog;
 
 pub use dot3::Dot3Rtl;
+pub use modulate::ModulateRtl;
 pub use power::PowerTableRtl;
 pub use shade::ShadeRtl;
 

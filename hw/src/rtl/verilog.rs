@@ -80,9 +80,12 @@ impl Module {
         name.to_string()
     }
 
+    /// A new name `{hint}_w{n}`: unlike every port name (`{port}_{lane}` ends in a digit
+    /// after its last `_`, and unit ports are plain identifiers), so that a unit port named
+    /// like a generated wire (Modulate's `t` beside the sequencer's `t`) cannot clash.
     fn fresh(&mut self, hint: &str) -> String {
         self.next += 1;
-        format!("{hint}_{}", self.next)
+        format!("{hint}_w{}", self.next)
     }
 
     /// A signed wire of `w` bits assigned `expr`; returns its name.

@@ -16,7 +16,7 @@
 //! [0, 1] and cast once into the output encoding.
 
 use crate::arith::Acc;
-use crate::format::Encoding;
+use crate::format::{Codec, Encoding};
 use crate::gates::{CostTable, GateBudget};
 use crate::unit::{Mode, PortSpec, Unit, Word};
 
@@ -57,6 +57,21 @@ impl Unit for Modulate {
         let wo = self.outputs[0].enc.width();
         let mut g = GateBudget::new();
         g.add(format!("multiplier {wc}x{wt}"), 3, t.multiplier(wc, wt));
+        // Each `c / (2^n - 1)` read (a factor 2^n + 1) and a cast into such a code (a factor
+        // 2^n - 1) is one shift-and-add of the product: the exact cast folds them into one
+        // constant (u8 x u8 into u8: (2^8 + 1)(2^16 - 1), three adders; `rtl::modulate`).
+        let reps = [
+            &self.inputs[0].enc,
+            &self.inputs[1].enc,
+            &self.outputs[0].enc,
+        ]
+        .iter()
+        .filter(|e| matches!(e.codec, Codec::UnitUnsigned | Codec::UnitSymmetric))
+        .count() as u32;
+        if reps > 0 {
+            let wp = wc + wt;
+            g.add(format!("cast shift-and-add {wp}"), 3 * reps, t.adder(wp));
+        }
         g.add(
             format!("rounding and clamp {wo}"),
             3,
@@ -91,7 +106,7 @@ impl Unit for Modulate {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::format::{Codec, Format};
+    use crate::format::Format;
 
     fn u8e() -> Encoding {
         Encoding::texel(Codec::UnitUnsigned, false, 8)

@@ -1,11 +1,11 @@
-//! The units of the RTL tests: the five units at the bundled configs' widths
+//! The units of the RTL tests: the six units at the bundled configs' widths
 //! (`configs/sgi-teapot.ron`: dot, spec, shade; `configs/gouraud-teapot.ron`: diffuse,
 //! specular), and variants that exercise the other parameters of the generators.
 
 // shared by rtl_cosim.rs (both lists) and rtl_synth.rs (the bundled units only)
 #![allow(dead_code)]
 
-use bumpsim_hw::rtl::{self, Dot3Rtl, PowerTableRtl, RtlUnit, ShadeRtl};
+use bumpsim_hw::rtl::{self, Dot3Rtl, ModulateRtl, PowerTableRtl, RtlUnit, ShadeRtl};
 use bumpsim_hw::units::{
     BlendKind, BumpBlend, BumpBlendParams, Clamp, LightState, Selective, ShadeInputs, ShadeParams,
     SpecGen, VecSource,
@@ -48,6 +48,13 @@ fn power(name: &'static str, p: PowerTableRtl) -> Case {
     }
 }
 fn shade(name: &'static str, p: ShadeRtl) -> Case {
+    Case {
+        name,
+        unit: Box::new(p.unit()),
+        rtl: p.rtl(name),
+    }
+}
+fn modulate(name: &'static str, p: ModulateRtl) -> Case {
     Case {
         name,
         unit: Box::new(p.unit()),
@@ -152,6 +159,15 @@ pub fn bundled() -> Vec<Case> {
             gouraud(BlendKind::Specular, [0.5; 3]),
             wire("h0"),
         ),
+        // configs/gouraud-order-{split,combined,multiplicative}.ron: the texture stage
+        modulate(
+            "gouraud_texture",
+            ModulateRtl {
+                c: uu(8),
+                t: uu(8),
+                out: uu(8),
+            },
+        ),
     ]
 }
 
@@ -187,6 +203,24 @@ pub fn variants() -> Vec<Case> {
     both.parallel = 2;
     both.out = zero;
     vec![
+        // a fixed-point colour above 1 times a 6-bit texel, into a 6-bit RndInf code
+        modulate(
+            "var_modulate_wide",
+            ModulateRtl {
+                c: fixed(false, 10, 8),
+                t: uu(6),
+                out: inf,
+            },
+        ),
+        // signed operands (the clamp at 0 and at 1), into a wrapping fixed-point code
+        modulate(
+            "var_modulate_signed",
+            ModulateRtl {
+                c: us(9),
+                t: fixed(true, 10, 8),
+                out: trn,
+            },
+        ),
         dot3(
             "var_dot_none_sym",
             Dot3Rtl {
