@@ -1,11 +1,11 @@
 //! `bumpsim rtl CONFIG --out DIR [--cosim N] [--synth]`: Verilog of the engine's units
 //! (`bumpsim_hw::rtl`, `docs/rtl.md`).
 //!
-//! For every unit with a generator (Dot3, PowerTable, Shade, BumpBlend, Modulate) the unit's
-//! parameters are taken from its config spec, the encodings of the signals wired to it (the
-//! built engine's unit) and the scene (material, bump lights), and the unit is rebuilt from them
-//! with the hw constructors; the rebuilt unit must have the engine's gate budget (the same
-//! structure) and, with `--cosim`, the same outputs as the engine's unit on every vector.
+//! For every unit with a generator (Dot3, PowerTable, Shade, BumpBlend, Modulate, Normalize)
+//! the unit's parameters are taken from its config spec, the encodings of the signals wired to
+//! it (the built engine's unit) and the scene (material, bump lights), and the unit is rebuilt
+//! from them with the hw constructors; the rebuilt unit must have the engine's gate budget (the
+//! same structure) and, with `--cosim`, the same outputs as the engine's unit on every vector.
 //! Writes `DIR/NAME.v` (the unit and its ROMs) and `DIR/NAME.regs` (the host-loaded register
 //! words: address, width, value, what); `--cosim N` replays N vectors per unit with iverilog
 //! in `DIR/cosim/NAME/`; `--synth` runs yosys and prints the model's GE beside synthesis.
@@ -15,7 +15,7 @@ use bumpsim_hw::rtl::{
     self, synth, testbench, vectors, Dot3Rtl, ModulateRtl, PowerTableRtl, RtlUnit, ShadeRtl,
 };
 use bumpsim_hw::units::{
-    BlendKind, BumpBlend, BumpBlendParams, LightState, ShadeInputs, ShadeParams,
+    BlendKind, BumpBlend, BumpBlendParams, LightState, Normalize, ShadeInputs, ShadeParams,
 };
 use bumpsim_hw::{Mode, PortSpec, Unit, Word};
 use bumpsim_pipeline::config::{InputError, Loaded};
@@ -180,6 +180,13 @@ pub(crate) fn generate(
             Generated {
                 rtl: p.rtl(top),
                 model: Box::new(p.unit()),
+            }
+        }
+        UnitSpec::Normalize(s) => {
+            let u = Normalize::new(first()?, s.table_bits, s.value_bits, s.out)?;
+            Generated {
+                rtl: rtl::normalize::rtl(&u, top),
+                model: Box::new(u),
             }
         }
         UnitSpec::BumpBlend(s) => {

@@ -73,13 +73,13 @@ fn synth_puts_yosys_beside_the_model_for_every_generated_unit() {
         return;
     }
     let g = gates_json("emboss", &["--synth"]);
-    for unit in ["dot", "shade"] {
+    for unit in ["dot", "shade", "norm"] {
         let s = at(&g, &format!("gates.per_unit.{unit}.synth"));
         let ge = num(s, "ge");
         let ratio = num(s, "logic_ratio");
         let model = num(&g, &format!("gates.per_unit.{unit}.total"));
         assert!(ge > 1000.0, "{unit}: {ge} GE");
-        // the band of hw/tests/rtl_synth.rs (measured 0.78-0.88 for these kinds)
+        // the band of hw/tests/rtl_synth.rs (measured 0.78-0.89 for these kinds)
         assert!(
             (0.7..=1.1).contains(&ratio),
             "{unit}: model / yosys {ratio}"
@@ -90,7 +90,7 @@ fn synth_puts_yosys_beside_the_model_for_every_generated_unit() {
         );
         assert!((num(s, "logic_model_ge") / num(s, "logic_synth_ge") - ratio).abs() < 1e-3);
     }
-    for unit in ["emboss", "norm"] {
+    for unit in ["emboss"] {
         let why = at(&g, &format!("gates.per_unit.{unit}.synth.none"));
         assert!(
             why.as_str()

@@ -10,6 +10,7 @@
 mod rtl_units;
 
 use bumpsim_hw::rtl::{testbench, vectors};
+use bumpsim_hw::{Mode, Word};
 use rtl_units::Case;
 use std::path::Path;
 use std::process::Command;
@@ -126,6 +127,30 @@ fn a_wrong_expected_word_is_reported() {
     assert!(r.first[0].contains("vector 17 lane y1"), "{:?}", r.first);
 }
 
+/// Co-simulate `c` on the vectors `ins` (expected: the model's outputs); every vector must
+/// match.
+fn cosim_on(c: &Case, ins: Vec<Vec<Word>>, dir: &str) {
+    let outs: Vec<Vec<Word>> = ins
+        .iter()
+        .map(|w| {
+            let mut o = vec![Word::default(); c.unit.outputs().len()];
+            c.unit.eval(Mode::BitAccurate, w, &mut o);
+            o
+        })
+        .collect();
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("rtl_cosim")
+        .join(dir);
+    testbench::write(&dir, &c.rtl, &ins, &outs).unwrap();
+    let r = testbench::run_iverilog(&dir).unwrap();
+    assert_eq!(
+        (r.vectors, r.mismatches, r.latency_errors),
+        (ins.len(), 0, 0),
+        "{}: {r:?}",
+        c.name
+    );
+}
+
 /// The texture stage at the Gouraud orders' widths, exhaustively: all 65,536 pairs of 8-bit
 /// codes (three per vector, one per channel) against the model.
 #[test]
@@ -142,29 +167,39 @@ fn modulate_u8_matches_the_model_on_every_pair_of_codes() {
     let (ec, et) = (ports[0].enc, ports[1].enc);
     let n = (1usize << 16).div_ceil(3);
     let pair = |k: usize, l: usize| ((3 * k + l) % (1 << 16)) as i64;
-    let ins: Vec<Vec<bumpsim_hw::Word>> = (0..n)
+    let ins = (0..n)
         .map(|k| {
             let p: [i64; 3] = std::array::from_fn(|l| pair(k, l));
             vec![
-                bumpsim_hw::Word::from_raw(&ec, &p.map(|v| v >> 8)),
-                bumpsim_hw::Word::from_raw(&et, &p.map(|v| v & 255)),
+                Word::from_raw(&ec, &p.map(|v| v >> 8)),
+                Word::from_raw(&et, &p.map(|v| v & 255)),
             ]
         })
         .collect();
-    let outs: Vec<Vec<bumpsim_hw::Word>> = ins
-        .iter()
-        .map(|w| {
-            let mut o = vec![bumpsim_hw::Word::default()];
-            c.unit.eval(bumpsim_hw::Mode::BitAccurate, w, &mut o);
-            o
+    cosim_on(&c, ins, "modulate_exhaustive");
+}
+
+/// The normaliser on every input vector of a 5-bit signed format (32,768 vectors: the zero
+/// vector, every length and so every branch of the leading-one detector and every shift).
+#[test]
+fn normalize_matches_the_model_on_every_5_bit_vector() {
+    if skip_requested() {
+        return;
+    }
+    assert!(iverilog_available(), "rtl_cosim: iverilog not found");
+    let e = bumpsim_hw::Encoding::fixed(bumpsim_hw::Format::s(5, 2));
+    let out = bumpsim_hw::Encoding::fixed(bumpsim_hw::Format::s(8, 6));
+    let u = bumpsim_hw::units::Normalize::new(e, 4, 8, out).unwrap();
+    let c = Case {
+        name: "normalize_exhaustive",
+        rtl: bumpsim_hw::rtl::normalize::rtl(&u, "normalize_exhaustive"),
+        unit: Box::new(u),
+    };
+    let ins = (0..1i64 << 15)
+        .map(|k| {
+            let v: [i64; 3] = std::array::from_fn(|l| ((k >> (5 * l)) & 31) - 16);
+            vec![Word::from_raw(&e, &v)]
         })
         .collect();
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("rtl_cosim/modulate_exhaustive");
-    testbench::write(&dir, &c.rtl, &ins, &outs).unwrap();
-    let r = testbench::run_iverilog(&dir).unwrap();
-    assert_eq!(
-        (r.vectors, r.mismatches, r.latency_errors),
-        (n, 0, 0),
-        "{r:?}"
-    );
+    cosim_on(&c, ins, "normalize_exhaustive");
 }

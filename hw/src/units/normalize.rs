@@ -62,15 +62,19 @@ impl Rsqrt {
         self.table.len() as u64
     }
 
-    /// Index width.
-    #[cfg(test)]
-    pub(crate) fn table_bits(&self) -> u32 {
-        self.table_bits
-    }
-
     /// Width of an entry.
     pub(crate) fn value_bits(&self) -> u32 {
         self.value_bits
+    }
+
+    /// Index width (`table_bits`).
+    pub(crate) fn index_bits(&self) -> u32 {
+        self.table_bits
+    }
+
+    /// The entries (u2.(value_bits-2) codes), for the ROM of the generated Verilog.
+    pub(crate) fn table(&self) -> &[i64] {
+        &self.table
     }
 
     /// `1 / sqrt(s) ~ r 2^k` for an exact `s > 0`: the table value `r` (an [`Acc`] with
@@ -159,6 +163,13 @@ impl Normalize {
             outputs: vec![PortSpec::new("n", 3, out)],
             rsqrt,
         })
+    }
+}
+
+impl Normalize {
+    /// The reciprocal-square-root table (for the generated Verilog, `rtl::normalize`).
+    pub(crate) fn rsqrt(&self) -> &Rsqrt {
+        &self.rsqrt
     }
 }
 

@@ -407,7 +407,7 @@ mod tests {
     /// Relative error of `1 / s = (r 2^k)^2`: one lookup's `eps` squared through.
     fn rel(u: &QuatFrame) -> f64 {
         let e =
-            2f64.powi(-(u.rsqrt.table_bits() as i32)) + 2f64.powi(1 - u.rsqrt.value_bits() as i32);
+            2f64.powi(-(u.rsqrt.index_bits() as i32)) + 2f64.powi(1 - u.rsqrt.value_bits() as i32);
         (1.0 + e) * (1.0 + e) - 1.0
     }
 

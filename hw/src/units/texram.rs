@@ -453,7 +453,7 @@ mod tests {
     /// Lanes whose exact value the output cannot hold (they saturate) are left out. Updates
     /// (worst error, worst error / bound, worst excess over the bound).
     fn check(u: &TexramFrame, n: Word, m: Word, acc: &mut (f64, f64, f64)) {
-        let (t, vb) = (u.rsqrt.table_bits(), u.rsqrt.value_bits());
+        let (t, vb) = (u.rsqrt.index_bits(), u.rsqrt.value_bits());
         let out = u.outputs[0].enc;
         let e = eps(t, vb);
         let rel_v = match u.form {

@@ -61,6 +61,14 @@ fn modulate(name: &'static str, p: ModulateRtl) -> Case {
         rtl: p.rtl(name),
     }
 }
+fn normalize(name: &'static str, u: bumpsim_hw::units::Normalize) -> Case {
+    let rtl = rtl::normalize::rtl(&u, name);
+    Case {
+        name,
+        unit: Box::new(u),
+        rtl,
+    }
+}
 fn blend(name: &'static str, p: BumpBlendParams, wire: impl Fn(&str) -> Option<Encoding>) -> Case {
     let u = BumpBlend::new(p, wire).unwrap();
     let rtl = rtl::blend::rtl(&u, name).unwrap();
@@ -203,6 +211,17 @@ pub fn variants() -> Vec<Case> {
     both.parallel = 2;
     both.out = zero;
     vec![
+        // configs/phong-teapot.ron and emboss.ron: s2.8 normals, 256 x 12-bit rsqrt table
+        normalize(
+            "var_normalize_phong",
+            bumpsim_hw::units::Normalize::new(fixed(true, 10, 8), 8, 12, fixed(true, 10, 8))
+                .unwrap(),
+        ),
+        // a wide integer-heavy input (lengths from 2^-4 to 2^11), a small table, a code out
+        normalize(
+            "var_normalize_wide",
+            bumpsim_hw::units::Normalize::new(fixed(true, 16, 4), 5, 9, us(8)).unwrap(),
+        ),
         // a fixed-point colour above 1 times a 6-bit texel, into a 6-bit RndInf code
         modulate(
             "var_modulate_wide",
