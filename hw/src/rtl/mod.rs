@@ -98,6 +98,15 @@ pub(crate) struct Plan {
 }
 
 impl Plan {
+    /// One datapath edge, from `start` into the output registers (inputs held until `done`).
+    pub fn single() -> Plan {
+        Plan {
+            capture: false,
+            interval: 1,
+            finish: false,
+        }
+    }
+
     pub fn latency(&self) -> u32 {
         self.capture as u32 + self.interval + self.finish as u32
     }

@@ -28,12 +28,7 @@ impl ModulateRtl {
 
     pub fn rtl(&self, top: &str) -> RtlUnit {
         let u = self.unit();
-        let plan = Plan {
-            capture: false,
-            interval: 1,
-            finish: false,
-        };
-        let mut sh = Shell::new(top, plan);
+        let mut sh = Shell::new(top, Plan::single());
         let ins = u.inputs().to_vec();
         let c = sh.port(0, &ins[0], false);
         let t = sh.port(1, &ins[1], false);

@@ -23,12 +23,7 @@ use crate::units::Normalize;
 pub fn rtl(u: &Normalize, top: &str) -> RtlUnit {
     let rs = u.rsqrt();
     let (tb, vb) = (rs.index_bits(), rs.value_bits());
-    let plan = Plan {
-        capture: false,
-        interval: 1,
-        finish: false,
-    };
-    let mut sh = Shell::new(top, plan);
+    let mut sh = Shell::new(top, Plan::single());
     let ins = u.inputs().to_vec();
     let enc = ins[0].enc;
     let out = u.outputs()[0].enc;

@@ -267,6 +267,12 @@ fn entry(
     }
     // the sum's rounding depends on the order: the sort-every-box algorithm's
     part.sort_unstable_by(order);
+    mean_entry(part)
+}
+
+/// The texel-weighted mean of a box of two or more normals, in the order given, renormalised
+/// (shared with the sorting reference).
+pub(crate) fn mean_entry(part: &[(DVec3, usize)]) -> DVec3 {
     let sum = part
         .iter()
         .fold(DVec3::ZERO, |s, (v, n)| s + *v * *n as f64);

@@ -109,20 +109,7 @@ pub fn median_cut_by_sorting(normals: &[DVec3], s_n: usize) -> Vec<DVec3> {
             if part.len() == 1 {
                 return part[0].0;
             }
-            let sum = part
-                .iter()
-                .fold(DVec3::ZERO, |s, (v, n)| s + *v * *n as f64);
-            let m = sum.normalize_or_zero();
-            // opposite normals can cancel: fall back to the most frequent one
-            if m == DVec3::ZERO {
-                part.iter()
-                    .max_by_key(|p| p.1)
-                    .expect("non-empty box")
-                    .0
-                    .normalize()
-            } else {
-                m
-            }
+            super::mean_entry(part)
         })
         .collect()
 }
