@@ -44,7 +44,7 @@ use glam::DVec3;
 use std::ops::Range;
 
 /// Entries per leaf at most.
-pub const LEAF: usize = 8;
+pub const LEAF: usize = 16;
 /// Tables (ranges) smaller than this are searched by brute force.
 pub const BRUTE_FORCE_BELOW: usize = 32;
 /// Relative part of the pruning margin (`2^-40`, far above `2 γ_3 + u ≈ 7.8e-16`).
@@ -203,6 +203,15 @@ impl NearestIndex {
     /// Exactly `super::nearest(v, entries, range)` for the `entries` and `range` given to
     /// [`Self::new`]: the index of the largest `v.dot(e)`, ties to the lower index.
     pub fn nearest(&self, v: DVec3) -> u32 {
+        self.nearest_from(v, None)
+    }
+
+    /// [`Self::nearest`], the search started from the entry `hint` (an index into the whole
+    /// table, ignored outside the range): a good guess (a neighbouring texel's answer) prunes
+    /// more from the first node on. The answer is the same: the hint is scored with the same
+    /// `v.dot(e)` and compared by the same rule as every other candidate, and a node is still
+    /// skipped only when its bound is strictly below a score some entry achieves.
+    pub fn nearest_from(&self, v: DVec3, hint: Option<u32>) -> u32 {
         let scale = v.abs().dot(self.amax);
         if self.nodes.is_empty() || !(v.is_finite() && scale <= MAX_SCALE) {
             return (super::nearest(v, &self.entries, 0..self.entries.len()) as usize + self.offset)
@@ -220,7 +229,11 @@ impl NearestIndex {
             margin: REL_MARGIN * scale + f64::MIN_POSITIVE,
             ball,
         };
-        let mut best = (f64::NEG_INFINITY, u32::MAX);
+        let local = hint.and_then(|h| (h as usize).checked_sub(self.offset));
+        let mut best = match local.and_then(|i| Some((self.entries.get(i)?, i))) {
+            Some((&e, i)) => (v.dot(e), i as u32),
+            None => (f64::NEG_INFINITY, u32::MAX),
+        };
         let mut stack = [(0u32, 0f64); STACK];
         stack[0] = (0, f64::INFINITY);
         let mut top = 1;
@@ -304,8 +317,9 @@ impl<'a> Indices<'a> {
         }
     }
 
-    /// `super::nearest(v, entries, range)`, through the range's index.
-    pub(crate) fn nearest(&mut self, v: DVec3, range: Range<usize>) -> u32 {
+    /// `super::nearest(v, entries, range)`, through the range's index, the search started
+    /// from `hint` ([`NearestIndex::nearest_from`]).
+    pub(crate) fn nearest(&mut self, v: DVec3, range: Range<usize>, hint: Option<u32>) -> u32 {
         let k = match self.built.iter().position(|(r, _)| *r == range) {
             Some(k) => k,
             None => {
@@ -314,7 +328,7 @@ impl<'a> Indices<'a> {
                 self.built.len() - 1
             }
         };
-        self.built[k].1.nearest(v)
+        self.built[k].1.nearest_from(v, hint)
     }
 }
 

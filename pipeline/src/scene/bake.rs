@@ -53,7 +53,7 @@ use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::perturb::{perturbed_normal, Perturbation, SurfacePoint};
+use super::perturb::{perturb_height, perturbed_normal, Perturbation, SurfacePoint};
 use super::{BumpMap, Mesh, NormalMap, NormalMethod};
 
 /// Which frame the baked normals are expressed in.
@@ -112,6 +112,7 @@ pub fn bake(
     let texels = match space {
         BakeSpace::Tangent => bump.bake_normals(size, size, NormalMethod::Analytic).texels,
         BakeSpace::Object => {
+            let grads = bump.centre_grads(size, size);
             let values: Vec<Option<DVec3>> = claims
                 .winner
                 .par_iter()
@@ -119,15 +120,22 @@ pub fn bake(
                 .map(|(k, c)| {
                     c.map(|c| {
                         let (i, j) = (k % size as usize, k / size as usize);
-                        object_normal(mesh, bump, size, (i as u32, j as u32), c, perturbation)
+                        let (i, j) = (i as u32, j as u32);
+                        let g = grads.as_ref().and_then(|g| g.at(i, j));
+                        object_normal(mesh, bump, size, (i, j), c, (g, perturbation))
                     })
                 })
                 .collect();
-            let source = nearest_covered(&covered, size as usize);
+            // only texels no triangle claimed take a neighbour's normal
+            let source = if values.iter().all(Option::is_some) {
+                Vec::new()
+            } else {
+                nearest_covered(&covered, size as usize)
+            };
             (0..n)
                 .map(|k| {
                     values[k]
-                        .or_else(|| source[k].and_then(|s| values[s]))
+                        .or_else(|| source.get(k).copied().flatten().and_then(|s| values[s]))
                         .unwrap_or(DVec3::Z)
                 })
                 .collect()
@@ -322,14 +330,16 @@ fn closest_on_triangle(p: DVec2, a: DVec2, b: DVec2, c: DVec2) -> DVec2 {
     a + ab * (vb * denom) + ac * (vc * denom)
 }
 
-/// Step 2: the object-space perturbed normal of texel `(i, j)` claimed by `c`.
+/// Step 2: the object-space perturbed normal of texel `(i, j)` claimed by `c`, with the
+/// height field's gradient at the texel centre if it was computed beforehand
+/// ([`BumpMap::centre_grads`]).
 fn object_normal(
     mesh: &Mesh,
     bump: &BumpMap,
     size: u32,
     (i, j): (u32, u32),
     c: Claim,
-    perturbation: Perturbation,
+    (grad, perturbation): (Option<DVec2>, Perturbation),
 ) -> DVec3 {
     let sz = f64::from(size);
     let v = mesh.triangles[c.tri as usize].map(|k| mesh.vertices[k as usize]);
@@ -361,7 +371,10 @@ fn object_normal(
         // The texel centre itself (bump maps have period 1), as `bake_normals` samples it.
         uv: DVec2::new((f64::from(i) + 0.5) / sz, (f64::from(j) + 0.5) / sz),
     };
-    let n = perturbed_normal(bump, &sp, perturbation);
+    let n = match grad {
+        Some(g) => perturb_height(sp.n, sp.pu, sp.pv, g, perturbation),
+        None => perturbed_normal(bump, &sp, perturbation),
+    };
     if n.is_finite() && n.length() > 0.5 {
         return n;
     }
@@ -382,86 +395,108 @@ fn nearest_covered(covered: &[bool], size: usize) -> Vec<Option<usize>> {
     if !covered.iter().take(n).any(|&c| c) {
         return vec![None; n];
     }
-    // Row pass: the nearest covered column in the same row and its distance.
+    // Row pass: the nearest covered column in the same row and its distance (rows apart).
     let mut row_near: Vec<Option<(usize, i64)>> = vec![None; n];
-    for j in 0..size {
-        let row = &covered[j * size..(j + 1) * size];
-        if !row.iter().any(|&c| c) {
-            continue;
-        }
-        let mut left = vec![0i64; size];
-        let mut last = None;
-        for k in 0..2 * size {
-            let i = k % size;
-            if row[i] {
-                last = Some(k);
-            }
-            if let Some(l) = last {
-                left[i] = (k - l) as i64;
-            }
-        }
-        let mut right = vec![0i64; size];
-        let mut next = None;
-        for k in (0..2 * size).rev() {
-            let i = k % size;
-            if row[i] {
-                next = Some(k);
-            }
-            if let Some(r) = next {
-                right[i] = (r - k) as i64;
-            }
-        }
-        for i in 0..size {
-            let (d, col) = if left[i] <= right[i] {
-                (left[i], (i + size - left[i] as usize) % size)
-            } else {
-                (right[i], (i + right[i] as usize) % size)
-            };
-            row_near[j * size + i] = Some((col, d));
+    row_near
+        .par_chunks_mut(size)
+        .zip(covered.par_chunks(size))
+        .for_each(|(near, row)| nearest_in_row(row, near));
+    // Column pass: h(j) = min over rows r and copies q = r + k size, k in {-1, 0, 1}, of
+    // f(r) + (j - q)², f(r) = (row distance in row r)². Columns apart, then transposed.
+    let cols: Vec<Vec<Option<usize>>> = (0..size)
+        .into_par_iter()
+        .map(|i| nearest_in_column(&row_near, size, i))
+        .collect();
+    let mut out = vec![None; n];
+    for (i, col) in cols.iter().enumerate() {
+        for (j, &c) in col.iter().enumerate() {
+            out[j * size + i] = c;
         }
     }
-    // Column pass: h(j) = min over rows r and copies q = r + k size, k in {-1, 0, 1}, of
-    // f(r) + (j - q)², f(r) = (row distance in row r)².
-    let mut out = vec![None; n];
+    out
+}
+
+/// Per texel of a wrapping row, the nearest covered column and its distance (None if the
+/// row has no covered texel).
+fn nearest_in_row(row: &[bool], near: &mut [Option<(usize, i64)>]) {
+    let size = row.len();
+    if !row.iter().any(|&c| c) {
+        return;
+    }
+    let mut left = vec![0i64; size];
+    let mut last = None;
+    for k in 0..2 * size {
+        let i = k % size;
+        if row[i] {
+            last = Some(k);
+        }
+        if let Some(l) = last {
+            left[i] = (k - l) as i64;
+        }
+    }
+    let mut right = vec![0i64; size];
+    let mut next = None;
+    for k in (0..2 * size).rev() {
+        let i = k % size;
+        if row[i] {
+            next = Some(k);
+        }
+        if let Some(r) = next {
+            right[i] = (r - k) as i64;
+        }
+    }
+    for i in 0..size {
+        let (d, col) = if left[i] <= right[i] {
+            (left[i], (i + size - left[i] as usize) % size)
+        } else {
+            (right[i], (i + right[i] as usize) % size)
+        };
+        near[i] = Some((col, d));
+    }
+}
+
+/// Column `i` of [`nearest_covered`]: per row `j`, the nearest covered texel.
+fn nearest_in_column(
+    row_near: &[Option<(usize, i64)>],
+    size: usize,
+    i: usize,
+) -> Vec<Option<usize>> {
     let mut hull: Vec<(i64, i64)> = Vec::with_capacity(3 * size);
     let mut bounds: Vec<f64> = Vec::with_capacity(3 * size + 1);
     let sz = size as i64;
-    for i in 0..size {
-        hull.clear();
-        bounds.clear();
-        bounds.push(f64::NEG_INFINITY);
-        for q in -sz..2 * sz {
-            let r = q.rem_euclid(sz) as usize;
-            let Some((_, d)) = row_near[r * size + i] else {
-                continue;
+    bounds.push(f64::NEG_INFINITY);
+    for q in -sz..2 * sz {
+        let r = q.rem_euclid(sz) as usize;
+        let Some((_, d)) = row_near[r * size + i] else {
+            continue;
+        };
+        let fq = d * d;
+        loop {
+            let Some(&(p, fp)) = hull.last() else {
+                hull.push((q, fq));
+                break;
             };
-            let fq = d * d;
-            loop {
-                let Some(&(p, fp)) = hull.last() else {
-                    hull.push((q, fq));
-                    break;
-                };
-                let s = ((fq + q * q) - (fp + p * p)) as f64 / (2 * (q - p)) as f64;
-                if s <= bounds[hull.len() - 1] {
-                    hull.pop();
-                    bounds.pop();
-                } else {
-                    bounds.push(s);
-                    hull.push((q, fq));
-                    break;
-                }
+            let s = ((fq + q * q) - (fp + p * p)) as f64 / (2 * (q - p)) as f64;
+            if s <= bounds[hull.len() - 1] {
+                hull.pop();
+                bounds.pop();
+            } else {
+                bounds.push(s);
+                hull.push((q, fq));
+                break;
             }
         }
-        bounds.push(f64::INFINITY);
-        let mut k = 0;
-        for j in 0..size {
-            while bounds[k + 1] < j as f64 {
-                k += 1;
-            }
-            let r = hull[k].0.rem_euclid(sz) as usize;
-            if let Some((col, _)) = row_near[r * size + i] {
-                out[j * size + i] = Some(r * size + col);
-            }
+    }
+    bounds.push(f64::INFINITY);
+    let mut out = vec![None; size];
+    let mut k = 0;
+    for (j, o) in out.iter_mut().enumerate() {
+        while bounds[k + 1] < j as f64 {
+            k += 1;
+        }
+        let r = hull[k].0.rem_euclid(sz) as usize;
+        if let Some((col, _)) = row_near[r * size + i] {
+            *o = Some(r * size + col);
         }
     }
     out

@@ -18,6 +18,7 @@ use std::path::Path;
 use glam::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};
 
+use super::centre_grads::CentreGrads;
 use super::check_count;
 use super::normals::{is_16bit, read_png};
 use super::{NormalMap, NormalMethod, SceneError};
@@ -28,6 +29,11 @@ pub trait HeightField: Send + Sync {
     fn height(&self, u: f64, v: f64) -> f64;
     /// `(∂F/∂u, ∂F/∂v)`, analytic where possible.
     fn grad(&self, u: f64, v: f64) -> DVec2;
+    /// `grad` at every texel centre of a `w x h` map, if the field has a cheaper way to
+    /// compute them than one call per texel (bit-identical to those calls).
+    fn centre_grads(&self, _w: u32, _h: u32) -> Option<CentreGrads> {
+        None
+    }
 }
 
 /// A bump map as written in a scene config.
@@ -346,6 +352,16 @@ impl BumpMap {
         }
     }
 
+    /// Height-field gradients at the texel centres of a `w x h` map, where the field computes
+    /// them faster than one [`Self::grad`] per texel (bit-identical); None otherwise and for
+    /// normal maps.
+    pub fn centre_grads(&self, w: u32, h: u32) -> Option<CentreGrads> {
+        match self {
+            BumpMap::Height(f) => f.centre_grads(w, h),
+            BumpMap::Normals(_) | BumpMap::Ndf(_) => None,
+        }
+    }
+
     /// Heights sampled at texel centres `((i + 0.5)/w, (j + 0.5)/h)`, row-major, row `j = 0`
     /// is `v` in `[0, 1/h)`. None for normal maps.
     pub fn bake_heights(&self, w: u32, h: u32) -> Option<Vec<f64>> {
@@ -372,10 +388,15 @@ impl BumpMap {
                     // each texel is its own pure function of its centre: baked in parallel
                     // (rows in order, so the map is the same at any thread count)
                     use rayon::prelude::*;
+                    let grads = f.centre_grads(w, h);
                     let texels = (0..h)
                         .into_par_iter()
                         .flat_map_iter(|j| {
-                            texel_centres_row(w, h, j).map(|(u, v)| normal_from_grad(f.grad(u, v)))
+                            let grads = grads.as_ref();
+                            texel_centres_row(w, h, j).zip(0..).map(move |((u, v), i)| {
+                                let g = grads.and_then(|g| g.at(i, j));
+                                normal_from_grad(g.unwrap_or_else(|| f.grad(u, v)))
+                            })
                         })
                         .collect();
                     NormalMap {
@@ -564,8 +585,11 @@ impl MexicanHat {
 
     /// `(Σψ, Σ∂ψ/∂x, Σ∂ψ/∂y)` in cell units.
     fn eval(&self, u: f64, v: f64) -> (f64, f64, f64) {
-        let (_, fx) = cell_split(u, self.cells);
-        let (_, fy) = cell_split(v, self.cells);
+        self.eval_frac(cell_split(u, self.cells).1, cell_split(v, self.cells).1)
+    }
+
+    /// [`Self::eval`] at the fractions `(fx, fy)` within a cell.
+    fn eval_frac(&self, fx: f64, fy: f64) -> (f64, f64, f64) {
         let inv_s2 = 1.0 / (self.sigma * self.sigma);
         let (mut h, mut gx, mut gy) = (0.0, 0.0, 0.0);
         for dj in -self.reach..=self.reach {
@@ -596,6 +620,13 @@ impl HeightField for MexicanHat {
         let (_, gx, gy) = self.eval(u, v);
         DVec2::new(gx, gy) * (self.depth * self.cells)
     }
+    fn centre_grads(&self, w: u32, h: u32) -> Option<CentreGrads> {
+        let split = |x| cell_split(x, self.cells).1;
+        CentreGrads::lattice(w, h, split, |fx, fy| {
+            let (_, gx, gy) = self.eval_frac(fx, fy);
+            DVec2::new(gx, gy) * (self.depth * self.cells)
+        })
+    }
 }
 
 /// One cap per cell.
@@ -624,8 +655,11 @@ impl SphereCaps {
 
     /// `(h, ∂h/∂u, ∂h/∂v)`.
     fn eval(&self, u: f64, v: f64) -> (f64, f64, f64) {
-        let (_, fx) = cell_split(u, self.cells);
-        let (_, fy) = cell_split(v, self.cells);
+        self.eval_frac(cell_split(u, self.cells).1, cell_split(v, self.cells).1)
+    }
+
+    /// [`Self::eval`] at the fractions `(fx, fy)` within a cell.
+    fn eval_frac(&self, fx: f64, fy: f64) -> (f64, f64, f64) {
         let (dx, dy) = (fx - 0.5, fy - 0.5);
         let r = (dx * dx + dy * dy).sqrt();
         let (p, dp) = Self::profile(r / self.radius);
@@ -645,6 +679,13 @@ impl HeightField for SphereCaps {
     fn grad(&self, u: f64, v: f64) -> DVec2 {
         let (_, gu, gv) = self.eval(u, v);
         DVec2::new(gu, gv)
+    }
+    fn centre_grads(&self, w: u32, h: u32) -> Option<CentreGrads> {
+        let split = |x| cell_split(x, self.cells).1;
+        CentreGrads::lattice(w, h, split, |fx, fy| {
+            let (_, gu, gv) = self.eval_frac(fx, fy);
+            DVec2::new(gu, gv)
+        })
     }
 }
 

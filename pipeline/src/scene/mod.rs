@@ -5,6 +5,7 @@ pub mod atlas;
 pub mod bake;
 pub mod bumpmap;
 pub mod camera;
+pub mod centre_grads;
 pub mod files;
 pub mod lathe;
 pub mod material;

@@ -48,6 +48,13 @@ fn check(entries: &[DVec3], range: Range<usize>, queries: &[DVec3], what: &str) 
             "{what}: query {k} {v:?}, range {range:?}, {} entries",
             entries.len()
         );
+        // a search started from any entry, in the range or not (or past the table), too
+        let hint = (k * 7919 % (entries.len() + 3)) as u32;
+        assert_eq!(
+            ix.nearest_from(v, Some(hint)),
+            want,
+            "{what}: query {k} {v:?} from entry {hint}, range {range:?}"
+        );
     }
 }
 
@@ -182,12 +189,12 @@ fn dithering_through_the_index_equals_dithering_by_brute_force() {
                 &p.entries,
                 scan,
                 |_| 0..n,
-                |v, r| nearest(v, &p.entries, r),
+                |v, r, _| nearest(v, &p.entries, r),
             );
             assert_eq!(dither(&map, 64, 64, &p.entries, scan), brute, "s_n {s_n}");
             // two candidate ranges, one per half of the map
             let half = |i: usize| if i % 64 < 32 { 0..n / 2 } else { n / 2..n };
-            let brute = dither_with(&map, 64, 64, &p.entries, scan, half, |v, r| {
+            let brute = dither_with(&map, 64, 64, &p.entries, scan, half, |v, r, _| {
                 nearest(v, &p.entries, r)
             });
             assert_eq!(dither_in(&map, 64, 64, &p.entries, scan, half), brute);
