@@ -402,10 +402,6 @@ pub struct Paths {
     pub walls: Vec<(&'static str, std::time::Duration)>,
 }
 
-/// Frames of at most this many pixels (1024 x 1024) have both modes' framebuffers written
-/// concurrently; larger ones one after the other, to keep the peak memory of one.
-const CONCURRENT_ROP_PIXELS: u64 = 1 << 20;
-
 /// `f()` and its wall time.
 fn timed_call<T>(f: impl FnOnce() -> T) -> (T, std::time::Duration) {
     let t0 = std::time::Instant::now();
@@ -475,24 +471,16 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
     } = paths;
     let (w, h) = (p.scene.width, p.scene.height);
     let (frags, bit) = (&p.raster.fragments, &p.engine);
+    // The two framebuffers one after the other, each mode's outputs freed once its ROP has
+    // read them (a framebuffer being written holds 39 bytes per pixel: two at once were the
+    // peak of a large frame).
     // The ROP reads 16 of a fragment's 40 bytes: the list is cut to those before the
-    // framebuffers are built, and the full one freed. Frames up to CONCURRENT_ROP_PIXELS
-    // write both framebuffers at once (the same bytes); larger ones one after the other,
-    // the exact outputs freed once read (a framebuffer being written holds 39 bytes per
-    // pixel: two at once were the peak of a large frame).
+    // framebuffers are built, and the full one freed.
     let frags: Vec<crate::rop::RopFragment> = frags.iter().map(Into::into).collect();
     p.raster.fragments = Vec::new();
-    let write = |mode, outputs: &_| crate::rop::write(&bit.rop, mode, w, h, &frags, outputs);
-    let (mut fb_exact, fb) = if u64::from(w) * u64::from(h) <= CONCURRENT_ROP_PIXELS {
-        rayon::join(
-            || write(Mode::Exact, &exact_out),
-            || write(Mode::BitAccurate, &result.outputs),
-        )
-    } else {
-        let fb_exact = write(Mode::Exact, &exact_out);
-        drop(exact_out);
-        (fb_exact, write(Mode::BitAccurate, &result.outputs))
-    };
+    let mut fb_exact = crate::rop::write(&bit.rop, Mode::Exact, w, h, &frags, &exact_out);
+    drop(exact_out);
+    let fb = crate::rop::write(&bit.rop, Mode::BitAccurate, w, h, &frags, &result.outputs);
     drop((result.outputs, frags));
     // the two modes' triangle maps are one where the same fragments were written (the
     // usual case): keep one
