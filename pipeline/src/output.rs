@@ -7,6 +7,7 @@
 //! and no target is touched. Directories that `commit` creates are removed again when it
 //! fails, so a failed run leaves no stray parent directory either.
 
+use rayon::prelude::*;
 use std::fs;
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
@@ -56,7 +57,6 @@ impl OutputSet {
     /// [`Self::add_png`] of several images, encoded concurrently (rayon) and added in the
     /// order given. On an error nothing is added.
     pub fn add_pngs(&mut self, imgs: &[(&str, &image::RgbImage)]) -> Result<(), String> {
-        use rayon::prelude::*;
         let encoded: Vec<Vec<u8>> = imgs
             .par_iter()
             .map(|(name, img)| {
@@ -107,16 +107,21 @@ impl OutputSet {
                 return Err(format!("cannot write {}: it is a directory", t.display()));
             }
         }
-        let mut temps: Vec<PathBuf> = Vec::with_capacity(self.files.len());
-        for ((name, bytes), target) in self.files.iter().zip(&targets) {
-            match write_temp(&self.dir, name, bytes) {
-                Ok(t) => temps.push(t),
-                Err(e) => {
-                    remove_all(&temps);
-                    return Err(format!("cannot write {}: {e}", target.display()));
-                }
-            }
+        // the temporary files are written (and synced) concurrently: their syncs wait on the
+        // disk, not the processor; on an error every temporary file written is removed and
+        // the first failure in file order is reported
+        let written: Vec<io::Result<PathBuf>> = self
+            .files
+            .par_iter()
+            .map(|(name, bytes)| write_temp(&self.dir, name, bytes))
+            .collect();
+        if let Some(k) = written.iter().position(Result::is_err) {
+            let ok: Vec<PathBuf> = written.iter().flatten().cloned().collect();
+            remove_all(&ok);
+            let e = written[k].as_ref().expect_err("a failed write");
+            return Err(format!("cannot write {}: {e}", targets[k].display()));
         }
+        let temps: Vec<PathBuf> = written.into_iter().flatten().collect();
         for (k, (temp, target)) in temps.iter().zip(&targets).enumerate() {
             if let Err(e) = fs::rename(temp, target) {
                 remove_all(&temps[k..]);

@@ -58,14 +58,13 @@ pub(crate) fn dither_in(
     range: impl Fn(usize) -> Range<usize>,
 ) -> Vec<u32> {
     let mut search = Indices::new(entries);
-    dither_with(normals, w, h, entries, scan, range, |v, r, hint| {
-        search.nearest(v, r, hint)
+    dither_with(normals, w, h, entries, scan, range, |v, r| {
+        search.nearest(v, r)
     })
 }
 
-/// [`dither_in`] with the nearest-entry search given (`nearest(v, range, hint)`: the answer
-/// of [`super::nearest`], `hint` the previous texel's answer in scan order, a guess that
-/// may speed the search but must not change it; the tests pass the brute force itself).
+/// [`dither_in`] with the nearest-entry search given (`nearest(v, range)`: the answer of
+/// [`super::nearest`]; the tests pass the brute force itself).
 pub(crate) fn dither_with(
     normals: &[DVec3],
     w: usize,
@@ -73,13 +72,12 @@ pub(crate) fn dither_with(
     entries: &[DVec3],
     scan: Scan,
     range: impl Fn(usize) -> Range<usize>,
-    mut nearest: impl FnMut(DVec3, Range<usize>, Option<u32>) -> u32,
+    mut nearest: impl FnMut(DVec3, Range<usize>) -> u32,
 ) -> Vec<u32> {
     assert_eq!(normals.len(), w * h, "dither: map size");
     assert!(!entries.is_empty(), "dither: empty table");
     let mut err = vec![DVec3::ZERO; w * h];
     let mut out = vec![0u32; w * h];
-    let mut hint = None;
     for y in 0..h {
         let back = scan == Scan::Serpentine && y % 2 == 1;
         for k in 0..w {
@@ -87,8 +85,7 @@ pub(crate) fn dither_with(
             let i = y * w + x;
             let r = range(i);
             let target = normals[i] + err[i];
-            let e = nearest(target, r.clone(), hint);
-            hint = Some(e);
+            let e = nearest(target, r.clone());
             out[i] = e;
             let d = target - entries[e as usize];
             let dir: isize = if back { -1 } else { 1 };

@@ -39,15 +39,12 @@ use rayon::prelude::*;
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
-/// A box: a slice `start..end` of the histogram, with its range and longest axis, and the
-/// order its normals had in the sort-every-box algorithm (`chain`, see [`Chain`]).
+/// A box in the heap of the sequential algorithm: node `node` of the split tree, with its
+/// range and the age `order` that break ties between equal ranges.
 struct Cut {
-    start: usize,
-    end: usize,
     range: f64,
-    axis: usize,
     order: usize,
-    chain: Option<usize>,
+    node: usize,
 }
 
 impl PartialEq for Cut {
@@ -70,20 +67,21 @@ impl Ord for Cut {
     }
 }
 
-/// The orders of the boxes: link `k` is a split along `axis` of a box whose order was `up`
-/// (`None`: the histogram's). A box made by that split is in the order [`Chain::cmp`] gives.
-struct Chain {
-    links: Vec<(usize, Option<usize>)>,
+/// The orders of the boxes: link `k` is the split of node `k` of the split tree, along its
+/// `axis`, of a box whose order was its `chain` (`None`: the histogram's). A box made by that
+/// split is in the order [`Chain::order`] of `Some(k)` gives.
+struct Chain<'a> {
+    links: &'a [Node],
 }
 
-impl Chain {
+impl Chain<'_> {
     /// The order of a box whose chain is `at`: the stable sorts of its ancestors, nearest
     /// first (along the axis, then all components), then the histogram's bit order.
     fn order(
         &self,
         at: Option<usize>,
     ) -> impl Fn(&(DVec3, usize), &(DVec3, usize)) -> Ordering + '_ {
-        let first = at.map(|k| self.links[k]);
+        let first = at.map(|k| (self.links[k].axis, self.links[k].chain));
         move |p, q| match first {
             Some((axis, up)) => match along(axis, p.0, q.0) {
                 Ordering::Equal => self.tie(up, p.0, q.0),
@@ -97,7 +95,9 @@ impl Chain {
     #[inline(never)]
     fn tie(&self, mut at: Option<usize>, p: DVec3, q: DVec3) -> Ordering {
         while let Some(k) = at {
-            let (axis, up) = self.links[k];
+            let Node {
+                axis, chain: up, ..
+            } = self.links[k];
             let o = along(axis, p, q);
             if o != Ordering::Equal {
                 return o;
@@ -147,9 +147,10 @@ pub(crate) fn histogram(normals: &[DVec3]) -> Vec<(DVec3, usize)> {
     out
 }
 
-/// The box `part`, at `start` of the histogram. Its range and axis do not depend on the
-/// order of `part` (see the module docs).
-fn make_cut(part: &[(DVec3, usize)], start: usize, order: usize, chain: Option<usize>) -> Cut {
+/// The range and longest axis of the box `part`; the range is `-1` for a single distinct
+/// normal (it cannot be split). They do not depend on the order of `part` (see the module
+/// docs).
+fn extent(part: &[(DVec3, usize)]) -> (f64, usize) {
     let mut lo = DVec3::splat(f64::INFINITY);
     let mut hi = DVec3::splat(f64::NEG_INFINITY);
     for (v, _) in part {
@@ -164,16 +165,9 @@ fn make_cut(part: &[(DVec3, usize)], start: usize, order: usize, chain: Option<u
     } else {
         2
     };
-    // a single distinct normal cannot be split: range 0 and never popped for splitting
+    // a single distinct normal cannot be split: range -1, never popped for splitting
     let range = if part.len() >= 2 { ext[axis] } else { -1.0 };
-    Cut {
-        start,
-        end: start + part.len(),
-        range,
-        axis,
-        order,
-        chain,
-    }
+    (range, axis)
 }
 
 /// Rearranges `part` (at least 2 normals) so that its first `j + 1` are the smallest in the
@@ -211,13 +205,117 @@ fn weighted_median(
     }
 }
 
+/// A box of the split tree: its slice of the histogram, range and axis, its chain (the node
+/// whose split made it; `None` for the root) and, once split, its two halves.
+#[derive(Clone, Copy)]
+struct Node {
+    start: usize,
+    end: usize,
+    range: f64,
+    axis: usize,
+    chain: Option<usize>,
+    kids: Option<(usize, usize)>,
+}
+
+/// The split tree over the histogram `h`: node `k`'s split is chain link `k` (its axis and
+/// its own chain), so a box's order is [`Chain::order`] of the node that made it.
+struct Tree {
+    nodes: Vec<Node>,
+}
+
+impl Tree {
+    fn chain(&self) -> Chain<'_> {
+        Chain { links: &self.nodes }
+    }
+
+    /// A node for the box `part` at `start`, made by the split of `chain`.
+    fn node(part: &[(DVec3, usize)], start: usize, chain: Option<usize>) -> Node {
+        let (range, axis) = extent(part);
+        Node {
+            start,
+            end: start + part.len(),
+            range,
+            axis,
+            chain,
+            kids: None,
+        }
+    }
+
+    /// Where node `k`'s box (`part`, at least 2 normals, its slice of the histogram) splits:
+    /// the weighted median in its order, which also rearranges `part`.
+    fn split_at(chain: &Chain, k: usize, part: &mut [(DVec3, usize)]) -> usize {
+        let j = weighted_median(part, chain.order(Some(k)));
+        (j + 1).clamp(1, part.len() - 1)
+    }
+
+    /// Adds the halves of node `k` split `at` (relative to its start).
+    fn add_kids(&mut self, h: &[(DVec3, usize)], k: usize, at: usize) -> (usize, usize) {
+        let Node { start, end, .. } = self.nodes[k];
+        let split = start + at;
+        let l = self.nodes.len();
+        self.nodes
+            .push(Self::node(&h[start..split], start, Some(k)));
+        self.nodes.push(Self::node(&h[split..end], split, Some(k)));
+        self.nodes[k].kids = Some((l, l + 1));
+        (l, l + 1)
+    }
+}
+
 /// At most `s_n` unit entries (`s_n >= 1`, `normals` non-empty, finite, non-zero).
+///
+/// The splits are worked out ahead, in parallel (rayon, one level of the tree at a time, each
+/// box its own slice of the histogram), for every splittable box down to the depth
+/// `floor(log2 s_n)`; then the heap of the sequential algorithm is replayed over that tree,
+/// splitting a box it reaches that was not worked out ahead. A split depends only on its
+/// box's normals and order, so the replay makes the boxes the sequential algorithm makes, in
+/// its order; the boxes split ahead that the replay does not split only rearranged normals
+/// within a box whose entry is summed after a sort in its own order (bit-identical,
+/// `tests::selection_equals_sorting`).
 pub fn median_cut(normals: &[DVec3], s_n: usize) -> Vec<DVec3> {
     let mut h = histogram(normals);
-    let mut chains = Chain { links: Vec::new() };
+    let mut tree = Tree {
+        nodes: vec![Tree::node(&h, 0, None)],
+    };
+    let depth = s_n.max(1).ilog2();
+    let mut level = vec![0usize];
+    for _ in 0..depth {
+        level.retain(|&k| tree.nodes[k].range >= 0.0);
+        if level.is_empty() {
+            break;
+        }
+        let chain = tree.chain();
+        let mut parts = Vec::with_capacity(level.len());
+        let mut rest = &mut h[..];
+        let mut at = 0;
+        for &k in &level {
+            let n = tree.nodes[k];
+            let (_, r) = std::mem::take(&mut rest).split_at_mut(n.start - at);
+            let (part, r) = r.split_at_mut(n.end - n.start);
+            parts.push(part);
+            rest = r;
+            at = n.end;
+        }
+        let splits: Vec<usize> = level
+            .par_iter()
+            .zip(parts)
+            .map(|(&k, part)| Tree::split_at(&chain, k, part))
+            .collect();
+        let mut next = Vec::with_capacity(2 * level.len());
+        for (&k, at) in level.iter().zip(splits) {
+            let (l, r) = tree.add_kids(&h, k, at);
+            next.extend([l, r]);
+        }
+        level = next;
+    }
+    // the sequential algorithm's heap, over the tree
+    let cut = |tree: &Tree, node: usize, order: usize| Cut {
+        range: tree.nodes[node].range,
+        order,
+        node,
+    };
     let mut heap = BinaryHeap::new();
     let mut order = 0;
-    heap.push(make_cut(&h, 0, order, None));
+    heap.push(cut(&tree, 0, order));
     let mut done = Vec::new();
     while heap.len() + done.len() < s_n {
         let Some(c) = heap.pop() else { break };
@@ -225,31 +323,38 @@ pub fn median_cut(normals: &[DVec3], s_n: usize) -> Vec<DVec3> {
             done.push(c);
             continue;
         }
-        // the halves are in the order of a stable sort of this box along its axis
-        chains.links.push((c.axis, c.chain));
-        let chain = Some(chains.links.len() - 1);
-        let j = weighted_median(&mut h[c.start..c.end], chains.order(chain));
-        let split = (c.start + j + 1).clamp(c.start + 1, c.end - 1);
+        let k = c.node;
+        let (l, r) = match tree.nodes[k].kids {
+            Some(kids) => kids,
+            None => {
+                let Node { start, end, .. } = tree.nodes[k];
+                let at = Tree::split_at(&tree.chain(), k, &mut h[start..end]);
+                tree.add_kids(&h, k, at)
+            }
+        };
         order += 1;
-        heap.push(make_cut(&h[c.start..split], c.start, order, chain));
+        heap.push(cut(&tree, l, order));
         order += 1;
-        heap.push(make_cut(&h[split..c.end], split, order, chain));
+        heap.push(cut(&tree, r, order));
     }
     // the boxes tile the histogram: their entries are computed at once (rayon, each from
-    // its own slice), then listed in the order the boxes were made
+    // its own slice, in the order of the node that made it), then listed in the order the
+    // boxes were made
+    let chains = tree.chain();
     let mut cuts: Vec<Cut> = done.into_iter().chain(heap).collect();
-    cuts.sort_by_key(|c| c.start);
+    cuts.sort_by_key(|c| tree.nodes[c.node].start);
     let mut parts = Vec::with_capacity(cuts.len());
     let mut rest = &mut h[..];
     for c in &cuts {
-        let (part, r) = std::mem::take(&mut rest).split_at_mut(c.end - c.start);
+        let n = &tree.nodes[c.node];
+        let (part, r) = std::mem::take(&mut rest).split_at_mut(n.end - n.start);
         parts.push(part);
         rest = r;
     }
     let mut entries: Vec<(usize, DVec3)> = cuts
         .par_iter()
         .zip(parts)
-        .map(|(c, part)| (c.order, entry(part, chains.order(c.chain))))
+        .map(|(c, part)| (c.order, entry(part, chains.order(tree.nodes[c.node].chain))))
         .collect();
     entries.sort_by_key(|e| e.0);
     entries.into_iter().map(|e| e.1).collect()

@@ -6,6 +6,7 @@ use super::super::dither::{dither_in, dither_with};
 use super::super::tests::mexican_hat_cells;
 use super::super::{dither, nearest, quantize, quantize_dithered, Quantizer, Scan};
 use super::super::{quantize_with_materials, quantize_with_materials_dithered};
+use super::cells::Cells;
 use super::*;
 use rand_xoshiro::rand_core::{RngCore, SeedableRng};
 use rand_xoshiro::Xoshiro256Plus;
@@ -47,13 +48,6 @@ fn check(entries: &[DVec3], range: Range<usize>, queries: &[DVec3], what: &str) 
             want,
             "{what}: query {k} {v:?}, range {range:?}, {} entries",
             entries.len()
-        );
-        // a search started from any entry, in the range or not (or past the table), too
-        let hint = (k * 7919 % (entries.len() + 3)) as u32;
-        assert_eq!(
-            ix.nearest_from(v, Some(hint)),
-            want,
-            "{what}: query {k} {v:?} from entry {hint}, range {range:?}"
         );
     }
 }
@@ -189,12 +183,12 @@ fn dithering_through_the_index_equals_dithering_by_brute_force() {
                 &p.entries,
                 scan,
                 |_| 0..n,
-                |v, r, _| nearest(v, &p.entries, r),
+                |v, r| nearest(v, &p.entries, r),
             );
             assert_eq!(dither(&map, 64, 64, &p.entries, scan), brute, "s_n {s_n}");
             // two candidate ranges, one per half of the map
             let half = |i: usize| if i % 64 < 32 { 0..n / 2 } else { n / 2..n };
-            let brute = dither_with(&map, 64, 64, &p.entries, scan, half, |v, r, _| {
+            let brute = dither_with(&map, 64, 64, &p.entries, scan, half, |v, r| {
                 nearest(v, &p.entries, r)
             });
             assert_eq!(dither_in(&map, 64, 64, &p.entries, scan, half), brute);
@@ -268,4 +262,146 @@ fn index_equals_brute_force_on_non_unit_entries() {
     assert!(!NearestIndex::of(&bad).is_tree());
     let q = queries(&mut rng, &base, 100);
     check(&bad, 0..bad.len(), &q, "non-finite entries");
+}
+
+/// Every query through [`Cells`] equals the brute force over `entries[range]`, asked twice
+/// (the first query of a cell builds its list, the second reads it).
+fn check_cells(entries: &[DVec3], range: Range<usize>, queries: &[DVec3], what: &str) -> Cells {
+    let ix = NearestIndex::new(entries, range.clone());
+    let mut cells = Cells::new(&ix).unwrap_or_else(|| panic!("{what}: no cells"));
+    for round in 0..2 {
+        for (k, &v) in queries.iter().enumerate() {
+            let want = nearest(v, entries, range.clone());
+            assert_eq!(
+                cells.nearest(&ix, v),
+                want,
+                "{what}: query {k} {v:?} (round {round}), range {range:?}, g {}",
+                cells.side()
+            );
+        }
+    }
+    cells
+}
+
+/// Directions on the cells' boundaries, corners and the cube's edges and corners, exactly
+/// and a few ulps off, for `g` cells per face side.
+fn boundary_queries(g: usize) -> Vec<DVec3> {
+    let mut q = Vec::new();
+    let step = |k: usize| -1.0 + 2.0 * k as f64 / g as f64;
+    for f in 0..3 {
+        for sign in [1.0, -1.0] {
+            for a in (0..=g).step_by((g / 7).max(1)) {
+                for b in (0..=g).step_by((g / 5).max(1)) {
+                    for d in [0.0, 1e-16, -1e-16, 1e-9] {
+                        let mut v = DVec3::ZERO;
+                        v[f] = sign;
+                        v[(f + 1) % 3] = step(a) + d;
+                        v[(f + 2) % 3] = step(b) - d;
+                        q.push(v);
+                        q.push(v.normalize());
+                    }
+                }
+            }
+        }
+    }
+    for x in [-1.0, 1.0] {
+        for y in [-1.0, 1.0] {
+            q.extend([
+                DVec3::new(x, y, 1.0),
+                DVec3::new(x, y, -1.0),
+                DVec3::new(x, y, 0.0),
+            ]);
+            q.extend([DVec3::new(x, 0.0, y), DVec3::new(0.0, x, y)]);
+        }
+    }
+    q
+}
+
+#[test]
+fn cells_equal_brute_force_on_unit_tables() {
+    let mut rng = Xoshiro256Plus::seed_from_u64(20);
+    for n in [32, 33, 64, 100, 256, 1000, 2048, 4097] {
+        for cone in [false, true] {
+            let entries: Vec<DVec3> = (0..n)
+                .map(|_| if cone { bump(&mut rng) } else { unit(&mut rng) })
+                .collect();
+            let mut q = queries(&mut rng, &entries, if n > 2000 { 150 } else { 400 });
+            let g = Cells::new(&NearestIndex::of(&entries)).unwrap().side();
+            q.extend(boundary_queries(g));
+            let what = format!("{n} entries, cone {cone}");
+            let cells = check_cells(&entries, 0..n, &q, &what);
+            assert!(cells.built() > 0, "{what}");
+        }
+    }
+}
+
+#[test]
+fn cells_equal_brute_force_with_ties_ranges_and_quantized_maps() {
+    let mut rng = Xoshiro256Plus::seed_from_u64(21);
+    // repeated unit entries: exact ties, answered with the lowest index
+    let distinct: Vec<DVec3> = (0..60).map(|_| bump(&mut rng)).collect();
+    let mut entries: Vec<DVec3> = (0..300).map(|i| distinct[i % 60]).collect();
+    for i in (1..300).rev() {
+        entries.swap(i, rng.next_u64() as usize % (i + 1));
+    }
+    let q = queries(&mut rng, &entries, 300);
+    check_cells(&entries, 0..300, &q, "ties");
+    // the axes and their opposites (queries between them tie exactly)
+    let mut axes = vec![
+        DVec3::X,
+        DVec3::Y,
+        DVec3::Z,
+        -DVec3::X,
+        -DVec3::Y,
+        -DVec3::Z,
+    ];
+    axes = axes.iter().cycle().take(36).copied().collect();
+    let mut q = queries(&mut rng, &axes, 100);
+    q.extend(boundary_queries(
+        Cells::new(&NearestIndex::of(&axes)).unwrap().side(),
+    ));
+    check_cells(&axes, 0..36, &q, "axes");
+    // sub-ranges, as the materials' intervals
+    let entries: Vec<DVec3> = (0..3000).map(|_| unit(&mut rng)).collect();
+    for r in [0..3000, 100..200, 2500..3000, 7..40] {
+        let q = queries(&mut rng, &entries[r.clone()], 200);
+        check_cells(&entries, r, &q, "sub-range");
+    }
+    // median-cut tables and their maps' own normals plus diffused error
+    let map = mexican_hat_cells(64, 3);
+    for s_n in [64, 256, 2048] {
+        let p = quantize(&map, s_n, Quantizer::MedianCut).unwrap();
+        let mut q = map.clone();
+        q.extend(map.iter().map(|&n| n + (unit(&mut rng) * 0.05)));
+        check_cells(
+            &p.entries,
+            0..p.entries.len(),
+            &q,
+            &format!("median cut {s_n}"),
+        );
+    }
+}
+
+#[test]
+fn cells_only_for_unit_tables_with_a_tree() {
+    let mut rng = Xoshiro256Plus::seed_from_u64(22);
+    let unit_table: Vec<DVec3> = (0..500).map(|_| unit(&mut rng)).collect();
+    assert!(Cells::new(&NearestIndex::of(&unit_table)).is_some());
+    // too small for a tree: brute force, no cells
+    assert!(Cells::new(&NearestIndex::of(&unit_table[..20])).is_none());
+    // one entry off unit length by more than 1e-12
+    let mut off = unit_table.clone();
+    off[7] *= 1.0 + 1e-11;
+    assert!(Cells::new(&NearestIndex::of(&off)).is_none());
+    let scaled: Vec<DVec3> = unit_table.iter().map(|&e| e * 2.0).collect();
+    assert!(Cells::new(&NearestIndex::of(&scaled)).is_none());
+    // cells per side follow the spread: a tight cone gets finer cells than the sphere
+    let cone: Vec<DVec3> = (0..500)
+        .map(|_| (DVec3::Z + unit(&mut rng) * 0.05).normalize())
+        .collect();
+    let (gs, gc) = (
+        Cells::new(&NearestIndex::of(&unit_table)).unwrap().side(),
+        Cells::new(&NearestIndex::of(&cone)).unwrap().side(),
+    );
+    assert!(gc > 4 * gs, "sphere {gs}, cone {gc}");
 }
