@@ -1,8 +1,9 @@
 //! Criterion benchmarks of the quantize preprocessing (issue 16): the exact nearest-entry
 //! search (`quantize::NearestIndex`, a k-d tree) against the brute force `quantize::nearest`
 //! for 262,144 texels (512x512) and 2,048 / 16,384 median-cut entries, Floyd–Steinberg
-//! dithering through the index, and median cut by selection against the sort-every-box
-//! reference on a 65,536-texel (256x256) map. Both sides of each pair give the same answers
+//! dithering through the index (and its direction cells, `quantize/search/cells.rs`), and
+//! median cut by selection against the sort-every-box reference on a 65,536-texel (256x256)
+//! map. Both sides of each pair give the same answers
 //! bit for bit (`quantize` tests). The maps are the Mexican hat of `quantize::tests` with 3
 //! cells (no repeated normals within a cell). Report ratios of medians measured in one run
 //! (machines here are noisy); one thread throughout.

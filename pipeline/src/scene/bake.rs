@@ -133,6 +133,7 @@ pub fn bake(
                 nearest_covered(&covered, size as usize)
             };
             (0..n)
+                .into_par_iter()
                 .map(|k| {
                     values[k]
                         .or_else(|| source.get(k).copied().flatten().and_then(|s| values[s]))
