@@ -6,7 +6,7 @@
 //! yosys (or none installed) is an error (exit 1) naming the unit, never a silent model-only
 //! table.
 
-use crate::rtl_cmd::{engine_unit, generate, loadable_tables_ge, module_name};
+use crate::rtl_cmd::{engine_unit, generate, module_name, tables_ge};
 use crate::Failure;
 use bumpsim_hw::rtl::synth::{self, Synth};
 use bumpsim_pipeline::config::Loaded;
@@ -79,7 +79,7 @@ fn synthesise(l: &Loaded) -> Result<Vec<Row>, Failure> {
         rows.push(Row {
             name,
             model: budget.total(),
-            model_tables: loadable_tables_ge(&budget),
+            model_tables: tables_ge(&budget),
             synth,
         });
     }
@@ -126,8 +126,8 @@ fn text(l: &Loaded, g: &Gates, rows: Option<&[Row]>) -> String {
         s.push_str(
             "yosys: `synth; abc -g AND,NAND,OR,NOR,XOR,XNOR,MUX` priced with the 45 nm cell \
              areas, flip-flops 5.67 GE (docs/rtl.md)\n\
-             logic: the total without the tables (the model's loadable power table; yosys's ROM \
-             of its contents)\n",
+             logic: the total without the tables (the model's loadable tables and ROMs; yosys's \
+             ROM modules of their contents)\n",
         );
     }
     s.push('\n');

@@ -201,10 +201,11 @@ pub(crate) fn generate(
     Ok(Some(g))
 }
 
-/// The model's loadable tables (its memory items) in a budget: synthesis builds them as ROMs
-/// of their contents, so they are compared apart from the logic.
-pub(crate) fn loadable_tables_ge(b: &bumpsim_hw::GateBudget) -> f64 {
-    b.memory()
+/// The model's tables in a budget, loadable (its memory items, which synthesis builds as ROMs
+/// of their contents) and of fixed contents (its ROM items): compared apart from the logic,
+/// as yosys prices each ROM module apart.
+pub(crate) fn tables_ge(b: &bumpsim_hw::GateBudget) -> f64 {
+    b.memory() + b.rom()
 }
 
 fn regs_text(u: &RtlUnit) -> String {
@@ -313,7 +314,7 @@ pub fn execute(l: &Loaded, out: &Path, cosim: usize, synth_on: bool) -> Result<(
         if synth_on {
             match synth::synthesise(&g.rtl, &out.join("synth").join(&uc.name)) {
                 Ok(s) => {
-                    let tables = loadable_tables_ge(&unit.gates(table));
+                    let tables = tables_ge(&unit.gates(table));
                     let _ = write!(
                         line,
                         "  yosys {:.1} GE; logic model {:.1} / yosys {:.1} = {:.3}",

@@ -136,6 +136,28 @@ impl Acc {
     }
 }
 
+/// The canonical signed-digit form of `k`: `(shift, +1 or -1)` terms, fewest nonzero (the
+/// shifts and adds of a constant multiplication, `rtl::fixed` and
+/// `CostTable::constant_multiplier`).
+pub fn csd(mut k: u128) -> Vec<(u32, i8)> {
+    let mut d = Vec::new();
+    let mut i = 0;
+    while k != 0 {
+        if k & 1 == 1 {
+            if k & 3 == 3 {
+                d.push((i, -1));
+                k += 1;
+            } else {
+                d.push((i, 1));
+                k -= 1;
+            }
+        }
+        k >>= 1;
+        i += 1;
+    }
+    d
+}
+
 /// Smallest number of bits that holds `v` unsigned (0 for 0).
 pub fn bit_length(v: u128) -> u32 {
     128 - v.leading_zeros()

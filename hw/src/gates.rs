@@ -21,7 +21,8 @@ pub struct CostTable {
     pub mux2: f64,
     /// Half adder.
     pub half_adder: f64,
-    /// Full adder.
+    /// Full adder: one ripple-adder bit as synthesis builds it from gates (calibrated on
+    /// yosys, docs/gates.md; the library's compound FA cell is 5.33 GE).
     pub full_adder: f64,
     /// D flip-flop.
     pub dff: f64,
@@ -80,7 +81,7 @@ impl Default for CostTable {
             xor2: 2.0,
             mux2: 2.33,
             half_adder: 3.33,
-            full_adder: 5.33,
+            full_adder: FULL_ADDER_GE,
             dff: 5.67,
             reg_bit: 8.0,
             rom_bit: 0.4,
@@ -91,6 +92,13 @@ impl Default for CostTable {
         }
     }
 }
+
+/// The calibrated full-adder price: a ripple-adder bit as `synth; abc` builds it from the
+/// library's gates (XOR, NAND, AND-OR). yosys 0.23 measures 6.6, 7.0 and 7.2 GE a bit for 8-,
+/// 16- and 24-bit adders and 6.8-7.3 GE per full adder of the 8x8 to 16x16 array multipliers
+/// (`hw/tests/gates_yosys.rs`); the figure is the one that puts every generated unit of the
+/// bundled configs within +-10% of its synthesis (`hw/tests/rtl_synth.rs`, docs/gates.md).
+pub const FULL_ADDER_GE: f64 = 6.8;
 
 impl CostTable {
     /// The largest price a config may give a primitive, in GE (the largest default is 8).
@@ -156,6 +164,18 @@ impl CostTable {
     pub fn comparator(&self, n: u32) -> f64 {
         self.adder(n)
     }
+    /// `x * k` for a constant `k > 0` on an `n`-bit `x`, as the canonical-signed-digit
+    /// shifts and adds the generated Verilog has (`arith::csd`): one `n`-bit adder per
+    /// nonzero digit after the first.
+    pub fn constant_multiplier(&self, n: u32, k: u128) -> f64 {
+        crate::arith::csd(k).len().saturating_sub(1) as f64 * self.adder(n)
+    }
+    /// A sequencer's step counter over `steps` clocks: a register bit and an incrementer bit
+    /// per bit of the count.
+    pub fn sequencer(&self, steps: u32) -> f64 {
+        let bits = (32 - steps.leading_zeros()).max(1) as f64;
+        (self.reg_bit + self.half_adder) * bits
+    }
     /// Hard-wired table of `entries` words of `bits` bits.
     pub fn rom(&self, entries: u64, bits: u32) -> f64 {
         self.rom_bit * entries as f64 * bits as f64
@@ -186,6 +206,10 @@ pub struct GateItem {
     /// A table's storage (priced by [`CostTable::table`]), reported apart from the logic.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub memory: bool,
+    /// A table of fixed contents ([`CostTable::rom`]): logic in the total, but compared with
+    /// synthesis apart (yosys prices each ROM module by its contents).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub rom: bool,
 }
 
 /// A unit's itemised gate estimate.
@@ -200,18 +224,23 @@ impl GateBudget {
     }
     /// Add `count` copies of a primitive costing `ge` each.
     pub fn add(&mut self, what: impl Into<String>, count: u32, ge: f64) -> &mut Self {
-        self.push(what.into(), count, ge, false)
+        self.push(what.into(), count, ge, Store::Logic)
+    }
+    /// Add `count` copies of a table of fixed contents costing `ge` each ([`CostTable::rom`]).
+    pub fn add_rom(&mut self, what: impl Into<String>, count: u32, ge: f64) -> &mut Self {
+        self.push(what.into(), count, ge, Store::Rom)
     }
     /// Add `count` copies of a table's storage costing `ge` each ([`CostTable::table`]).
     pub fn add_memory(&mut self, what: impl Into<String>, count: u32, ge: f64) -> &mut Self {
-        self.push(what.into(), count, ge, true)
+        self.push(what.into(), count, ge, Store::Memory)
     }
-    fn push(&mut self, what: String, count: u32, ge: f64, memory: bool) -> &mut Self {
+    fn push(&mut self, what: String, count: u32, ge: f64, store: Store) -> &mut Self {
         if count > 0 && ge > 0.0 {
             self.items.push(GateItem {
                 what,
                 ge: ge * count as f64,
-                memory,
+                memory: store == Store::Memory,
+                rom: store == Store::Rom,
             });
         }
         self
@@ -220,7 +249,12 @@ impl GateBudget {
     /// memory items stay memory).
     pub fn add_part(&mut self, prefix: &str, count: u32, part: GateBudget) -> &mut Self {
         for i in part.items {
-            self.push(format!("{prefix}{}", i.what), count, i.ge, i.memory);
+            let store = match (i.memory, i.rom) {
+                (true, _) => Store::Memory,
+                (false, true) => Store::Rom,
+                (false, false) => Store::Logic,
+            };
+            self.push(format!("{prefix}{}", i.what), count, i.ge, store);
         }
         self
     }
@@ -233,9 +267,26 @@ impl GateBudget {
             .sum::<f64>()
             + 0.0
     }
+    /// The tables of fixed contents ([`GateBudget::add_rom`] items) in the total.
+    pub fn rom(&self) -> f64 {
+        self.items
+            .iter()
+            .filter(|i| i.rom)
+            .map(|i| i.ge)
+            .sum::<f64>()
+            + 0.0
+    }
     pub fn total(&self) -> f64 {
         self.items.iter().map(|i| i.ge).sum()
     }
+}
+
+/// Where an item's area sits: logic, a loadable table, or a table of fixed contents.
+#[derive(Clone, Copy, PartialEq)]
+enum Store {
+    Logic,
+    Memory,
+    Rom,
 }
 
 #[cfg(test)]
@@ -245,9 +296,15 @@ mod tests {
     #[test]
     fn derived_figures_follow_the_cell_table() {
         let t = CostTable::default();
-        assert!((t.adder(16) - 85.28).abs() < 1e-9);
+        assert!((t.adder(16) - 16.0 * 6.8).abs() < 1e-9);
         // 8x8: 64 ANDs + 56 full adders
-        assert!((t.multiplier(8, 8) - (64.0 * 1.33 + 56.0 * 5.33)).abs() < 1e-9);
+        assert!((t.multiplier(8, 8) - (64.0 * 1.33 + 56.0 * 6.8)).abs() < 1e-9);
+        // 255 * 257 = 2^16 - 1: one subtractor; (2^12 + 1)(2^8 - 1): three adders
+        assert!((t.constant_multiplier(20, 255 * 257) - t.adder(20)).abs() < 1e-9);
+        assert!((t.constant_multiplier(20, 4097 * 255) - 3.0 * t.adder(20)).abs() < 1e-9);
+        assert_eq!(t.constant_multiplier(20, 1 << 9), 0.0);
+        assert!((t.sequencer(1) - (8.0 + 3.33)).abs() < 1e-9);
+        assert!((t.sequencer(4) - 3.0 * (8.0 + 3.33)).abs() < 1e-9);
         assert!((t.squarer(8) - 0.5 * t.multiplier(8, 8)).abs() < 1e-9);
         assert!((t.mux(8, 4) - 8.0 * 3.0 * 2.33).abs() < 1e-9);
         assert!((t.rom(256, 8) - 819.2).abs() < 1e-9);
@@ -312,6 +369,6 @@ mod tests {
             .add("reg 8", 1, t.register(8))
             .add("nothing", 0, 5.0);
         assert_eq!(b.items.len(), 2);
-        assert!((b.total() - (3.0 * 42.64 + 64.0)).abs() < 1e-9);
+        assert!((b.total() - (3.0 * 8.0 * 6.8 + 64.0)).abs() < 1e-9);
     }
 }

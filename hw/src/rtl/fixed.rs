@@ -255,26 +255,14 @@ pub fn sub(m: &mut Module, a: &Fx, b: &Fx) -> Fx {
     with_fac(d, c)
 }
 
-/// The canonical signed-digit form of `k > 0`: `(shift, +1 or -1)` terms, fewest nonzero.
-fn csd(mut k: i128) -> Vec<(u32, i8)> {
-    let mut d = Vec::new();
-    let mut i = 0;
-    while k != 0 {
-        if k & 1 == 1 {
-            let digit: i8 = if k & 3 == 3 { -1 } else { 1 };
-            d.push((i, digit));
-            k -= digit as i128;
-        }
-        k >>= 1;
-        i += 1;
-    }
-    d
-}
-
 /// `x * k` for a constant `k != 0` as shifts and adds (canonical signed digits).
 pub(super) fn csd_expr(x: &str, k: i128) -> String {
     let mut e = String::new();
-    for (i, (sh, dg)) in csd(k.abs()).into_iter().rev().enumerate() {
+    for (i, (sh, dg)) in crate::arith::csd(k.unsigned_abs())
+        .into_iter()
+        .rev()
+        .enumerate()
+    {
         let neg = (dg < 0) != (k < 0);
         let t = if sh == 0 {
             x.to_string()

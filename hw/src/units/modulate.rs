@@ -72,10 +72,20 @@ impl Unit for Modulate {
             let wp = wc + wt;
             g.add(format!("cast shift-and-add {wp}"), 3 * reps, t.adder(wp));
         }
+        // the clamp to [0, 1] is logic only where a product can leave it (the generated
+        // Verilog tracks the range and drops it otherwise, `rtl::modulate`)
+        let in_unit = |e: &Encoding| {
+            e.decode(e.format.min_raw()) >= 0.0 && e.decode(e.format.max_raw()) <= 1.0
+        };
+        let clamp = if in_unit(&self.inputs[0].enc) && in_unit(&self.inputs[1].enc) {
+            0.0
+        } else {
+            t.clamp(wo)
+        };
         g.add(
             format!("rounding and clamp {wo}"),
             3,
-            t.half_adder * wo as f64 + t.clamp(wo),
+            t.half_adder * wo as f64 + clamp,
         );
         g.add(format!("output register {}", 3 * wo), 1, t.register(3 * wo));
         g

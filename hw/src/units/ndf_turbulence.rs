@@ -103,7 +103,7 @@ impl Unit for TurbulenceIndex {
         let f = self.frac;
         let n = 2 * self.octaves; // two random numbers, one datapath per octave each
         let mut g = GateBudget::new();
-        g.add(
+        g.add_rom(
             "permutation ROM 256 x 8 (4 corners x 3 lookups)",
             n * 12,
             t.rom(256, 8),

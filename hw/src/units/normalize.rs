@@ -101,7 +101,7 @@ impl Rsqrt {
             t.mux(width, 2) * levels as f64,
         );
         let (entries, vb) = (self.entries(), self.value_bits());
-        g.add(
+        g.add_rom(
             format!("{label}rsqrt table {entries}x{vb}"),
             1,
             t.rom(entries, vb),

@@ -616,7 +616,7 @@ impl PaletteBuilder {
         }
         if env_bits > 0 {
             // sphere-map address: 1/m from a 1024 x 12 ROM and two multipliers
-            g.add("sphere-map 1/m table 1024x12", p, t.rom(1024, 12));
+            g.add_rom("sphere-map 1/m table 1024x12", p, t.rom(1024, 12));
             g.add(
                 format!("sphere-map address multiplier {wd}x12"),
                 2 * p,

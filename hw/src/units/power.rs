@@ -93,10 +93,19 @@ impl Unit for PowerTable {
             self.parallel,
             t.table(self.table.len() as u64, vb),
         );
+        // the index: `(x << n) - x` of the input word rounded to n bits (`rtl::power`): a
+        // subtractor where the two copies overlap (the input bits beyond n), a borrow and
+        // carry chain (a half adder a bit) over the other n
+        let n = self.index_bits;
         g.add(
             format!("index rounding {wi}"),
             self.parallel,
-            t.adder(wi) + t.clamp(self.index_bits),
+            t.adder(wi.saturating_sub(n)) + t.half_adder * wi.min(n) as f64 + t.clamp(n),
+        );
+        g.add(
+            format!("sequencer counter {}", self.interval()),
+            1,
+            t.sequencer(self.interval()),
         );
         g.add(
             format!("result register {vb}"),

@@ -193,18 +193,21 @@ impl Unit for Shade {
         if self.has.src.is_some() {
             g.add(format!("source colour adder {acc}"), 3, t.adder(acc));
         }
-        // the exact cast: x (2^n - 1) for the unit codecs (a subtractor), and the rounding
-        match out.codec {
-            Codec::UnitUnsigned | Codec::UnitSymmetric => {
-                g.add(
-                    format!("output cast x(2^{wo}-1) and rounding {acc}"),
-                    3,
-                    t.adder(acc),
-                );
-            }
-            Codec::Fixed | Codec::UnitSigned => {
-                g.add(format!("output rounding {wo}"), 3, t.half_adder * wo as f64);
-            }
+        // the exact cast: the sum's common factor prod (2^n + 1) of its replicated reads and,
+        // for the unit codecs, x (2^n - 1), folded into one constant whose signed digits are
+        // the shifts and adds (8-bit codes: 2^16 - 1, one subtractor; 12-bit coefficients into
+        // 8 bits: 2^20 - 2^12 + 2^8 - 1, three); the rounding rides on them
+        let unit_out = matches!(out.codec, Codec::UnitUnsigned | Codec::UnitSymmetric);
+        let k = common_reps(&terms)
+            .iter()
+            .fold(1u128, |k, &n| k * ((1u128 << n) + 1))
+            * if unit_out { (1u128 << wo) - 1 } else { 1 };
+        let cast = t.constant_multiplier(acc, k);
+        if cast > 0.0 {
+            g.add(format!("output cast x{k} and rounding {acc}"), 3, cast);
+        }
+        if !unit_out {
+            g.add(format!("output rounding {wo}"), 3, t.half_adder * wo as f64);
         }
         g.add(format!("output clamp {wo}"), 3, t.clamp(wo));
         g.add(format!("output register {}", 3 * wo), 1, t.register(3 * wo));
