@@ -198,11 +198,20 @@ impl Unit for Shade {
         // the shifts and adds (8-bit codes: 2^16 - 1, one subtractor; 12-bit coefficients into
         // 8 bits: 2^20 - 2^12 + 2^8 - 1, three); the rounding rides on them
         let unit_out = matches!(out.codec, Codec::UnitUnsigned | Codec::UnitSymmetric);
-        let k = common_reps(&terms)
+        let mut factors: Vec<u128> = common_reps(&terms)
             .iter()
-            .fold(1u128, |k, &n| k * ((1u128 << n) + 1))
-            * if unit_out { (1u128 << wo) - 1 } else { 1 };
-        let cast = t.constant_multiplier(acc, k);
+            .map(|&n| (1u128 << n) + 1)
+            .collect();
+        if unit_out {
+            factors.push((1u128 << wo) - 1);
+        }
+        // (three 32-bit codes overflow the folded constant: then each factor apart, one
+        // adder each, an upper bound)
+        let cast = match factors.iter().try_fold(1u128, |k, &f| k.checked_mul(f)) {
+            Some(k) => t.constant_multiplier(acc, k),
+            None => factors.len() as f64 * t.adder(acc),
+        };
+        let k = factors.iter().fold(1u128, |k, &f| k.saturating_mul(f));
         if cast > 0.0 {
             g.add(format!("output cast x{k} and rounding {acc}"), 3, cast);
         }
@@ -378,6 +387,45 @@ mod tests {
             parallel,
             out,
         )
+    }
+
+    #[test]
+    fn the_cast_is_priced_by_the_digits_of_its_folded_constant() {
+        let t = CostTable::default();
+        let cast = |coef: Encoding, ie: Encoding, base: Option<Encoding>, out: Encoding| {
+            let params = ShadeParams {
+                ambient: [0.1; 3],
+                diffuse: [0.8; 3],
+                specular: [0.0; 3],
+                light_colors: vec![[1.0; 3]],
+            };
+            let has = ShadeInputs {
+                specular: None,
+                base,
+                src: None,
+            };
+            let g = Shade::new(ie, has, params, coef, 1, out).gates(&t);
+            g.items
+                .iter()
+                .find(|i| i.what.starts_with("output cast"))
+                .map(|i| (i.what.clone(), i.ge))
+        };
+        let fx = Encoding::fixed(Format::u(9, 8));
+        let u = |n| Encoding::texel(Codec::UnitUnsigned, false, n);
+        // 8-bit coefficients: (2^8 + 1)(2^8 - 1) = 2^16 - 1, one subtractor a channel
+        let (what, ge) = cast(u(8), fx, None, u(8)).unwrap();
+        assert!(what.starts_with("output cast x65535 "), "{what}");
+        let acc: u32 = what.rsplit(' ').next().unwrap().parse().unwrap();
+        assert!((ge - 3.0 * t.adder(acc)).abs() < 1e-9);
+        // 12-bit: (2^12 + 1)(2^8 - 1) = 2^20 - 2^12 + 2^8 - 1, three adders
+        let (what, ge) = cast(u(12), fx, None, u(8)).unwrap();
+        let acc: u32 = what.rsplit(' ').next().unwrap().parse().unwrap();
+        assert!((ge - 9.0 * t.adder(acc)).abs() < 1e-9, "{what}");
+        // three 32-bit replicated reads into a 32-bit code overflow the folded constant
+        // (131 bits): priced a factor at a time (four adders a channel), no overflow
+        let (what, ge) = cast(u(32), u(32), Some(u(32)), u(32)).unwrap();
+        let acc: u32 = what.rsplit(' ').next().unwrap().parse().unwrap();
+        assert!((ge - 12.0 * t.adder(acc)).abs() < 1e-9, "{what}");
     }
 
     #[test]
