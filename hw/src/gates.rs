@@ -260,18 +260,17 @@ impl GateBudget {
     }
     /// The tables' storage ([`GateBudget::add_memory`] items) in the total.
     pub fn memory(&self) -> f64 {
-        self.items
-            .iter()
-            .filter(|i| i.memory)
-            .map(|i| i.ge)
-            .sum::<f64>()
-            + 0.0
+        self.sum_of(|i| i.memory)
     }
     /// The tables of fixed contents ([`GateBudget::add_rom`] items) in the total.
     pub fn rom(&self) -> f64 {
+        self.sum_of(|i| i.rom)
+    }
+    /// The items `which` picks, summed (`+ 0.0`: none gives +0, not the empty sum's -0).
+    fn sum_of(&self, which: impl Fn(&GateItem) -> bool) -> f64 {
         self.items
             .iter()
-            .filter(|i| i.rom)
+            .filter(|i| which(i))
             .map(|i| i.ge)
             .sum::<f64>()
             + 0.0
@@ -359,6 +358,16 @@ mod tests {
         }
         // no tables: memory is +0, not -0
         assert!(GateBudget::new().memory().is_sign_positive());
+        assert!(GateBudget::new().rom().is_sign_positive());
+        let mut b = GateBudget::new();
+        b.add_rom("rom", 2, 10.0)
+            .add_memory("ram", 1, 3.0)
+            .add("logic", 1, 1.0);
+        let mut c = GateBudget::new();
+        c.add_part("u.", 1, b.clone());
+        for g in [&b, &c] {
+            assert_eq!((g.rom(), g.memory(), g.total()), (20.0, 3.0, 24.0));
+        }
     }
 
     #[test]
