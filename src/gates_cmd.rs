@@ -6,7 +6,7 @@
 //! yosys (or none installed) is an error (exit 1) naming the unit, never a silent model-only
 //! table.
 
-use crate::rtl_cmd::{engine_unit, generate, module_name, tables_ge};
+use crate::rtl_cmd::{engine_unit, generate, module_name};
 use crate::Failure;
 use bumpsim_hw::rtl::synth::{self, Synth};
 use bumpsim_pipeline::config::Loaded;
@@ -79,7 +79,7 @@ fn synthesise(l: &Loaded) -> Result<Vec<Row>, Failure> {
         rows.push(Row {
             name,
             model: budget.total(),
-            model_tables: tables_ge(&budget),
+            model_tables: budget.tables(),
             synth,
         });
     }

@@ -201,13 +201,6 @@ pub(crate) fn generate(
     Ok(Some(g))
 }
 
-/// The model's tables in a budget, loadable (its memory items, which synthesis builds as ROMs
-/// of their contents) and of fixed contents (its ROM items): compared apart from the logic,
-/// as yosys prices each ROM module apart.
-pub(crate) fn tables_ge(b: &bumpsim_hw::GateBudget) -> f64 {
-    b.memory() + b.rom()
-}
-
 fn regs_text(u: &RtlUnit) -> String {
     let mut s = String::from("# addr width value what (host-loaded registers, cfg_* port)\n");
     for (i, c) in u.config.iter().enumerate() {
@@ -314,7 +307,7 @@ pub fn execute(l: &Loaded, out: &Path, cosim: usize, synth_on: bool) -> Result<(
         if synth_on {
             match synth::synthesise(&g.rtl, &out.join("synth").join(&uc.name)) {
                 Ok(s) => {
-                    let tables = tables_ge(&unit.gates(table));
+                    let tables = unit.gates(table).tables();
                     let _ = write!(
                         line,
                         "  yosys {:.1} GE; logic model {:.1} / yosys {:.1} = {:.3}",

@@ -248,13 +248,12 @@ impl GateBudget {
     /// Add `count` copies of every item of a part's budget, named `prefix` + the item (the
     /// memory items stay memory).
     pub fn add_part(&mut self, prefix: &str, count: u32, part: GateBudget) -> &mut Self {
-        for i in part.items {
-            let store = match (i.memory, i.rom) {
-                (true, _) => Store::Memory,
-                (false, true) => Store::Rom,
-                (false, false) => Store::Logic,
-            };
-            self.push(format!("{prefix}{}", i.what), count, i.ge, store);
+        if count > 0 {
+            self.items.extend(part.items.into_iter().map(|i| GateItem {
+                what: format!("{prefix}{}", i.what),
+                ge: i.ge * count as f64,
+                ..i
+            }));
         }
         self
     }
@@ -265,6 +264,11 @@ impl GateBudget {
     /// The tables of fixed contents ([`GateBudget::add_rom`] items) in the total.
     pub fn rom(&self) -> f64 {
         self.sum_of(|i| i.rom)
+    }
+    /// Every table, loadable and of fixed contents: what synthesis builds as ROM modules and
+    /// prices apart from the logic (`bumpsim gates --synth`, `hw/tests/rtl_synth.rs`).
+    pub fn tables(&self) -> f64 {
+        self.memory() + self.rom()
     }
     /// The items `which` picks, summed (`+ 0.0`: none gives +0, not the empty sum's -0).
     fn sum_of(&self, which: impl Fn(&GateItem) -> bool) -> f64 {

@@ -37,7 +37,7 @@ fn yosys_available() -> bool {
 fn split(g: &GateBudget) -> (f64, f64) {
     // the model's tables: its memory items (the loadable power tables) and its ROMs (the
     // reciprocal square root), each a ROM module that yosys prices apart
-    let table = g.memory() + g.rom();
+    let table = g.tables();
     (g.total() - table, table)
 }
 

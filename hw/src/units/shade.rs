@@ -207,11 +207,17 @@ impl Unit for Shade {
         }
         // (three 32-bit codes overflow the folded constant: then each factor apart, one
         // adder each, an upper bound)
-        let cast = match factors.iter().try_fold(1u128, |k, &f| k.checked_mul(f)) {
-            Some(k) => t.constant_multiplier(acc, k),
-            None => factors.len() as f64 * t.adder(acc),
+        let (k, cast) = match factors.iter().try_fold(1u128, |k, &f| k.checked_mul(f)) {
+            Some(k) => (k.to_string(), t.constant_multiplier(acc, k)),
+            None => (
+                factors
+                    .iter()
+                    .map(u128::to_string)
+                    .collect::<Vec<_>>()
+                    .join("x"),
+                factors.len() as f64 * t.adder(acc),
+            ),
         };
-        let k = factors.iter().fold(1u128, |k, &f| k.saturating_mul(f));
         if cast > 0.0 {
             g.add(format!("output cast x{k} and rounding {acc}"), 3, cast);
         }
