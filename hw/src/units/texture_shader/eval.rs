@@ -194,6 +194,8 @@ pub(crate) struct FixedArith {
     pub offset_frac: u32,
     /// Fraction bits of the level-of-detail input.
     pub lod_frac: u32,
+    /// [`super::ShaderParams::convert_frac`].
+    pub convert_frac: Option<u32>,
 }
 
 impl FixedArith {
@@ -282,7 +284,7 @@ impl Arith for FixedArith {
         let m = prev.lanes[st.offset.lanes[2]].raw;
         let of = self.offset_frac;
         if st.offset.luminance_unclamped {
-            if let Some(()) = nv2a_luminance(texel, m, st, &p.out_enc, of) {
+            if let Some(()) = nv2a_luminance(texel, m, st, &p.out_enc, of, self.convert_frac) {
                 return;
             }
         }
@@ -338,9 +340,21 @@ impl Arith for FixedArith {
     fn pass(&self, c: [i64; 4], enc: &Encoding) -> Word {
         let f = self.f();
         let r = c.map(|v| {
-            Acc::new(v as i128, f)
-                .clamp(Acc::ZERO, Acc::new(1, 0))
-                .to_code(enc)
+            let v = Acc::new(v as i128, f).clamp(Acc::ZERO, Acc::new(1, 0));
+            match self.convert_frac {
+                // v_k = floor(v 2^k); c = ((v_k + 1)(2^n - 1)) >> k: at most 2^n - 1
+                // (v_k <= 2^k), so no clamp after it.
+                Some(k) => {
+                    let vk = if k >= v.frac {
+                        v.raw << (k - v.frac)
+                    } else {
+                        v.raw >> (v.frac - k)
+                    };
+                    let top = (1i128 << enc.width()) - 1;
+                    (((vk + 1) * top) >> k) as i64
+                }
+                None => v.to_code(enc),
+            }
         });
         Word::from_raw(enc, &r)
     }
@@ -455,16 +469,26 @@ pub(crate) fn run<A: Arith>(a: &A, u: &TextureShader, ins: &[Word]) -> Fragment<
     }
 }
 
+/// The colour converter ([`super::ShaderParams::convert_frac`]): `xk = floor(x 2^k)` of a
+/// value `x >= 0` read as the top of its step, `((min(xk, 2^k) + 1) top) >> k`, at most `top`.
+pub(super) fn top_of_step(xk: i128, k: u32, top: i128) -> i128 {
+    ((xk.clamp(0, 1i128 << k) + 1) * top) >> k
+}
+
 /// The NV2A's BUMPENVMAPLUMINANCE product (hypothesis 20, frame `BumpEnvMapLuminance`) on
 /// unsigned unit codes: `l = scale m / (2^wm - 1) + bias` with the magnitude code `m` read
-/// exactly, clamped at 0 only, and each RGB code `c` becomes `min(floor(c l), 2^w - 1)`,
-/// computed as one integer quotient. `None` (the generic path) for other codecs.
+/// exactly, clamped at 0 only, and each RGB code `c` of the texel becomes, with the colour
+/// converter (`conv = Some(k)`), `top_of_step(floor(c l 2^k / (2^w - 1)), k)` (the product
+/// `x = (c / (2^w - 1)) l` exact, truncated to k fraction bits); without it
+/// `min(floor(c l), 2^w - 1)`. Each an integer quotient. `None` (the generic path) for
+/// other codecs.
 fn nv2a_luminance(
     texel: &mut Word,
     m: i64,
     st: &Compiled,
     mag_enc: &crate::Encoding,
     of: u32,
+    conv: Option<u32>,
 ) -> Option<()> {
     use crate::Codec;
     let unit = |e: &crate::Encoding| e.codec == Codec::UnitUnsigned && !e.format.signed;
@@ -478,7 +502,12 @@ fn nv2a_luminance(
     let den = nm << of;
     for s in texel.lanes.iter_mut().take(3) {
         let c = s.raw as i128;
-        s.raw = (c.saturating_mul(num) / den).clamp(0, top) as i64;
+        s.raw = match conv {
+            Some(k) => {
+                top_of_step(c.saturating_mul(num).saturating_mul(1 << k) / (top * den), k, top)
+            }
+            None => (c.saturating_mul(num) / den).clamp(0, top),
+        } as i64;
         s.x = st.out_enc.decode(s.raw);
     }
     Some(())

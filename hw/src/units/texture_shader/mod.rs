@@ -24,7 +24,8 @@
 //! scale and bias with [`ShaderParams::offset_frac`] fraction bits, default 8), the reflection
 //! and the depth divide are computed exactly and rounded once into the coordinate format
 //! (halves up, saturated). PASS_THROUGH writes [`ShaderParams::pass_through`] (default 8-bit
-//! unsigned, truncated: the `Passthru` frame). **Exact mode**: the same programs in f64 (the
+//! unsigned through the colour converter [`ShaderParams::convert_frac`]: truncated to 12
+//! fraction bits and read as the top of its step, the `Passthru` frame). **Exact mode**: the same programs in f64 (the
 //! matrix and the eye unquantized).
 //!
 //! Ports: in `coord0`..`coord{n-1}` (s, t, r, q per stage) and, with [`ShaderParams::lod`],
@@ -80,6 +81,13 @@ pub struct ShaderParams {
     pub offset_frac: u32,
     /// Encoding of the PASS_THROUGH colour.
     pub pass_through: Encoding,
+    /// The converter of the colours the unit computes (PASS_THROUGH's coordinates and the
+    /// BUMPENVMAPLUMINANCE product) into n-bit unsigned codes. `Some(k)` (1 to 24; the
+    /// NV2A's 12): the value `x`, clamped to [0, 1], truncated to `k` fraction bits and read
+    /// as the top of its step, `c = ((floor(x 2^k) + 1) (2^n - 1)) >> k` (the `Passthru` and
+    /// `BumpEnvMapLuminance` frames: every pixel). `None`: PASS_THROUGH rounds the coordinate
+    /// into `pass_through` by its quantization, the luminance product is floored.
+    pub convert_frac: Option<u32>,
     pub on_broken: OnBroken,
     /// The encoding of the level-of-detail input `lod` (1 lane, fixed point), if the part
     /// selects mip levels: a TEXTURE_2D stage whose texture has mip levels reads level
@@ -102,6 +110,7 @@ impl Default for ShaderParams {
                 quant: Quant::Trn,
                 ..Encoding::texel(Codec::UnitUnsigned, false, 8)
             },
+            convert_frac: Some(12),
             on_broken: OnBroken::Reject,
             lod: None,
         }
@@ -199,6 +208,17 @@ impl TextureShader {
             .pass_through
             .validate()
             .map_err(|m| format!("pass_through: {m}"))?;
+        if let Some(k) = params.convert_frac {
+            if !(1..=24).contains(&k) {
+                return Err(format!("convert_frac: {k}: expected 1 to 24 fraction bits"));
+            }
+            let e = params.pass_through;
+            if e.codec != Codec::UnitUnsigned || e.format.signed || e.width() > 16 {
+                return Err(format!(
+                    "convert_frac: needs an unsigned unit pass_through code of at most 16 bits, not {e}"
+                ));
+            }
+        }
         if let Some(l) = params.lod {
             l.validate().map_err(|m| format!("lod: {m}"))?;
             if l.codec != Codec::Fixed || l.width() > 32 {
@@ -325,6 +345,7 @@ impl TextureShader {
                     dot_frac: self.params.dot_frac,
                     offset_frac: self.params.offset_frac,
                     lod_frac: self.params.lod.map_or(0, |l| l.format.frac as u32),
+                    convert_frac: self.params.convert_frac,
                 };
                 let f = run(&a, self, ins);
                 (
@@ -450,6 +471,19 @@ fn gates(u: &TextureShader, t: &CostTable) -> GateBudget {
         n,
         t.multiplier(9, of + 2) + t.clamp(of + 2) + 3.0 * t.multiplier(8, of + 1),
     );
+    if let Some(k) = p.convert_frac {
+        let n8 = p.pass_through.width();
+        g.add(
+            format!(
+                "colour converter: 4 lanes x (clamp {}, (x_{k} + 1) x {} as one subtractor {}) x{n}",
+                k + 1,
+                (1u32 << n8) - 1,
+                k + n8 + 1
+            ),
+            4 * n,
+            t.clamp(k + 1) + t.adder(k + n8 + 1),
+        );
+    }
     g.add(
         format!("cube-face select (3 comparators {w}) and projection divider x{n}"),
         n,

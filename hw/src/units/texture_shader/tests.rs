@@ -214,6 +214,47 @@ fn pass_through_and_texture_2d_read_the_coordinates_and_texels() {
     assert!(!u.can_kill());
 }
 
+/// The colour converter at every s16.16 coordinate word of [0, 1] (65,537 words): the code is
+/// constant on each 2^-12 step of the coordinate, it is `floor((v + 2^-12) 255)` at the
+/// step's foot `v` (the top of the step read exactly, dyadic in f64), within one code of
+/// exact mode's, and monotone; without the converter it is `floor(v 255)`. The `Passthru`
+/// frame settles the NV2A's 12 bits (hypothesis 5).
+#[test]
+fn the_colour_converter_reads_the_top_of_each_twelve_bit_step() {
+    let part = |convert_frac| {
+        let p = ShaderParams {
+            convert_frac,
+            ..ShaderParams::default()
+        };
+        TextureShader::new(p, vec![StageSpec::new(Program::PassThrough, None)]).unwrap()
+    };
+    let (nv2a, plain) = (part(Some(12)), part(None));
+    let enc = ShaderParams::default().coord;
+    let code = |u: &TextureShader, raw: i64| {
+        let w = Word::from_raw(&enc, &[raw, 0, 0, 0]);
+        eval(u, Mode::BitAccurate, &[w; 4])[0].lanes[0].raw
+    };
+    let mut last = 0;
+    for raw in 0..=65536i64 {
+        let v = raw as f64 / 65536.0;
+        let foot = (raw >> 4) as f64 / 4096.0;
+        let c = code(&nv2a, raw);
+        assert_eq!(c, (((foot + 1.0 / 4096.0) * 255.0).floor() as i64).min(255), "{raw}");
+        assert!(c >= last && (c as f64 / 255.0 - v).abs() <= 1.0 / 255.0, "{raw}: {c}");
+        assert_eq!(code(&plain, raw), (v * 255.0).floor() as i64, "{raw}");
+        last = c;
+    }
+    assert_eq!((code(&nv2a, 0), code(&nv2a, 65536), last), (0, 255, 255));
+    let bad = ShaderParams {
+        convert_frac: Some(25),
+        ..ShaderParams::default()
+    };
+    match TextureShader::new(bad, vec![]) {
+        Err(e) => assert!(e.contains("convert_frac: 25"), "{e}"),
+        Ok(_) => panic!("convert_frac 25 accepted"),
+    }
+}
+
 /// With a `lod` input a TEXTURE_2D stage reads the mip level `clamp(floor(lod + 1/2), 0,
 /// levels - 1)`, the same in both modes at every code of a 4.4 level of detail (each level of
 /// the 8x8 chain holds its level number); a DEPENDENT_GB stage reads level 0.

@@ -32,6 +32,13 @@ pub struct TextureShaderSpec {
     pub offset_frac: u32,
     #[serde(default)]
     pub on_broken: Broken,
+    /// The colour converter of PASS_THROUGH and of the NV2A luminance product
+    /// (`luminance_unclamped`): `Some(k)` truncates the value to `k` fraction bits (1 to 24)
+    /// and reads it as the top of its step, `c = ((floor(x 2^k) + 1) 255) >> k`, as the NV2A
+    /// does at `Some(12)` (the default, left out of the serialised config); `None` rounds
+    /// (PASS_THROUGH by its encoding) or floors (the luminance product).
+    #[serde(default = "convert_frac", skip_serializing_if = "is_nv2a_converter")]
+    pub convert_frac: Option<u32>,
     /// Mip-level selection: the unit reads a level of detail from input `lod` (1 lane, fixed
     /// point, e.g. the `Lod` or `VertexLod` attribute), and a TEXTURE_2D stage whose texture
     /// has mip levels (`NdfNoise(mips: true)`) reads the level GL's NEAREST_MIPMAP_NEAREST
@@ -87,6 +94,12 @@ fn dot_frac() -> u32 {
 }
 fn offset_frac() -> u32 {
     8
+}
+fn convert_frac() -> Option<u32> {
+    ShaderParams::default().convert_frac
+}
+fn is_nv2a_converter(k: &Option<u32>) -> bool {
+    *k == convert_frac()
 }
 fn weight_bits() -> u32 {
     8
@@ -170,6 +183,7 @@ impl Spec for TextureShaderSpec {
             coord,
             dot_frac: self.dot_frac,
             offset_frac: self.offset_frac,
+            convert_frac: self.convert_frac,
             on_broken: match self.on_broken {
                 Broken::Reject => OnBroken::Reject,
                 Broken::AsNone => OnBroken::AsNone,
