@@ -7,7 +7,7 @@ mod common;
 use common::*;
 
 /// Each study sweep, the directory its generator runs it into, and the page quoting it.
-const STUDY_SWEEPS: [(&str, &str, &str); 4] = [
+const STUDY_SWEEPS: [(&str, &str, &str); 7] = [
     (
         "tarini-quantization",
         "quantized/sweep",
@@ -24,6 +24,9 @@ const STUDY_SWEEPS: [(&str, &str, &str); 4] = [
         "gouraud/faceting",
         "gouraud-bump.md",
     ),
+    ("embm-resolution", "embm/resolution", "embm-limits.md"),
+    ("embm-stale", "embm/stale", "embm-limits.md"),
+    ("embm-point", "embm/point", "embm-limits.md"),
 ];
 
 #[test]

@@ -893,7 +893,11 @@ fn the_frames_decide_the_hypotheses() {
             rows[0]
         );
     }
-    assert_eq!((rows[0][1], rows[0][5]), (100.0, 100.0), "Passthru, luminance");
+    assert_eq!(
+        (rows[0][1], rows[0][5]),
+        (100.0, 100.0),
+        "Passthru, luminance"
+    );
     // the converter without its +1 or at another width loses both frames
     for r in &rows[6..10] {
         assert!(r[1] < 95.0 && r[5] < 99.5, "{r:?}");

@@ -503,9 +503,11 @@ fn nv2a_luminance(
     for s in texel.lanes.iter_mut().take(3) {
         let c = s.raw as i128;
         s.raw = match conv {
-            Some(k) => {
-                top_of_step(c.saturating_mul(num).saturating_mul(1 << k) / (top * den), k, top)
-            }
+            Some(k) => top_of_step(
+                c.saturating_mul(num).saturating_mul(1 << k) / (top * den),
+                k,
+                top,
+            ),
             None => (c.saturating_mul(num) / den).clamp(0, top),
         } as i64;
         s.x = st.out_enc.decode(s.raw);

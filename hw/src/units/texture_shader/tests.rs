@@ -239,8 +239,15 @@ fn the_colour_converter_reads_the_top_of_each_twelve_bit_step() {
         let v = raw as f64 / 65536.0;
         let foot = (raw >> 4) as f64 / 4096.0;
         let c = code(&nv2a, raw);
-        assert_eq!(c, (((foot + 1.0 / 4096.0) * 255.0).floor() as i64).min(255), "{raw}");
-        assert!(c >= last && (c as f64 / 255.0 - v).abs() <= 1.0 / 255.0, "{raw}: {c}");
+        assert_eq!(
+            c,
+            (((foot + 1.0 / 4096.0) * 255.0).floor() as i64).min(255),
+            "{raw}"
+        );
+        assert!(
+            c >= last && (c as f64 / 255.0 - v).abs() <= 1.0 / 255.0,
+            "{raw}: {c}"
+        );
         assert_eq!(code(&plain, raw), (v * 255.0).floor() as i64, "{raw}");
         last = c;
     }

@@ -56,8 +56,15 @@ pub enum TextureSource {
     /// sqrt(1 - x² - y²))`, a parallel viewer along +z and the light's direction from the
     /// camera's target, each channel clamped to [0, 1]. Read at `AttrSource::SphereMap`
     /// coordinates, with `address: Clamp`. The map holds the light: it must be rebuilt when
-    /// the light or the material changes.
-    SphereLighting { size: u32, light: usize },
+    /// the light or the material changes. `built_for: Some((x, y, z))`: the map was built for
+    /// a light in that world-space direction (toward the light) and not rebuilt since the
+    /// light moved to where the scene has it (a stale map; `None`, the default: rebuilt).
+    SphereLighting {
+        size: u32,
+        light: usize,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        built_for: Option<(f64, f64, f64)>,
+    },
     /// Mip level `level` of the noise texture of the scene's `bump: Ndf(...)` whose finest
     /// level is `size` texels a side (Kautz et al. §5.2.2: "the finest mipmap level contains
     /// the most octaves, every coarser mipmap level contains one octave less"): 3 lanes
@@ -143,7 +150,11 @@ pub(super) fn texels(source: &TextureSource, ctx: &BuildCtx) -> Result<Texels, S
                 .collect();
             Ok(square(size, if height { 3 } else { 2 }, values))
         }
-        TextureSource::SphereLighting { size, light } => {
+        TextureSource::SphereLighting {
+            size,
+            light,
+            built_for,
+        } => {
             check_size(size)?;
             let scene = ctx.scene;
             let l = scene.lights.get(light).ok_or_else(|| {
@@ -153,7 +164,19 @@ pub(super) fn texels(source: &TextureSource, ctx: &BuildCtx) -> Result<Texels, S
                 )
             })?;
             let view = glam::DMat3::from_mat4(scene.camera.view());
-            let dir = (view * l.dir_from(glam::DVec3::from(scene.camera.target))).normalize();
+            let world = match built_for {
+                Some((x, y, z)) => {
+                    let d = glam::DVec3::new(x, y, z);
+                    if !(d.is_finite() && d.length() > 1e-9) {
+                        return Err(format!(
+                            "built_for: ({x}, {y}, {z}): expected a finite, non-zero direction"
+                        ));
+                    }
+                    d
+                }
+                None => l.dir_from(glam::DVec3::from(scene.camera.target)),
+            };
+            let dir = (view * world).normalize();
             let half = (dir + glam::DVec3::Z).normalize_or_zero();
             let m = &scene.material;
             let color = l.color();
