@@ -1,7 +1,7 @@
 //! `bumpsim rtl CONFIG --out DIR [--cosim N] [--synth]`: Verilog of the engine's units
 //! (`bumpsim_hw::rtl`, `docs/rtl.md`).
 //!
-//! For every unit with a generator (Dot3, PowerTable, Shade, BumpBlend, Modulate, Normalize)
+//! For every unit with a generator (Dot3, PowerTable, Shade, BumpBlend, Modulate, Normalize, Perturb)
 //! the unit's parameters are taken from its config spec, the encodings of the signals wired to
 //! it (the built engine's unit) and the scene (material, bump lights), and the unit is rebuilt
 //! from them with the hw constructors; the rebuilt unit must have the engine's gate budget (the
@@ -15,7 +15,7 @@ use bumpsim_hw::rtl::{
     self, synth, testbench, vectors, Dot3Rtl, ModulateRtl, PowerTableRtl, RtlUnit, ShadeRtl,
 };
 use bumpsim_hw::units::{
-    BlendKind, BumpBlend, BumpBlendParams, LightState, Normalize, ShadeInputs, ShadeParams,
+    BlendKind, BumpBlend, BumpBlendParams, LightState, Normalize, Perturb, ShadeInputs, ShadeParams,
 };
 use bumpsim_hw::{Mode, PortSpec, Unit, Word};
 use bumpsim_pipeline::config::{InputError, Loaded};
@@ -186,6 +186,14 @@ pub(crate) fn generate(
             let u = Normalize::new(first()?, s.table_bits, s.value_bits, s.out)?;
             Generated {
                 rtl: rtl::normalize::rtl(&u, top),
+                model: Box::new(u),
+            }
+        }
+        UnitSpec::Perturb(s) => {
+            let enc = |n: &str| enc_of(ins, n).ok_or(format!("no {n}"));
+            let u = Perturb::new(enc("base")?, enc("u")?, enc("v")?, enc("d")?, s.out)?;
+            Generated {
+                rtl: rtl::perturb::rtl(&u, top),
                 model: Box::new(u),
             }
         }

@@ -2,8 +2,9 @@
 //! bit-exact with their bit-accurate mode (`docs/rtl.md`).
 //!
 //! Each generator takes the parameters that build the unit ([`Dot3Rtl`], [`PowerTableRtl`],
-//! [`ShadeRtl`], [`ModulateRtl`]; [`blend::rtl`] and [`normalize::rtl`] read a built
-//! [`crate::units::BumpBlend`] or [`crate::units::Normalize`]) and writes the
+//! [`ShadeRtl`], [`ModulateRtl`]; [`blend::rtl`], [`normalize::rtl`] and [`perturb::rtl`]
+//! read a built [`crate::units::BumpBlend`], [`crate::units::Normalize`] or
+//! [`crate::units::Perturb`]) and writes the
 //! datapath with the twins of [`crate::arith::Acc`]'s operations in [`fixed`], so the widths,
 //! rounding, clamps and casts are those of the model's code. Co-simulation against the model
 //! (`hw/tests/rtl_cosim.rs`) checks every output word; [`synth`] prices the result with yosys.
@@ -24,6 +25,7 @@ pub mod dot3;
 pub mod fixed;
 pub mod modulate;
 pub mod normalize;
+pub mod perturb;
 pub mod power;
 pub mod shade;
 pub mod synth;

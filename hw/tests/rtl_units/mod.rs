@@ -167,6 +167,17 @@ pub fn bundled() -> Vec<Case> {
             gouraud(BlendKind::Specular, [0.5; 3]),
             wire("h0"),
         ),
+        // configs/{visa,harmony,texram}-*.ron: N' = N + d0 u + d1 v, s2.8 in, s4.8 out
+        {
+            let u =
+                bumpsim_hw::units::Perturb::new(s10, s10, s10, s10, fixed(true, 12, 8)).unwrap();
+            let rtl = rtl::perturb::rtl(&u, "visa_perturb");
+            Case {
+                name: "visa_perturb",
+                unit: Box::new(u),
+                rtl,
+            }
+        },
         // configs/gouraud-order-{split,combined,multiplicative}.ron: the texture stage
         modulate(
             "gouraud_texture",
