@@ -30,7 +30,7 @@ pub fn rtl(u: &Perturb, top: &str) -> RtlUnit {
         from_code(m, &ports[p][l], &ins[p].enc)
     };
     let d: Vec<Fx> = (0..2).map(|l| read(m, 3, l)).collect();
-    for j in 0..3 {
+    for (j, o) in outs.iter().enumerate() {
         m.comment(&format!("lane {j}: product register"));
         let b = read(m, 0, j);
         let uj = read(m, 1, j);
@@ -48,10 +48,7 @@ pub fn rtl(u: &Perturb, top: &str) -> RtlUnit {
             s = align_wire(m, &s, n - 1);
         }
         let code = to_code(m, &s, &out_enc);
-        m.stmt(format!(
-            "always @(posedge clk) if ({fin}) {} <= {code};",
-            outs[j]
-        ));
+        m.stmt(format!("always @(posedge clk) if ({fin}) {o} <= {code};"));
     }
     sh.finish()
 }
