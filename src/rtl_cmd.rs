@@ -1,13 +1,15 @@
 //! `bumpsim rtl CONFIG --out DIR [--cosim N] [--synth]`: Verilog of the engine's units
 //! (`bumpsim_hw::rtl`, `docs/rtl.md`).
 //!
-//! For every unit with a generator (Dot3, PowerTable, Shade, BumpBlend, Modulate, Normalize, Perturb)
+//! For every unit with a generator (Dot3, PowerTable, Shade, BumpBlend, Modulate, Normalize, Perturb,
+//! TexFetch)
 //! the unit's parameters are taken from its config spec, the encodings of the signals wired to
 //! it (the built engine's unit) and the scene (material, bump lights), and the unit is rebuilt
 //! from them with the hw constructors; the rebuilt unit must have the engine's gate budget (the
 //! same structure) and, with `--cosim`, the same outputs as the engine's unit on every vector.
 //! Writes `DIR/NAME.v` (the unit and its ROMs) and `DIR/NAME.regs` (the host-loaded register
-//! words: address, width, value, what); `--cosim N` replays N vectors per unit with iverilog
+//! words: address, width, value, what) and, for a unit with a texture memory, `DIR/MODULE.hex` (its
+//! `$readmemh` contents); `--cosim N` replays N vectors per unit with iverilog
 //! in `DIR/cosim/NAME/`; `--synth` runs yosys and prints the model's GE beside synthesis.
 
 use crate::Failure;
@@ -15,9 +17,10 @@ use bumpsim_hw::rtl::{
     self, synth, testbench, vectors, Dot3Rtl, ModulateRtl, PowerTableRtl, RtlUnit, ShadeRtl,
 };
 use bumpsim_hw::units::{
-    BlendKind, BumpBlend, BumpBlendParams, LightState, Normalize, Perturb, ShadeInputs, ShadeParams,
+    BlendKind, BumpBlend, BumpBlendParams, LightState, Normalize, Perturb, ShadeInputs,
+    ShadeParams, TexFetch,
 };
-use bumpsim_hw::{Mode, PortSpec, Unit, Word};
+use bumpsim_hw::{Mode, PortSpec, Sampler, Unit, Word};
 use bumpsim_pipeline::config::{InputError, Loaded};
 use bumpsim_pipeline::engine::{self, units::UnitSpec};
 use bumpsim_pipeline::run::build_scene;
@@ -197,6 +200,19 @@ pub(crate) fn generate(
                 model: Box::new(u),
             }
         }
+        UnitSpec::TexFetch(s) => {
+            let tex = unit
+                .textures()
+                .first()
+                .map(|r| r.texture.clone())
+                .ok_or("no texture")?;
+            let sampler = Sampler::new(s.filter, s.weight_bits)?.with_address(s.address, s.address);
+            let u = TexFetch::new(first()?, tex, sampler, s.ports, s.mem_latency, s.out)?;
+            Generated {
+                rtl: rtl::fetch::rtl(&u, top)?,
+                model: Box::new(u),
+            }
+        }
         UnitSpec::BumpBlend(s) => {
             let u = BumpBlend::new(blend_params(s, scene), |n| enc_of(ins, n))?;
             Generated {
@@ -268,6 +284,9 @@ pub fn execute(l: &Loaded, out: &Path, cosim: usize, synth_on: bool) -> Result<(
         }
         write(out, &format!("{}.v", uc.name), &g.rtl.verilog)?;
         write(out, &format!("{}.regs", uc.name), &regs_text(&g.rtl))?;
+        for mem in &g.rtl.memories {
+            write(out, &mem.file, &mem.hex())?;
+        }
         let mut line = format!(
             "{:<12} {:<14} {}.v  latency {}  registers {}  model {:.1} GE",
             uc.name,

@@ -2,9 +2,9 @@
 //! bit-exact with their bit-accurate mode (`docs/rtl.md`).
 //!
 //! Each generator takes the parameters that build the unit ([`Dot3Rtl`], [`PowerTableRtl`],
-//! [`ShadeRtl`], [`ModulateRtl`]; [`blend::rtl`], [`normalize::rtl`] and [`perturb::rtl`]
-//! read a built [`crate::units::BumpBlend`], [`crate::units::Normalize`] or
-//! [`crate::units::Perturb`]) and writes the
+//! [`ShadeRtl`], [`ModulateRtl`]; [`blend::rtl`], [`normalize::rtl`], [`perturb::rtl`] and
+//! [`fetch::rtl`] read a built [`crate::units::BumpBlend`], [`crate::units::Normalize`],
+//! [`crate::units::Perturb`] or [`crate::units::TexFetch`]) and writes the
 //! datapath with the twins of [`crate::arith::Acc`]'s operations in [`fixed`], so the widths,
 //! rounding, clamps and casts are those of the model's code. Co-simulation against the model
 //! (`hw/tests/rtl_cosim.rs`) checks every output word; [`synth`] prices the result with yosys.
@@ -17,11 +17,13 @@
 //! `done` (the outputs are valid), and for units with host-loaded registers (coefficients,
 //! bump state) a write port `cfg_we`, `cfg_addr`, `cfg_data` (one register word per address,
 //! [`RtlUnit::config`]). Tables with known contents are separate ROM modules
-//! ([`RtlUnit::tables`]) so that synthesis prices them apart.
+//! ([`RtlUnit::tables`]) so that synthesis prices them apart; texture memories are modules
+//! loaded from a file for co-simulation and black boxes for synthesis ([`RtlUnit::memories`]).
 
 pub mod blend;
 pub mod cast;
 pub mod dot3;
+pub mod fetch;
 pub mod fixed;
 pub mod modulate;
 pub mod normalize;
@@ -77,6 +79,35 @@ pub struct RtlUnit {
     /// Names of the ROM modules (tables with known contents) the top instantiates, with the
     /// number of instances.
     pub tables: Vec<(String, u32)>,
+    /// Texture memories the top instantiates: behavioural models for co-simulation, loaded
+    /// from a `$readmemh` file, and black boxes for synthesis (the memory is outside the
+    /// unit's budget, as the gate model has it).
+    pub memories: Vec<Memory>,
+}
+
+/// A texture memory of a generated unit: module `module` with `ports` read ports
+/// (`a{p}` address, `d{p}` data `latency` clocks later), contents read from `file`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Memory {
+    pub module: String,
+    /// The `$readmemh` file the module loads (relative to the simulator's directory).
+    pub file: String,
+    /// Bits per word.
+    pub width: u32,
+    /// The words, word `k` at address `k`.
+    pub words: Vec<u128>,
+}
+
+impl Memory {
+    /// The `$readmemh` text of the contents.
+    pub fn hex(&self) -> String {
+        let digits = self.width.div_ceil(4).max(1) as usize;
+        let mut s = String::with_capacity(self.words.len() * (digits + 1));
+        for w in &self.words {
+            s += &format!("{w:0digits$x}\n");
+        }
+        s
+    }
 }
 
 impl RtlUnit {
@@ -123,6 +154,7 @@ pub(crate) struct Shell {
     config: Vec<(ConfigWord, String)>,
     roms: Vec<String>,
     tables: Vec<(String, u32)>,
+    memories: Vec<Memory>,
     /// Datapath clock index, its width; datapath enable; final-edge enable.
     pub t: String,
     pub t_bits: u32,
@@ -185,6 +217,7 @@ impl Shell {
             config: Vec::new(),
             roms: Vec::new(),
             tables: Vec::new(),
+            memories: Vec::new(),
             t,
             t_bits: tb,
             comp,
@@ -269,6 +302,77 @@ impl Shell {
         y
     }
 
+    /// Instantiate a texture memory (module `{top}_{name}`, its contents in
+    /// `{top}_{name}.hex`) with one read port per address in `addrs`: each port's data is
+    /// the word at its address `latency` clocks (>= 1) earlier, through a register pipeline.
+    /// Returns the data wires.
+    pub fn memory(
+        &mut self,
+        name: &str,
+        words: Vec<u128>,
+        width: u32,
+        addrs: &[(String, u32)],
+        latency: u32,
+    ) -> Vec<String> {
+        let module = format!("{}_{name}", self.m.name);
+        let file = format!("{module}.hex");
+        let ab = addrs.iter().map(|a| a.1).max().unwrap_or(1).max(1);
+        let lat = latency.max(1);
+        let mut text = format!(
+            "// texture memory {}x{width}, {} read ports, {lat} clocks: a behavioural model for\n\
+             // co-simulation (contents from {file}); a black box in synthesis\n\
+             module {module} (\n    input wire clk",
+            words.len(),
+            addrs.len()
+        );
+        for p in 0..addrs.len() {
+            text += &format!(
+                ",\n    input wire [{}:0] a{p},\n    output wire [{}:0] d{p}",
+                ab - 1,
+                width - 1
+            );
+        }
+        text += &format!(
+            "\n);\n    reg [{}:0] mem [0:{}];\n    `ifndef SYNTHESIS\n    initial $readmemh(\"{file}\", mem);\n`endif\n",
+            width - 1,
+            words.len().max(1) - 1
+        );
+        for p in 0..addrs.len() {
+            for k in 0..lat {
+                text += &format!("    reg [{}:0] r{k}_{p};\n", width - 1);
+            }
+            text += &format!("    always @(posedge clk) r0_{p} <= mem[a{p}];\n");
+            for k in 1..lat {
+                text += &format!("    always @(posedge clk) r{k}_{p} <= r{}_{p};\n", k - 1);
+            }
+            text += &format!("    assign d{p} = r{}_{p};\n", lat - 1);
+        }
+        text += "endmodule\n";
+        self.roms.push(text);
+        let mut conns = vec![".clk(clk)".to_string()];
+        let mut data = Vec::new();
+        for (p, (a, w)) in addrs.iter().enumerate() {
+            let y = self.m.net("texel", width);
+            let a = if *w < ab {
+                format!("{{{}'d0, {a}}}", ab - w)
+            } else {
+                a.clone()
+            };
+            conns.push(format!(".a{p}({a})"));
+            conns.push(format!(".d{p}({y})"));
+            data.push(y);
+        }
+        self.m
+            .stmt(format!("{module} {module}_i ({});", conns.join(", ")));
+        self.memories.push(Memory {
+            module,
+            file,
+            width,
+            words,
+        });
+        data
+    }
+
     pub fn finish(mut self) -> RtlUnit {
         if !self.config.is_empty() {
             let ab = unsigned_bits(self.config.len().saturating_sub(1) as u128);
@@ -301,6 +405,7 @@ impl Shell {
             config: self.config.into_iter().map(|c| c.0).collect(),
             latency: self.plan.latency(),
             tables: self.tables,
+            memories: self.memories,
         }
     }
 }

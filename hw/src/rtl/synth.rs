@@ -11,7 +11,9 @@
 //!
 //! and the cells are priced with [`LIB_GE`], the NAND2-normalised areas of the public 45 nm
 //! library (`docs/gates.md`), flip-flops at 5.67 GE. [`Synth::ge`] is the unit's total
-//! (every ROM instance counted), [`Synth::table_ge`] the ROMs' share.
+//! (every ROM instance counted), [`Synth::table_ge`] the ROMs' share. Texture memories
+//! ([`super::RtlUnit::memories`]) are black boxes (`blackbox MODULE` before `synth`) and
+//! count nothing: the texel store is outside the unit's budget, as in the gate model.
 
 use super::RtlUnit;
 use std::collections::BTreeMap;
@@ -49,8 +51,13 @@ pub struct Synth {
 
 /// The yosys script for `u`, writing `stat` into `stat`.
 pub fn script(u: &RtlUnit, stat: &Path) -> String {
+    let boxes: String = u
+        .memories
+        .iter()
+        .map(|mem| format!("blackbox {}; ", mem.module))
+        .collect();
     format!(
-        "read_verilog unit.v; synth -top {}; dfflegalize -cell $_DFF_P_ x; \
+        "read_verilog unit.v; {boxes}synth -top {}; dfflegalize -cell $_DFF_P_ x; \
          abc -g AND,NAND,OR,NOR,XOR,XNOR,MUX; opt_clean; tee -q -o {} stat",
         u.top,
         stat.display()
@@ -92,8 +99,13 @@ fn area(cell: &str) -> Option<f64> {
     LIB_GE.iter().find(|(c, _)| *c == cell).map(|(_, a)| *a)
 }
 
-/// GE and flip-flops of module `name`, its instances included.
-fn price(mods: &BTreeMap<String, Counts>, name: &str) -> Result<(f64, u32), String> {
+/// GE and flip-flops of module `name`, its instances included; the black boxes `boxes`
+/// (texture memories) count nothing.
+fn price(
+    mods: &BTreeMap<String, Counts>,
+    name: &str,
+    boxes: &[&str],
+) -> Result<(f64, u32), String> {
     let counts = mods
         .get(name)
         .ok_or_else(|| format!("module {name} not in the stat report"))?;
@@ -104,8 +116,10 @@ fn price(mods: &BTreeMap<String, Counts>, name: &str) -> Result<(f64, u32), Stri
             if cell == "$_DFF_P_" {
                 ff += n;
             }
+        } else if boxes.contains(&cell.as_str()) {
+            continue;
         } else if mods.contains_key(cell) {
-            let (g, f) = price(mods, cell)?;
+            let (g, f) = price(mods, cell, boxes)?;
             ge += g * n as f64;
             ff += f * n;
         } else {
@@ -141,10 +155,11 @@ pub fn synthesise(u: &RtlUnit, dir: &Path) -> Result<Synth, String> {
     }
     let text = std::fs::read_to_string(&stat).map_err(|e| e.to_string())?;
     let modules = parse_stat(&text);
-    let (ge, flops) = price(&modules, &u.top)?;
+    let boxes: Vec<&str> = u.memories.iter().map(|mem| mem.module.as_str()).collect();
+    let (ge, flops) = price(&modules, &u.top, &boxes)?;
     let mut table_ge = 0.0;
     for (t, n) in &u.tables {
-        table_ge += price(&modules, t)?.0 * *n as f64;
+        table_ge += price(&modules, t, &boxes)?.0 * *n as f64;
     }
     Ok(Synth {
         modules,

@@ -3,7 +3,8 @@
 //!
 //! Files written by [`write`] into a directory: `unit.v` (the generated unit), `tb.v`,
 //! `in.hex` / `out.hex` (one 32-bit word per lane per vector, lanes in
-//! [`RtlUnit::inputs`] / [`RtlUnit::outputs`] order), `cfg.hex` (the register words).
+//! [`RtlUnit::inputs`] / [`RtlUnit::outputs`] order), `cfg.hex` (the register words) and
+//! the contents of the unit's texture memories ([`RtlUnit::memories`]).
 //! [`run_iverilog`] compiles with `iverilog -g2005` and runs `vvp`; the testbench prints
 //! `RESULT vectors=N mismatches=M latency_errors=L` (and the first mismatches).
 
@@ -150,6 +151,9 @@ pub fn write(
         c.value as u64 & mask
     }));
     std::fs::write(dir.join("cfg.hex"), cfg)?;
+    for mem in &u.memories {
+        std::fs::write(dir.join(&mem.file), mem.hex())?;
+    }
     Ok(())
 }
 

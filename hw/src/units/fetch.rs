@@ -16,7 +16,7 @@
 //! Memory: `ports` texels are read per clock, so a bilinear fetch takes `ceil(4 / ports)`
 //! clocks. Exact mode reads the unquantized texels with exact weights.
 
-use crate::format::Encoding;
+use crate::format::{Codec, Encoding};
 use crate::gates::{CostTable, GateBudget};
 use crate::sampler::Sampler;
 pub use crate::sampler::{Address, Filter};
@@ -82,6 +82,16 @@ impl TexFetch {
         &self.tex
     }
 
+    /// The sampler (filter, weight width, address modes).
+    pub fn sampler(&self) -> &Sampler {
+        &self.sampler
+    }
+
+    /// Texels read per clock.
+    pub fn ports(&self) -> u32 {
+        self.ports
+    }
+
     /// The filtered texel of mip level `level` at the coordinate `uv`, in `mode`.
     pub fn sample(&self, mode: Mode, level: usize, uv: &Word) -> Word {
         let out = self.outputs[0].enc;
@@ -131,51 +141,172 @@ impl Unit for TexFetch {
     fn frame_cycles(&self) -> u64 {
         self.tex.palette().map_or(0, u64::from)
     }
+    /// Priced as `rtl::fetch` builds it (`docs/gates.md`): per axis the half-texel offset and
+    /// the neighbour's incrementer on the index bits the address mode needs, the clamp or
+    /// mirror logic, the port address muxes; per lane three lerps `a + (b - a) w` whose
+    /// weights carry only the coordinate's fraction bits below the texel (`min(weight_bits,
+    /// frac - log2 size)`: the truncated weight's other bits are zero); the cast; the weight,
+    /// tap and output registers. The texel memory is outside the budget.
     fn gates(&self, t: &CostTable) -> GateBudget {
-        let wc = self.inputs[0].enc.width();
-        let wt = self.tex.texel().width();
-        let wb = self.sampler.weight_bits();
+        let uv = self.inputs[0].enc;
+        let frac = uv.format.frac as u32;
+        let (log_w, log_h) = self.tex.level_at(0).logs();
+        let texel = self.tex.texel();
+        let wt = texel.width();
         let lanes = self.tex.lanes() as u32;
-        let wo = self.outputs[0].enc.width();
+        let out = self.outputs[0].enc;
+        let wo = out.width();
+        let bilinear = self.sampler.filter() == Filter::Bilinear;
+        let taps = self.sampler.taps();
         let mut g = GateBudget::new();
-        g.add(format!("address adder {wc}"), 2 * self.ports, t.adder(wc));
-        if self.sampler.filter() == Filter::Bilinear {
-            // three lerps per lane, a + (b - a) w: two along u on (wt + 1)-bit differences,
-            // one along v on the exact (wt + wb + 1)-bit results of the first two
-            g.add(
-                format!("u lerp multiplier {}x{wb}", wt + 1),
-                2 * lanes,
-                t.multiplier(wt + 1, wb),
-            );
-            g.add(
-                format!("v lerp multiplier {}x{wb}", wt + wb + 1),
-                lanes,
-                t.multiplier(wt + wb + 1, wb),
-            );
-            g.add(
-                format!("u lerp adders {}", wt + wb + 1),
-                4 * lanes,
-                t.adder(wt + wb + 1),
-            );
-            g.add(
-                format!("v lerp adders {}", wt + 2 * wb + 1),
-                2 * lanes,
-                t.adder(wt + 2 * wb + 1),
-            );
-            g.add(format!("weight register {}", 2 * wb), 1, t.register(2 * wb));
+        let mut eff = [0u32; 2];
+        for (a, (name, log)) in [("s", log_w), ("t", log_h)].into_iter().enumerate() {
+            let f = frac - log;
+            eff[a] = self.sampler.weight_bits().min(f);
+            if log == 0 {
+                continue;
+            }
+            let mode = self.sampler.address()[a];
+            // the index's range (and its neighbour's) from the coordinate's
+            let half = if bilinear { 1i64 << (f - 1) } else { 0 };
+            let lo = (uv.format.min_raw() - half) >> f;
+            let hi = ((uv.format.max_raw() - half) >> f) + i64::from(bilinear);
+            let span = crate::rtl::verilog::signed_bits(lo as i128, hi as i128);
+            // index bits the address needs: the low log (wrap), one more (mirror), all (clamp)
+            let ib = match mode {
+                Address::Wrap => log,
+                Address::Mirror => log + 1,
+                Address::Clamp => span.max(log + 1),
+            };
+            let idx = 1 + u32::from(bilinear);
+            if bilinear {
+                g.add(
+                    format!("{name} half-texel offset {}", ib + 1),
+                    1,
+                    t.half_adder * (ib + 1) as f64,
+                );
+                g.add(
+                    format!("{name} neighbour incrementer {ib}"),
+                    1,
+                    t.half_adder * ib as f64,
+                );
+            }
+            let n = 1i64 << log;
+            match mode {
+                Address::Wrap => {}
+                // logic only where the index can leave the texture (the RTL tracks the range)
+                Address::Clamp if lo >= 0 && hi < n => {}
+                Address::Clamp => {
+                    g.add(
+                        format!("{name} clamp {log} of {ib}"),
+                        idx,
+                        t.clamp(log) + t.and2 * (ib - log) as f64,
+                    );
+                }
+                Address::Mirror => {
+                    g.add(format!("{name} mirror {log}"), idx, t.xor2 * log as f64);
+                }
+            }
         }
-        if self.interval() > 1 {
+        let ab = (log_w + log_h).max(1);
+        let groups = self.interval();
+        if groups > 1 {
+            g.add(
+                format!("port address mux {groups}:1 x{ab}"),
+                self.ports.min(taps),
+                t.mux(ab, groups),
+            );
             g.add(
                 format!("tap register {}", wt * lanes),
-                self.sampler.taps(),
+                taps,
                 t.register(wt * lanes),
             );
+        }
+        // the filtered value's width before the cast
+        let mut vw = wt;
+        if bilinear {
+            let [eu, ev] = eff;
+            // u: two lerps on the (wt + 1)-bit texel differences; the adds touch only the
+            // bits above the product's fraction
+            g.add(
+                format!("u lerp subtractor {}", wt + 1),
+                2 * lanes,
+                t.adder(wt + 1),
+            );
+            g.add(
+                format!("u lerp multiplier {}x{eu}", wt + 1),
+                2 * lanes,
+                t.multiplier(wt + 1, eu),
+            );
+            g.add(
+                format!("u lerp adder {}", wt + 1),
+                2 * lanes,
+                t.adder(wt + 1),
+            );
+            let wu = wt + eu + 1;
+            // (bot - top fits wu bits: both are convex combinations of texels, 2^eu apart)
+            g.add(format!("v lerp subtractor {wu}"), lanes, t.adder(wu));
+            g.add(
+                format!("v lerp multiplier {wu}x{ev}"),
+                lanes,
+                t.multiplier(wu, ev),
+            );
+            g.add(format!("v lerp adder {wu}"), lanes, t.adder(wu));
+            g.add(
+                format!("weight register {}", eu + ev),
+                1,
+                t.register(eu + ev),
+            );
+            vw = wu + ev;
+        }
+        // the cast: the texel read's factor 2^n + 1 and a unit output's 2^m - 1 folded into
+        // one constant whose signed digits are the shifts and adds (u8 into u8: 2^16 - 1, one
+        // subtractor), the rounding riding on them for a unit output; the saturation where the
+        // texel range exceeds the output's
+        if bilinear || out != *texel {
+            let unit = |e: &Encoding| matches!(e.codec, Codec::UnitUnsigned | Codec::UnitSymmetric);
+            let mut k = 1u128;
+            if unit(texel) {
+                k *= (1u128 << wt) + 1;
+            }
+            if unit(&out) {
+                k *= (1u128 << wo) - 1;
+            }
+            if k > 1 {
+                g.add(
+                    format!("cast x{k} {vw}"),
+                    lanes,
+                    t.constant_multiplier(vw, k),
+                );
+            }
+            let (tl, th) = (
+                texel.decode(texel.format.min_raw()),
+                texel.decode(texel.format.max_raw()),
+            );
+            let (ol, oh) = (
+                out.decode(out.format.min_raw()),
+                out.decode(out.format.max_raw()),
+            );
+            let clamp = if tl >= ol && th <= oh {
+                0.0
+            } else {
+                t.clamp(wo)
+            };
+            let round = if unit(&out) {
+                0.0
+            } else {
+                t.half_adder * wo as f64
+            };
+            if round + clamp > 0.0 {
+                g.add(format!("rounding and clamp {wo}"), lanes, round + clamp);
+            }
         }
         g.add(
             format!("output register {}", wo * lanes),
             1,
             t.register(wo * lanes),
         );
+        g.add("sequencer", 1, t.sequencer(self.latency()));
         if let Some(n) = self.tex.palette() {
             g.add_memory(
                 format!("bump palette {n}x{} (loadable)", wt * lanes),

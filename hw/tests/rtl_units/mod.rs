@@ -1,4 +1,4 @@
-//! The units of the RTL tests: the six units at the bundled configs' widths
+//! The units of the RTL tests: the units at the bundled configs' widths
 //! (`configs/sgi-teapot.ron`: dot, spec, shade; `configs/gouraud-teapot.ron`: diffuse,
 //! specular), and variants that exercise the other parameters of the generators.
 
@@ -6,11 +6,12 @@
 #![allow(dead_code)]
 
 use bumpsim_hw::rtl::{self, Dot3Rtl, ModulateRtl, PowerTableRtl, RtlUnit, ShadeRtl};
+use bumpsim_hw::units::{Address, Filter, TexFetch, Texels};
 use bumpsim_hw::units::{
     BlendKind, BumpBlend, BumpBlendParams, Clamp, LightState, Selective, ShadeInputs, ShadeParams,
     SpecGen, VecSource,
 };
-use bumpsim_hw::{Codec, Encoding, Format, Overflow, Quant, Unit};
+use bumpsim_hw::{Codec, Encoding, Format, Overflow, Quant, Sampler, Texture, Unit};
 
 /// A unit under test: its name, the model and its Verilog.
 pub struct Case {
@@ -72,6 +73,53 @@ fn normalize(name: &'static str, u: bumpsim_hw::units::Normalize) -> Case {
 fn blend(name: &'static str, p: BumpBlendParams, wire: impl Fn(&str) -> Option<Encoding>) -> Case {
     let u = BumpBlend::new(p, wire).unwrap();
     let rtl = rtl::blend::rtl(&u, name).unwrap();
+    Case {
+        name,
+        unit: Box::new(u),
+        rtl,
+    }
+}
+
+/// A texel fetch of a `w x h` texture of `lanes`-lane pseudo-random texels in the range of
+/// `texel` (deterministic), read at coordinates `uv`.
+#[allow(clippy::too_many_arguments)]
+fn fetch(
+    name: &'static str,
+    uv: Encoding,
+    (w, h, lanes): (u32, u32, u8),
+    texel: Encoding,
+    (filter, weight_bits, address): (Filter, u32, Address),
+    ports: u32,
+    mem_latency: u32,
+    out: Encoding,
+) -> Case {
+    let (lo, hi) = (
+        texel.decode(texel.format.min_raw()),
+        texel.decode(texel.format.max_raw()),
+    );
+    let mut x = 0x9e37_79b9_7f4a_7c15u64 ^ name.len() as u64;
+    let values = (0..w * h)
+        .map(|_| {
+            std::array::from_fn(|_| {
+                x = x
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                lo + (hi - lo) * ((x >> 11) as f64 / (1u64 << 53) as f64)
+            })
+        })
+        .collect();
+    let tex = Texels {
+        width: w,
+        height: h,
+        lanes,
+        values,
+    };
+    let tex = std::sync::Arc::new(Texture::new(name, texel, tex).unwrap());
+    let sampler = Sampler::new(filter, weight_bits)
+        .unwrap()
+        .with_address(address, address);
+    let u = TexFetch::new(uv, tex, sampler, ports, mem_latency, out).unwrap();
+    let rtl = rtl::fetch::rtl(&u, name).unwrap();
     Case {
         name,
         unit: Box::new(u),
@@ -178,6 +226,61 @@ pub fn bundled() -> Vec<Case> {
                 rtl,
             }
         },
+        // configs/sgi-teapot.ron: the normal map, 256 x 256 (2c + 1) texels, bilinear
+        fetch(
+            "sgi_fetch",
+            fixed(false, 16, 12),
+            (256, 256, 3),
+            Encoding::texel(Codec::UnitSymmetric, true, 8),
+            (Filter::Bilinear, 8, Address::Wrap),
+            4,
+            4,
+            s10,
+        ),
+        // configs/gouraud-teapot.ron: the bump map read as UnitSigned bytes
+        fetch(
+            "gouraud_fetch",
+            fixed(false, 16, 12),
+            (256, 256, 3),
+            us(8),
+            (Filter::Bilinear, 8, Address::Wrap),
+            4,
+            4,
+            us(8),
+        ),
+        // configs/gouraud-torus-caps.ron and the other 64-texel maps: six weight bits
+        fetch(
+            "gouraud_fetch64",
+            fixed(false, 16, 12),
+            (64, 64, 3),
+            us(8),
+            (Filter::Bilinear, 8, Address::Wrap),
+            4,
+            4,
+            us(8),
+        ),
+        // configs/ndf-teapot-aniso-hw5.ron: a 1-lane shading table, mirrored
+        fetch(
+            "ndf_fetch",
+            fixed(false, 16, 12),
+            (256, 256, 1),
+            uu(8),
+            (Filter::Bilinear, 8, Address::Mirror),
+            4,
+            4,
+            uu(8),
+        ),
+        // configs/ndf-teapot-aniso-sw.ron: a nearest 2-lane lookup, clamped, u16.16
+        fetch(
+            "ndf_lookup",
+            fixed(false, 16, 16),
+            (256, 256, 2),
+            us(8),
+            (Filter::Nearest, 8, Address::Clamp),
+            4,
+            4,
+            us(8),
+        ),
         // configs/gouraud-order-{split,combined,multiplicative}.ron: the texture stage
         modulate(
             "gouraud_texture",
@@ -346,5 +449,62 @@ pub fn variants() -> Vec<Case> {
             "b" => Some(us(8)),
             _ => None,
         }),
+        // configs/reference.ron: 1024 x 1024 16-bit texels, 12-bit weights
+        fetch(
+            "reference_fetch",
+            fixed(false, 24, 20),
+            (1024, 1024, 3),
+            Encoding::texel(Codec::UnitSymmetric, true, 16),
+            (Filter::Bilinear, 12, Address::Wrap),
+            4,
+            4,
+            fixed(true, 18, 16),
+        ),
+        // two ports: two tap groups through the tap registers and the port address muxes;
+        // signed coordinates, clamped, fixed-point texels into a narrower rounding code
+        fetch(
+            "fetch_ports2_clamp",
+            fixed(true, 14, 10),
+            (16, 8, 3),
+            fixed(true, 8, 6),
+            (Filter::Bilinear, 6, Address::Clamp),
+            2,
+            3,
+            trn,
+        ),
+        // one port (four groups), mirrored signed coordinates, weights wider than the
+        // fraction, a 1-lane UnitUnsigned texel into a 6-bit RndInf code
+        fetch(
+            "fetch_port1_mirror",
+            fixed(true, 12, 9),
+            (32, 64, 1),
+            uu(8),
+            (Filter::Bilinear, 8, Address::Mirror),
+            1,
+            1,
+            inf,
+        ),
+        // nearest, wrap, a one-texel-high (1D) texture of 4 lanes, signed coordinates
+        fetch(
+            "fetch_nearest_1d",
+            fixed(true, 16, 12),
+            (64, 1, 4),
+            sym,
+            (Filter::Nearest, 8, Address::Wrap),
+            1,
+            2,
+            fixed(true, 10, 8),
+        ),
+        // bilinear on a 1D texture (the t axis has one texel), 3 ports, clamp
+        fetch(
+            "fetch_1d_ports3",
+            fixed(false, 12, 12),
+            (128, 1, 2),
+            us(8),
+            (Filter::Bilinear, 4, Address::Clamp),
+            3,
+            2,
+            zero,
+        ),
     ]
 }
