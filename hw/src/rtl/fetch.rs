@@ -167,8 +167,7 @@ pub fn rtl(u: &TexFetch, top: &str) -> Result<RtlUnit, String> {
         let w = [weight(m, &ax_s.frac, wb), weight(m, &ax_t.frac, wb)];
         let w = w.map(|x| raw_word(m, &x, &Format::u(wb as u8, 0)));
         let hi = (1i128 << wb) - 1;
-        [("w_u", &w[0]), ("w_v", &w[1])]
-            .map(|(n, x)| register(m, n, "start", x, 0, hi).at_frac(wb))
+        [("w_u", &w[0]), ("w_v", &w[1])].map(|(n, x)| register(m, n, "start", x, 0, hi).at_frac(wb))
     });
     let word = (wt as usize * lanes) as u32;
     let words: Vec<u128> = (0..(level.width() * level.height()) as usize)
