@@ -158,6 +158,11 @@ config_errors! {
         &["scene.colour", "colour", "expected one of", "width"]);
     unknown_top_level_key: ("top-key", "emboss", &[("name: \"emboss\",", "name: \"emboss\", frobnicate: true,")], Some("frobnicate"),
         &["frobnicate", "expected one of", "engine"]);
+    // a stale lighting map (docs/studies/embm-limits.md) must be built for a direction
+    embm_map_built_for_no_direction: ("built-for", "d3d6-embm-quad",
+        &[("SphereLighting(size: 256, light: 0),", "SphereLighting(size: 256, light: 0, built_for: Some((0.0, 0.0, 0.0))),")],
+        None,
+        &["engine.units[0].unit", "programs[1].texture", "built_for: (0, 0, 0)", "expected a finite, non-zero direction"]);
 }
 
 // ---------------------------------------------------------------- number formats
