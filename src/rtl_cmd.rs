@@ -2,7 +2,7 @@
 //! (`bumpsim_hw::rtl`, `docs/rtl.md`).
 //!
 //! For every unit with a generator (Dot3, PowerTable, Shade, BumpBlend, Modulate, Normalize, Perturb,
-//! TexFetch)
+//! TexFetch, CullFragment)
 //! the unit's parameters are taken from its config spec, the encodings of the signals wired to
 //! it (the built engine's unit) and the scene (material, bump lights), and the unit is rebuilt
 //! from them with the hw constructors; the rebuilt unit must have the engine's gate budget (the
@@ -17,8 +17,8 @@ use bumpsim_hw::rtl::{
     self, synth, testbench, vectors, Dot3Rtl, ModulateRtl, PowerTableRtl, RtlUnit, ShadeRtl,
 };
 use bumpsim_hw::units::{
-    BlendKind, BumpBlend, BumpBlendParams, LightState, Normalize, Perturb, ShadeInputs,
-    ShadeParams, TexFetch,
+    BlendKind, BumpBlend, BumpBlendParams, CullFragment, LightState, Normalize, Perturb,
+    ShadeInputs, ShadeParams, TexFetch,
 };
 use bumpsim_hw::{Mode, PortSpec, Sampler, Unit, Word};
 use bumpsim_pipeline::config::{InputError, Loaded};
@@ -210,6 +210,13 @@ pub(crate) fn generate(
             let u = TexFetch::new(first()?, tex, sampler, s.ports, s.mem_latency, s.out)?;
             Generated {
                 rtl: rtl::fetch::rtl(&u, top)?,
+                model: Box::new(u),
+            }
+        }
+        UnitSpec::CullFragment(s) => {
+            let u = CullFragment::new(first()?, &s.tests)?;
+            Generated {
+                rtl: rtl::cull::rtl(&u, top),
                 model: Box::new(u),
             }
         }

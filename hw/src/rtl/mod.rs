@@ -22,6 +22,7 @@
 
 pub mod blend;
 pub mod cast;
+pub mod cull;
 pub mod dot3;
 pub mod fetch;
 pub mod fixed;
@@ -381,7 +382,9 @@ impl Shell {
             self.m.input("cfg_addr", ab);
             self.m.input("cfg_data", db);
             for (i, (c, r)) in self.config.iter().enumerate() {
-                let sel = if c.width == 1 {
+                let sel = if db == 1 {
+                    "cfg_data".to_string()
+                } else if c.width == 1 {
                     "cfg_data[0]".to_string()
                 } else {
                     format!("cfg_data[{}:0]", c.width - 1)

@@ -47,6 +47,11 @@ impl CullFragment {
         })
     }
 
+    /// The test of each lane.
+    pub fn tests(&self) -> &[CullTest] {
+        &self.tests
+    }
+
     fn passes(&self, mode: Mode, v: &Word) -> bool {
         self.tests.iter().zip(&v.lanes).all(|(t, s)| {
             let negative = match mode {
@@ -77,15 +82,18 @@ impl Unit for CullFragment {
     fn gates(&self, t: &CostTable) -> GateBudget {
         let n = self.tests.len() as u32;
         let mut g = GateBudget::new();
-        // the sign bit against the lane's mode bit, then a NOR of the failures
+        // the sign bit against the lane's mode bit, then a NOR of the failures (`rtl::cull`);
+        // the mode bits are host-loaded registers and `live` is loaded per fragment (each a
+        // flip-flop with a load enable), and a one-step sequencer
         g.add("sign test (XOR with the mode bit)", n, t.xor2);
         g.add(
             "kill OR tree",
             n.saturating_sub(1),
             t.and2 + t.inv, // OR2 ~ NAND2 of inverted inputs
         );
-        g.add("mode register", n, t.dff);
-        g.add("live register", 1, t.dff);
+        g.add("mode register", n, t.register(1));
+        g.add("live register", 1, t.register(1));
+        g.add("sequencer", 1, t.sequencer(1));
         g
     }
     fn can_kill(&self) -> bool {

@@ -6,7 +6,7 @@
 #![allow(dead_code)]
 
 use bumpsim_hw::rtl::{self, Dot3Rtl, ModulateRtl, PowerTableRtl, RtlUnit, ShadeRtl};
-use bumpsim_hw::units::{Address, Filter, TexFetch, Texels};
+use bumpsim_hw::units::{Address, CullFragment, CullTest, Filter, TexFetch, Texels};
 use bumpsim_hw::units::{
     BlendKind, BumpBlend, BumpBlendParams, Clamp, LightState, Selective, ShadeInputs, ShadeParams,
     SpecGen, VecSource,
@@ -120,6 +120,16 @@ fn fetch(
         .with_address(address, address);
     let u = TexFetch::new(uv, tex, sampler, ports, mem_latency, out).unwrap();
     let rtl = rtl::fetch::rtl(&u, name).unwrap();
+    Case {
+        name,
+        unit: Box::new(u),
+        rtl,
+    }
+}
+
+fn cull(name: &'static str, v: Encoding, tests: &[CullTest]) -> Case {
+    let u = CullFragment::new(v, tests).unwrap();
+    let rtl = rtl::cull::rtl(&u, name);
     Case {
         name,
         unit: Box::new(u),
@@ -281,6 +291,8 @@ pub fn bundled() -> Vec<Case> {
             4,
             us(8),
         ),
+        // configs/cull-fragment.ron: one coordinate kept where it is >= 0
+        cull("cull", fixed(true, 10, 8), &[CullTest::Gequal]),
         // configs/gouraud-order-{split,combined,multiplicative}.ron: the texture stage
         modulate(
             "gouraud_texture",
@@ -506,5 +518,18 @@ pub fn variants() -> Vec<Case> {
             2,
             zero,
         ),
+        // four lanes, mixed tests (a clip plane on each side)
+        cull(
+            "cull_mixed",
+            sym,
+            &[
+                CullTest::Less,
+                CullTest::Gequal,
+                CullTest::Less,
+                CullTest::Gequal,
+            ],
+        ),
+        // an unsigned lane is never negative: Gequal always passes, Less always fails
+        cull("cull_unsigned", uu(8), &[CullTest::Gequal, CullTest::Less]),
     ]
 }
