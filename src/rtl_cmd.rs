@@ -2,7 +2,7 @@
 //! (`bumpsim_hw::rtl`, `docs/rtl.md`).
 //!
 //! For every unit with a generator (Dot3, PowerTable, Shade, BumpBlend, Modulate, Normalize, Perturb,
-//! TexFetch, CullFragment)
+//! TexFetch, CullFragment, FbBlend)
 //! the unit's parameters are taken from its config spec, the encodings of the signals wired to
 //! it (the built engine's unit) and the scene (material, bump lights), and the unit is rebuilt
 //! from them with the hw constructors; the rebuilt unit must have the engine's gate budget (the
@@ -17,7 +17,7 @@ use bumpsim_hw::rtl::{
     self, synth, testbench, vectors, Dot3Rtl, ModulateRtl, PowerTableRtl, RtlUnit, ShadeRtl,
 };
 use bumpsim_hw::units::{
-    BlendKind, BumpBlend, BumpBlendParams, CullFragment, LightState, Normalize, Perturb,
+    BlendKind, BumpBlend, BumpBlendParams, CullFragment, FbBlend, LightState, Normalize, Perturb,
     ShadeInputs, ShadeParams, TexFetch,
 };
 use bumpsim_hw::{Mode, PortSpec, Sampler, Unit, Word};
@@ -210,6 +210,14 @@ pub(crate) fn generate(
             let u = TexFetch::new(first()?, tex, sampler, s.ports, s.mem_latency, s.out)?;
             Generated {
                 rtl: rtl::fetch::rtl(&u, top)?,
+                model: Box::new(u),
+            }
+        }
+        UnitSpec::FbBlend(s) => {
+            let enc = |n: &str| enc_of(ins, n).ok_or(format!("no {n}"));
+            let u = FbBlend::new(s.equation, enc("base")?, enc("entry")?, s.fb)?;
+            Generated {
+                rtl: rtl::fb_blend::rtl(&u, top),
                 model: Box::new(u),
             }
         }

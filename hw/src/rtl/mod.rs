@@ -24,6 +24,7 @@ pub mod blend;
 pub mod cast;
 pub mod cull;
 pub mod dot3;
+pub mod fb_blend;
 pub mod fetch;
 pub mod fixed;
 pub mod modulate;

@@ -35,9 +35,10 @@
 //! The framebuffer memory is not counted.
 
 use crate::arith::Acc;
-use crate::format::Encoding;
+use crate::format::{Codec, Encoding};
 use crate::gates::{CostTable, GateBudget};
 use crate::unit::{Mode, PortSpec, Unit, Word};
+use crate::units::fetch::shift_add;
 
 /// Which of Tarini's blending equations.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -136,22 +137,54 @@ impl Unit for FbBlend {
     fn interval(&self) -> u32 {
         1
     }
+    /// Priced as `rtl::fb_blend` builds it (`docs/units/fb_blend.md`), per channel: the two
+    /// products (`r_o alpha` on the codes; `(1 - dst) r_i` on the plain `1 - dst`, which a
+    /// unit framebuffer word makes `2n + 1` bits wide), the `1 - dst` subtractor and the sum,
+    /// each framebuffer word's cast by its folded constant's digits (`shift_add` over the
+    /// word's `n` bits: the rounding keeps only them, so the lower copies reach it as carries;
+    /// the pass-1 base word where the encodings differ, equation (1)'s `d`, the result), the
+    /// output register and the sequencer.
     fn gates(&self, t: &CostTable) -> GateBudget {
-        let wf = self.fb().width();
-        let we = self.inputs[1].enc.width();
+        let fb = self.fb();
+        let wf = fb.width();
+        let (be, ee) = (self.inputs[0].enc, self.inputs[1].enc);
+        let we = ee.width();
+        let rep = |e: &Encoding| match e.codec {
+            Codec::UnitUnsigned | Codec::UnitSymmetric => (1u128 << e.width()) + 1,
+            _ => 1,
+        };
+        let unit_out = matches!(fb.codec, Codec::UnitUnsigned | Codec::UnitSymmetric);
+        let out_k = if unit_out { (1u128 << wf) - 1 } else { 1 };
+        // the plain value of a framebuffer word read back (the replication applied)
+        let pw = if rep(&fb) > 1 { 2 * wf } else { wf } + 1;
         let mut g = GateBudget::new();
+        if be != fb {
+            let k = rep(&be) * out_k;
+            g.add(format!("base word cast x{k} {wf}"), 3, shift_add(t, wf, k));
+            g.add(format!("base word clamp {wf}"), 3, t.clamp(wf));
+        }
         g.add(
-            format!("blend multiplier {wf}x{we}"),
-            6,
+            format!("alpha multiplier {wf}x{we}"),
+            3,
             t.multiplier(wf, we),
         );
+        g.add(format!("1 - dst subtractor {pw}"), 3, t.adder(pw));
         g.add(
-            format!("blend adder {}", wf + we + 1),
+            format!("(1 - dst) multiplier {pw}x{we}"),
             3,
-            t.adder(wf + we + 1),
+            t.multiplier(pw, we),
         );
-        g.add(format!("clamp and cast {wf}"), 3, t.clamp(wf));
+        if self.eq == BlendEquation::Exact {
+            let k = rep(&fb) * rep(&ee) * out_k;
+            g.add(format!("d word cast x{k} {wf}"), 3, shift_add(t, wf, k));
+        }
+        let ws = pw + we + 1;
+        g.add(format!("blend adder {ws}"), 3, t.adder(ws));
+        let k = rep(&ee) * out_k;
+        g.add(format!("result cast x{k} {wf}"), 3, shift_add(t, wf, k));
+        g.add(format!("result clamp {wf}"), 3, t.clamp(wf));
         g.add(format!("output register {}", 3 * wf), 1, t.register(3 * wf));
+        g.add("sequencer", 1, t.sequencer(1));
         g
     }
     fn eval(&self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
@@ -285,16 +318,28 @@ mod tests {
     }
 
     #[test]
-    fn gates_are_one_blend_stage() {
+    fn gates_are_one_blend_stage_and_equation_1_adds_a_cast() {
         let t = CostTable::default();
         let e = u8e();
         let g = FbBlend::new(BlendEquation::Exact, e, e, e)
             .unwrap()
             .gates(&t);
-        assert!((g.items[0].ge - 6.0 * t.multiplier(8, 8)).abs() < 1e-9);
+        let item =
+            |g: &GateBudget, what: &str| g.items.iter().find(|i| i.what == what).map(|i| i.ge);
+        // r_o alpha on the codes, (1 - dst) r_i on the plain 17-bit 1 - dst
+        assert_eq!(
+            item(&g, "alpha multiplier 8x8"),
+            Some(3.0 * t.multiplier(8, 8))
+        );
+        assert_eq!(
+            item(&g, "(1 - dst) multiplier 17x8"),
+            Some(3.0 * t.multiplier(17, 8))
+        );
         let g2 = FbBlend::new(BlendEquation::Approx, e, e, e)
             .unwrap()
             .gates(&t);
-        assert_eq!(g.total(), g2.total());
+        // equation (1)'s extra pass is one more framebuffer word: d = r_o alpha
+        let d = 3.0 * shift_add(&t, 8, 257 * 257 * 255);
+        assert!((g.total() - g2.total() - d).abs() < 1e-9);
     }
 }

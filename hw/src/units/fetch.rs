@@ -118,7 +118,7 @@ impl TexFetch {
 /// a full adder where the two shifted copies overlap and a carry or borrow chain (a half adder
 /// a bit) where they do not (as the power table's index rounding): `x (2^16 - 1)` of a 13-bit
 /// `x` is a borrow chain, not a 13-bit subtractor, and the cast's rounding keeps only its top.
-fn shift_add(t: &CostTable, n: u32, k: u128) -> f64 {
+pub(crate) fn shift_add(t: &CostTable, n: u32, k: u128) -> f64 {
     let mut digits: Vec<u32> = crate::arith::csd(k).into_iter().map(|(s, _)| s).collect();
     digits.sort_unstable_by(|a, b| b.cmp(a));
     digits

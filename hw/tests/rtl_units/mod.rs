@@ -6,7 +6,9 @@
 #![allow(dead_code)]
 
 use bumpsim_hw::rtl::{self, Dot3Rtl, ModulateRtl, PowerTableRtl, RtlUnit, ShadeRtl};
-use bumpsim_hw::units::{Address, CullFragment, CullTest, Filter, TexFetch, Texels};
+use bumpsim_hw::units::{
+    Address, BlendEquation, CullFragment, CullTest, FbBlend, Filter, TexFetch, Texels,
+};
 use bumpsim_hw::units::{
     BlendKind, BumpBlend, BumpBlendParams, Clamp, LightState, Selective, ShadeInputs, ShadeParams,
     SpecGen, VecSource,
@@ -120,6 +122,22 @@ fn fetch(
         .with_address(address, address);
     let u = TexFetch::new(uv, tex, sampler, ports, mem_latency, out).unwrap();
     let rtl = rtl::fetch::rtl(&u, name).unwrap();
+    Case {
+        name,
+        unit: Box::new(u),
+        rtl,
+    }
+}
+
+fn fb_blend(
+    name: &'static str,
+    eq: BlendEquation,
+    base: Encoding,
+    entry: Encoding,
+    fb: Encoding,
+) -> Case {
+    let u = FbBlend::new(eq, base, entry, fb).unwrap();
+    let rtl = rtl::fb_blend::rtl(&u, name);
     Case {
         name,
         unit: Box::new(u),
@@ -291,6 +309,9 @@ pub fn bundled() -> Vec<Case> {
             4,
             us(8),
         ),
+        // configs/quantized-bunny-wood-eq{1,2}.ron: Tarini's framebuffer blends, u8 words
+        fb_blend("tarini_eq1", BlendEquation::Exact, uu(8), uu(8), uu(8)),
+        fb_blend("tarini_eq2", BlendEquation::Approx, uu(8), uu(8), uu(8)),
         // configs/cull-fragment.ron: one coordinate kept where it is >= 0
         cull("cull", fixed(true, 10, 8), &[CullTest::Gequal]),
         // configs/gouraud-order-{split,combined,multiplicative}.ron: the texture stage
@@ -531,5 +552,20 @@ pub fn variants() -> Vec<Case> {
         ),
         // an unsigned lane is never negative: Gequal always passes, Less always fails
         cull("cull_unsigned", uu(8), &[CullTest::Gequal, CullTest::Less]),
+        // a 10-bit framebuffer, 6-bit entries, a fixed-point base above 1 (pass 1 clamps it)
+        fb_blend(
+            "fb_eq1_wide",
+            BlendEquation::Exact,
+            fixed(false, 10, 8),
+            uu(6),
+            uu(10),
+        ),
+        fb_blend(
+            "fb_eq2_fixed",
+            BlendEquation::Approx,
+            uu(8),
+            us(8),
+            fixed(false, 9, 8),
+        ),
     ]
 }
