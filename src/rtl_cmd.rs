@@ -2,11 +2,13 @@
 //! (`bumpsim_hw::rtl`, `docs/rtl.md`).
 //!
 //! For every unit with a generator (Dot3, PowerTable, Shade, BumpBlend, Modulate, Normalize, Perturb,
-//! TexFetch, CullFragment, FbBlend)
+//! TexFetch, CullFragment, FbBlend, QuantizedNormals)
 //! the unit's parameters are taken from its config spec, the encodings of the signals wired to
 //! it (the built engine's unit) and the scene (material, bump lights), and the unit is rebuilt
 //! from them with the hw constructors; the rebuilt unit must have the engine's gate budget (the
 //! same structure) and, with `--cosim`, the same outputs as the engine's unit on every vector.
+//! The quantized normal maps unit is the exception: its Verilog is generated from the
+//! engine's own unit (`Unit::as_any`), whose normal table and index texture the engine baked.
 //! Writes `DIR/NAME.v` (the unit and its ROMs) and `DIR/NAME.regs` (the host-loaded register
 //! words: address, width, value, what) and, for a unit with a texture memory, `DIR/MODULE.hex` (its
 //! `$readmemh` contents); `--cosim N` replays N vectors per unit with iverilog
@@ -18,7 +20,7 @@ use bumpsim_hw::rtl::{
 };
 use bumpsim_hw::units::{
     BlendKind, BumpBlend, BumpBlendParams, CullFragment, FbBlend, LightState, Normalize, Perturb,
-    ShadeInputs, ShadeParams, TexFetch,
+    QuantizedFetch, ShadeInputs, ShadeParams, TexFetch,
 };
 use bumpsim_hw::{Mode, PortSpec, Sampler, Unit, Word};
 use bumpsim_pipeline::config::{InputError, Loaded};
@@ -28,10 +30,11 @@ use bumpsim_pipeline::scene::Scene;
 use std::fmt::Write as _;
 use std::path::Path;
 
-/// A generated unit: the Verilog and the unit rebuilt from the same parameters.
+/// A generated unit: the Verilog and the unit rebuilt from the same parameters (`None`: the
+/// Verilog is generated from the engine's unit itself, whose assets are baked by the engine).
 pub(crate) struct Generated {
     pub(crate) rtl: RtlUnit,
-    pub(crate) model: Box<dyn Unit>,
+    pub(crate) model: Option<Box<dyn Unit>>,
 }
 
 fn enc_of(ports: &[PortSpec], name: &str) -> Option<bumpsim_hw::Encoding> {
@@ -130,7 +133,7 @@ pub(crate) fn generate(
             };
             Generated {
                 rtl: p.rtl(top),
-                model: Box::new(p.unit()),
+                model: Some(Box::new(p.unit())),
             }
         }
         UnitSpec::PowerTable(s) => {
@@ -144,7 +147,7 @@ pub(crate) fn generate(
             };
             Generated {
                 rtl: p.rtl(top),
-                model: Box::new(p.unit()),
+                model: Some(Box::new(p.unit())),
             }
         }
         UnitSpec::Shade(s) => {
@@ -171,7 +174,7 @@ pub(crate) fn generate(
             };
             Generated {
                 rtl: p.rtl(top),
-                model: Box::new(p.unit()),
+                model: Some(Box::new(p.unit())),
             }
         }
         UnitSpec::Modulate(s) => {
@@ -182,14 +185,14 @@ pub(crate) fn generate(
             };
             Generated {
                 rtl: p.rtl(top),
-                model: Box::new(p.unit()),
+                model: Some(Box::new(p.unit())),
             }
         }
         UnitSpec::Normalize(s) => {
             let u = Normalize::new(first()?, s.table_bits, s.value_bits, s.out)?;
             Generated {
                 rtl: rtl::normalize::rtl(&u, top),
-                model: Box::new(u),
+                model: Some(Box::new(u)),
             }
         }
         UnitSpec::Perturb(s) => {
@@ -197,7 +200,7 @@ pub(crate) fn generate(
             let u = Perturb::new(enc("base")?, enc("u")?, enc("v")?, enc("d")?, s.out)?;
             Generated {
                 rtl: rtl::perturb::rtl(&u, top),
-                model: Box::new(u),
+                model: Some(Box::new(u)),
             }
         }
         UnitSpec::TexFetch(s) => {
@@ -210,7 +213,7 @@ pub(crate) fn generate(
             let u = TexFetch::new(first()?, tex, sampler, s.ports, s.mem_latency, s.out)?;
             Generated {
                 rtl: rtl::fetch::rtl(&u, top)?,
-                model: Box::new(u),
+                model: Some(Box::new(u)),
             }
         }
         UnitSpec::FbBlend(s) => {
@@ -218,21 +221,31 @@ pub(crate) fn generate(
             let u = FbBlend::new(s.equation, enc("base")?, enc("entry")?, s.fb)?;
             Generated {
                 rtl: rtl::fb_blend::rtl(&u, top),
-                model: Box::new(u),
+                model: Some(Box::new(u)),
             }
         }
         UnitSpec::CullFragment(s) => {
             let u = CullFragment::new(first()?, &s.tests)?;
             Generated {
                 rtl: rtl::cull::rtl(&u, top),
-                model: Box::new(u),
+                model: Some(Box::new(u)),
             }
         }
         UnitSpec::BumpBlend(s) => {
             let u = BumpBlend::new(blend_params(s, scene), |n| enc_of(ins, n))?;
             Generated {
                 rtl: rtl::blend::rtl(&u, top)?,
-                model: Box::new(u),
+                model: Some(Box::new(u)),
+            }
+        }
+        UnitSpec::QuantizedNormals(_) => {
+            let u = unit
+                .as_any()
+                .downcast_ref::<QuantizedFetch>()
+                .ok_or("the engine's unit is not a quantized fetch")?;
+            Generated {
+                rtl: rtl::quantized::rtl(u, top)?,
+                model: None,
             }
         }
         _ => return Ok(None),
@@ -291,7 +304,8 @@ pub fn execute(l: &Loaded, out: &Path, cosim: usize, synth_on: bool) -> Result<(
             }
         };
         let model_ge = unit.gates(table).total();
-        if g.model.gates(table) != unit.gates(table) {
+        let model: &dyn Unit = g.model.as_deref().unwrap_or(unit);
+        if model.gates(table) != unit.gates(table) {
             failures.push(format!(
                 "{}: the unit rebuilt for the RTL has another gate budget than the engine's",
                 uc.name
@@ -299,7 +313,7 @@ pub fn execute(l: &Loaded, out: &Path, cosim: usize, synth_on: bool) -> Result<(
         }
         write(out, &format!("{}.v", uc.name), &g.rtl.verilog)?;
         write(out, &format!("{}.regs", uc.name), &regs_text(&g.rtl))?;
-        for mem in &g.rtl.memories {
+        for mem in g.rtl.memories.iter().filter(|m| m.has_file()) {
             write(out, &mem.file, &mem.hex())?;
         }
         let mut line = format!(
@@ -311,8 +325,11 @@ pub fn execute(l: &Loaded, out: &Path, cosim: usize, synth_on: bool) -> Result<(
             g.rtl.config.len(),
             model_ge
         );
+        if let Some(f) = g.rtl.frame {
+            let _ = write!(line, "  frame {f} clocks (model {})", unit.frame_cycles());
+        }
         if cosim > 0 {
-            let (ins, outs) = vectors::vectors(g.model.as_ref(), cosim, 0x13_0000 + i as u64);
+            let (ins, outs) = vectors::vectors(model, cosim, 0x13_0000 + i as u64);
             // the engine's own unit on the same words
             let differ = ins
                 .iter()

@@ -129,8 +129,21 @@ pub struct TextureRead {
     pub taps: u32,
 }
 
+/// A unit as [`std::any::Any`], so that a tool holding a `&dyn Unit` (the Verilog generators)
+/// can reach the concrete unit; implemented for every `'static` type. On a `Box<dyn Unit>`
+/// call it through the box (`b.as_ref().as_any()`), or it answers for the box.
+pub trait AsAny {
+    fn as_any(&self) -> &dyn std::any::Any;
+}
+
+impl<T: std::any::Any> AsAny for T {
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+}
+
 /// What every hardware unit provides. See the module documentation.
-pub trait Unit: Send + Sync {
+pub trait Unit: Send + Sync + AsAny {
     /// The unit's kind, e.g. `"dot3"`; instance names are given by the pipeline.
     fn kind(&self) -> &'static str;
     fn inputs(&self) -> &[PortSpec];

@@ -203,3 +203,29 @@ fn normalize_matches_the_model_on_every_5_bit_vector() {
         .collect();
     cosim_on(&c, ins, "normalize_exhaustive");
 }
+
+/// Every entry the builder writes, read back: one vector per texel centre of an index
+/// texture that holds every index (`quantized_sphere`: 256 entries in 64 x 64 texels, one
+/// Blinn-Phong material; `quantized_materials`: two materials over 200 entries, two lights).
+#[test]
+fn quantized_builder_writes_every_entry_as_the_model() {
+    if skip_requested() {
+        return;
+    }
+    assert!(iverilog_available(), "rtl_cosim: iverilog not found");
+    let cases = rtl_units::quantized::bundled()
+        .into_iter()
+        .take(1)
+        .chain(rtl_units::quantized::variants().into_iter().take(1));
+    for (c, size) in cases.zip([64u32, 32]) {
+        let uv = c.unit.inputs()[0].enc;
+        let ins: Vec<Vec<Word>> = (0..size * size)
+            .map(|k| {
+                let (i, j) = (k % size, k / size);
+                let at = |x: u32| (x as f64 + 0.5) / size as f64;
+                vec![Word::quantize(&uv, &[at(i), at(j)])]
+            })
+            .collect();
+        cosim_on(&c, ins, &format!("every_entry_{}", c.name));
+    }
+}

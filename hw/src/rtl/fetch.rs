@@ -93,6 +93,38 @@ fn weight(m: &mut Module, fr: &Option<(String, u32)>, wb: u32) -> String {
 
 /// The Verilog of a built [`TexFetch`] (its ports, sampler and texture are the parameters).
 pub fn rtl(u: &TexFetch, top: &str) -> Result<RtlUnit, String> {
+    let mut sh = Shell::new(top, plan(u));
+    let uv = u.inputs()[0].clone();
+    let coords = sh.port(0, &uv, false);
+    let outs = sh.output(0, &u.outputs()[0]);
+    let codes = datapath(&mut sh, u, &coords, "texels")?;
+    let fin = sh.fin.clone();
+    for (o, code) in outs.iter().zip(&codes) {
+        sh.m.stmt(format!("always @(posedge clk) if ({fin}) {o} <= {code};"));
+    }
+    Ok(sh.finish())
+}
+
+/// The fetch's own clocking: the memory's latency, the tap groups, one edge into the outputs.
+pub(crate) fn plan(u: &TexFetch) -> Plan {
+    let groups = u.interval();
+    let lat = u.mem_latency();
+    Plan {
+        capture: false,
+        interval: if groups > 1 { lat + groups } else { lat },
+        finish: true,
+    }
+}
+
+/// The fetch between the coordinate words `coords` (held from `start`) and the output codes
+/// in `sh`, the texel store a memory named `mem`: returns one code wire per output lane, valid
+/// while `step` is [`plan`]'s interval (the cycle before the fetch's own output edge).
+pub(crate) fn datapath(
+    sh: &mut Shell,
+    u: &TexFetch,
+    coords: &[String],
+    mem: &str,
+) -> Result<Vec<String>, String> {
     let tex = u.texture();
     let level = tex.level_at(0);
     let (log_w, log_h) = level.logs();
@@ -101,12 +133,6 @@ pub fn rtl(u: &TexFetch, top: &str) -> Result<RtlUnit, String> {
     let (taps, ports) = (sampler.taps(), u.ports());
     let groups = u.interval();
     let lat = u.mem_latency();
-    let plan = Plan {
-        capture: false,
-        interval: if groups > 1 { lat + groups } else { lat },
-        finish: true,
-    };
-    let mut sh = Shell::new(top, plan);
     let uv = u.inputs()[0].clone();
     let frac = uv.enc.format.frac as u32;
     let lanes = tex.lanes() as usize;
@@ -118,10 +144,9 @@ pub fn rtl(u: &TexFetch, top: &str) -> Result<RtlUnit, String> {
             wt as usize * lanes
         ));
     }
-    let coords = sh.port(0, &uv, false);
     let out_enc = u.outputs()[0].enc;
-    let outs = sh.output(0, &u.outputs()[0]);
-    let (t, fin) = (sh.t.clone(), sh.fin.clone());
+    let t = sh.t.clone();
+    let sb = super::verilog::unsigned_bits(sh.plan.latency() as u128);
     let [am_s, am_t] = sampler.address();
     let m = &mut sh.m;
     m.comment("addressing");
@@ -178,7 +203,7 @@ pub fn rtl(u: &TexFetch, top: &str) -> Result<RtlUnit, String> {
             })
         })
         .collect();
-    let data = sh.memory("texels", words, word, &port_addr, lat);
+    let data = sh.memory(mem, words, word, &port_addr, lat);
     let m = &mut sh.m;
     // the tap words: registered per group when the reads take several clocks
     let tap_word: Vec<String> = (0..taps as usize)
@@ -186,7 +211,6 @@ pub fn rtl(u: &TexFetch, top: &str) -> Result<RtlUnit, String> {
             let (g, p) = (k / ports as usize, k % ports as usize);
             if groups > 1 {
                 let r = m.reg(&format!("tap_{k}"), word);
-                let sb = super::verilog::unsigned_bits(plan.latency() as u128);
                 m.stmt(format!(
                     "always @(posedge clk) if (step == {sb}'d{}) {r} <= {};",
                     g as u32 + lat,
@@ -198,7 +222,8 @@ pub fn rtl(u: &TexFetch, top: &str) -> Result<RtlUnit, String> {
             }
         })
         .collect();
-    for (l, o) in outs.iter().enumerate() {
+    let mut codes = Vec::new();
+    for l in 0..u.outputs()[0].lanes as usize {
         m.comment(&format!("lane {l}"));
         let read = |m: &mut Module, k: usize| {
             let bits = m.uwire(
@@ -227,8 +252,7 @@ pub fn rtl(u: &TexFetch, top: &str) -> Result<RtlUnit, String> {
                 lerp(m, &top, &bot, wv)
             }
         };
-        let code = super::fixed::to_code(m, &v, &out_enc);
-        m.stmt(format!("always @(posedge clk) if ({fin}) {o} <= {code};"));
+        codes.push(super::fixed::to_code(m, &v, &out_enc));
     }
-    Ok(sh.finish())
+    Ok(codes)
 }

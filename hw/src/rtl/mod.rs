@@ -29,8 +29,10 @@ pub mod fetch;
 pub mod fixed;
 pub mod modulate;
 pub mod normalize;
+pub mod palette_builder;
 pub mod perturb;
 pub mod power;
+pub mod quantized;
 pub mod shade;
 pub mod synth;
 pub mod testbench;
@@ -85,10 +87,15 @@ pub struct RtlUnit {
     /// from a `$readmemh` file, and black boxes for synthesis (the memory is outside the
     /// unit's budget, as the gate model has it).
     pub memories: Vec<Memory>,
+    /// Units with per-frame work (a table the unit builds itself): clocks from the edge that
+    /// samples the `frame` pulse to the one after which `frame_done` is high. The testbench
+    /// runs the frame after the host registers and before the vectors.
+    pub frame: Option<u32>,
 }
 
-/// A texture memory of a generated unit: module `module` with `ports` read ports
-/// (`a{p}` address, `d{p}` data `latency` clocks later), contents read from `file`.
+/// A memory of a generated unit: module `module` with read ports (`a{p}` address, `d{p}`
+/// data `latency` clocks later), contents read from `file`; a loadable table written by the
+/// unit itself (`we`, `wa`, `wd`) has no file (`file` empty, no words).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Memory {
     pub module: String,
@@ -101,6 +108,11 @@ pub struct Memory {
 }
 
 impl Memory {
+    /// Whether the memory is loaded from a file (not written by the unit).
+    pub fn has_file(&self) -> bool {
+        !self.file.is_empty()
+    }
+
     /// The `$readmemh` text of the contents.
     pub fn hex(&self) -> String {
         let digits = self.width.div_ceil(4).max(1) as usize;
@@ -157,6 +169,7 @@ pub(crate) struct Shell {
     roms: Vec<String>,
     tables: Vec<(String, u32)>,
     memories: Vec<Memory>,
+    frame: Option<u32>,
     /// Datapath clock index, its width; datapath enable; final-edge enable.
     pub t: String,
     pub t_bits: u32,
@@ -220,6 +233,7 @@ impl Shell {
             roms: Vec::new(),
             tables: Vec::new(),
             memories: Vec::new(),
+            frame: None,
             t,
             t_bits: tb,
             comp,
@@ -266,6 +280,47 @@ impl Shell {
             name.clone(),
         ));
         name
+    }
+
+    /// A host-loaded register of `width` bits holding `value` (two's complement when
+    /// negative); returns its name.
+    pub fn config_raw(&mut self, what: &str, width: u32, value: i64) -> String {
+        let name = format!("cfg_{}", self.config.len());
+        self.m.reg(&name, width);
+        self.config.push((
+            ConfigWord {
+                what: what.to_string(),
+                width,
+                value,
+            },
+            name.clone(),
+        ));
+        name
+    }
+
+    /// Output lanes of the unit port `index` driven by the wires `exprs` (no registers of
+    /// their own, e.g. a copy of other outputs).
+    pub fn output_wires(&mut self, index: usize, p: &PortSpec, exprs: &[String]) {
+        for (l, e) in exprs.iter().enumerate().take(p.lanes as usize) {
+            let name = lane_name(p, l);
+            self.m.output_wire(&name, p.enc.width(), e);
+            self.outputs.push(Lane {
+                name,
+                port: index,
+                lane: l,
+                enc: p.enc,
+            });
+        }
+    }
+
+    /// A per-frame phase of `cycles` clocks: the `frame` input (a pulse, sampled by the
+    /// first edge) and the `frame_done` output (high after the `cycles`-th edge until the next
+    /// `frame`; the caller drives the register `frame_done`). Returns the names.
+    pub fn frame(&mut self, cycles: u32) -> (String, String) {
+        self.m.input("frame", 1);
+        self.m.output_reg("frame_done", 1);
+        self.frame = Some(cycles);
+        ("frame".into(), "frame_done".into())
     }
 
     /// Registered output lanes of the unit port `index`; returns their names.
@@ -316,17 +371,68 @@ impl Shell {
         addrs: &[(String, u32)],
         latency: u32,
     ) -> Vec<String> {
+        let n = words.len();
+        self.memory_module(name, words, n, width, addrs, latency, None)
+    }
+
+    /// Instantiate a loadable table (module `{top}_{name}`, `entries` words, empty at reset)
+    /// with the read ports of [`Shell::memory`] and one write port `write = (enable, address,
+    /// data)`: the word is written on the edge that samples the enable.
+    pub fn ram(
+        &mut self,
+        name: &str,
+        entries: usize,
+        width: u32,
+        addrs: &[(String, u32)],
+        latency: u32,
+        write: (&str, &str, &str),
+    ) -> Vec<String> {
+        self.memory_module(
+            name,
+            Vec::new(),
+            entries,
+            width,
+            addrs,
+            latency,
+            Some(write),
+        )
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn memory_module(
+        &mut self,
+        name: &str,
+        words: Vec<u128>,
+        entries: usize,
+        width: u32,
+        addrs: &[(String, u32)],
+        latency: u32,
+        write: Option<(&str, &str, &str)>,
+    ) -> Vec<String> {
         let module = format!("{}_{name}", self.m.name);
         let file = format!("{module}.hex");
         let ab = addrs.iter().map(|a| a.1).max().unwrap_or(1).max(1);
         let lat = latency.max(1);
+        let (kind, from) = match write {
+            None => ("texture memory", format!(" (contents from {file})")),
+            Some(_) => (
+                "loadable table",
+                " (written through its write port)".to_string(),
+            ),
+        };
         let mut text = format!(
-            "// texture memory {}x{width}, {} read ports, {lat} clocks: a behavioural model for\n\
-             // co-simulation (contents from {file}); a black box in synthesis\n\
+            "// {kind} {entries}x{width}, {} read ports, {lat} clocks: a behavioural model for\n\
+             // co-simulation{from}; a black box in synthesis\n\
              module {module} (\n    input wire clk",
-            words.len(),
             addrs.len()
         );
+        if write.is_some() {
+            text += &format!(
+                ",\n    input wire we,\n    input wire [{}:0] wa,\n    input wire [{}:0] wd",
+                ab - 1,
+                width - 1
+            );
+        }
         for p in 0..addrs.len() {
             text += &format!(
                 ",\n    input wire [{}:0] a{p},\n    output wire [{}:0] d{p}",
@@ -335,10 +441,17 @@ impl Shell {
             );
         }
         text += &format!(
-            "\n);\n    reg [{}:0] mem [0:{}];\n    `ifndef SYNTHESIS\n    initial $readmemh(\"{file}\", mem);\n`endif\n",
+            "\n);\n    reg [{}:0] mem [0:{}];\n",
             width - 1,
-            words.len().max(1) - 1
+            entries.max(1) - 1
         );
+        if write.is_some() {
+            text += "    always @(posedge clk) if (we) mem[wa] <= wd;\n";
+        } else {
+            text += &format!(
+                "    `ifndef SYNTHESIS\n    initial $readmemh(\"{file}\", mem);\n`endif\n"
+            );
+        }
         for p in 0..addrs.len() {
             for k in 0..lat {
                 text += &format!("    reg [{}:0] r{k}_{p};\n", width - 1);
@@ -352,6 +465,13 @@ impl Shell {
         text += "endmodule\n";
         self.roms.push(text);
         let mut conns = vec![".clk(clk)".to_string()];
+        if let Some((we, wa, wd)) = write {
+            conns.extend([
+                format!(".we({we})"),
+                format!(".wa({wa})"),
+                format!(".wd({wd})"),
+            ]);
+        }
         let mut data = Vec::new();
         for (p, (a, w)) in addrs.iter().enumerate() {
             let y = self.m.net("texel", width);
@@ -368,7 +488,7 @@ impl Shell {
             .stmt(format!("{module} {module}_i ({});", conns.join(", ")));
         self.memories.push(Memory {
             module,
-            file,
+            file: if write.is_some() { String::new() } else { file },
             width,
             words,
         });
@@ -410,6 +530,7 @@ impl Shell {
             latency: self.plan.latency(),
             tables: self.tables,
             memories: self.memories,
+            frame: self.frame,
         }
     }
 }

@@ -5,6 +5,8 @@
 //! `in.hex` / `out.hex` (one 32-bit word per lane per vector, lanes in
 //! [`RtlUnit::inputs`] / [`RtlUnit::outputs`] order), `cfg.hex` (the register words) and
 //! the contents of the unit's texture memories ([`RtlUnit::memories`]).
+//! A unit with per-frame work ([`RtlUnit::frame`]) gets one `frame` pulse after the registers
+//! are loaded, and the vectors start when `frame_done` is high.
 //! [`run_iverilog`] compiles with `iverilog -g2005` and runs `vvp`; the testbench prints
 //! `RESULT vectors=N mismatches=M latency_errors=L` (and the first mismatches).
 
@@ -19,7 +21,8 @@ use std::process::Command;
 pub struct CosimReport {
     pub vectors: usize,
     pub mismatches: usize,
-    /// Vectors whose `done` did not come exactly [`RtlUnit::latency`] clocks after `start`.
+    /// Vectors whose `done` did not come exactly [`RtlUnit::latency`] clocks after `start`,
+    /// plus one when a frame phase ([`RtlUnit::frame`]) took another number of clocks.
     pub latency_errors: usize,
     /// The testbench's lines about the first mismatches.
     pub first: Vec<String>,
@@ -64,6 +67,10 @@ pub fn testbench(u: &RtlUnit, n: usize) -> String {
         );
         conns.extend(["cfg_we", "cfg_addr", "cfg_data"].map(|c| format!(".{c}({c})")));
     }
+    if u.frame.is_some() {
+        s += "    reg frame = 0;\n    wire frame_done;\n";
+        conns.extend(["frame", "frame_done"].map(|c| format!(".{c}({c})")));
+    }
     for l in &u.inputs {
         let _ = writeln!(s, "    reg {}i_{} = 0;", bits(l.enc.width()), l.name);
         conns.push(format!(".{0}(i_{0})", l.name));
@@ -92,6 +99,17 @@ pub fn testbench(u: &RtlUnit, n: usize) -> String {
         let _ = writeln!(
             s,
             "        for (i = 0; i < {nc}; i = i + 1) begin\n            cfg_we = 1; cfg_addr = i; cfg_data = cfg[i];\n            @(negedge clk);\n        end\n        cfg_we = 0;"
+        );
+    }
+    if let Some(f) = u.frame {
+        // the per-frame phase: one pulse, then the clocks until frame_done
+        let _ = writeln!(
+            s,
+            "        frame = 1;\n        @(negedge clk);\n        frame = 0;\n        cycles = 1;\n        \
+             while (!frame_done && cycles < {}) begin\n            @(negedge clk);\n            \
+             cycles = cycles + 1;\n        end\n        if (cycles != {f}) begin\n            \
+             lat_bad = lat_bad + 1;\n            $display(\"FRAME %0d clocks, expected {f}\", cycles);\n        end",
+            f as u64 * 2 + 1000
         );
     }
     let _ = writeln!(s, "        for (v = 0; v < {n}; v = v + 1) begin");
@@ -151,7 +169,7 @@ pub fn write(
         c.value as u64 & mask
     }));
     std::fs::write(dir.join("cfg.hex"), cfg)?;
-    for mem in &u.memories {
+    for mem in u.memories.iter().filter(|m| m.has_file()) {
         std::fs::write(dir.join(&mem.file), mem.hex())?;
     }
     Ok(())

@@ -16,6 +16,7 @@ pub use shade::{Shade, ShadeInputs, ShadeParams};
 pub mod specgen;
 pub use specgen::{SpecGen, SpecularGenerator};
 pub mod blend;
+mod builder_gates;
 pub use blend::{BlendKind, BumpBlend, BumpBlendParams, LightState, Selective, VecSource};
 pub mod modulate;
 pub use modulate::Modulate;

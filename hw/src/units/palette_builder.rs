@@ -459,6 +459,35 @@ impl PaletteBuilder {
     pub fn formats(&self) -> &BuilderFormats {
         &self.f
     }
+    /// The table `N` (normalised).
+    pub fn normals(&self) -> &[[f64; 3]] {
+        &self.normals
+    }
+    /// The material intervals and their functions.
+    pub fn materials(&self) -> &[(Range<usize>, LightingFn)] {
+        &self.materials
+    }
+    /// Each material's power generator (`None` for a function without one).
+    pub fn generators(&self) -> &[Option<SpecularGenerator>] {
+        &self.gens
+    }
+    pub fn entries_per_clock(&self) -> u32 {
+        self.entries_per_clock
+    }
+    /// The normal words of entry `k` (codes of `normal`), as the normal table holds them.
+    pub fn normal_codes(&self, k: usize) -> [i64; 3] {
+        self.normals[k].map(|x| self.f.normal.encode(x))
+    }
+    /// A host-loaded vector register's codes: `v` normalised, in `vector` (the light and
+    /// view registers).
+    pub fn vector_codes(&self, v: [f64; 3]) -> [i64; 3] {
+        unit(v).map(|x| self.f.vector.encode(x))
+    }
+    /// The half-way register of light direction `l` and viewer `view`: `normalize(unit(l) +
+    /// unit(view))` in `vector`.
+    pub fn halfway_codes(&self, l: [f64; 3], view: [f64; 3]) -> [i64; 3] {
+        self.vector_codes(add(unit(l), unit(view)))
+    }
 
     /// The colour table `C`: in exact mode the f64 values (words encoded for traces), in
     /// bit-accurate mode the hardware's words (values decoded).
@@ -505,6 +534,9 @@ impl PaletteBuilder {
     /// Gate estimate: the normal table, the host-loaded registers, and `entries_per_clock`
     /// pipelines with what the functions in use need.
     pub fn gates(&self, t: &CostTable) -> GateBudget {
+        if let Some(g) = crate::units::builder_gates::pipelined(self, t) {
+            return g;
+        }
         let (wn, wv, wi, we) = (
             self.f.normal.width(),
             self.f.vector.width(),
@@ -807,7 +839,8 @@ impl<'a> Datapath<'a> {
     fn new(f: &'a BuilderFormats, gen: Option<&'a SpecularGenerator>) -> Self {
         Datapath { f, gen }
     }
-    /// A register vector: normalised by the host, quantized to `vector`.
+    /// A register vector: normalised by the host, quantized to `vector`
+    /// ([`PaletteBuilder::vector_codes`]).
     fn vreg(&self, v: [f64; 3]) -> [Acc; 3] {
         let e = &self.f.vector;
         unit(v).map(|x| Acc::from_code(e.encode(x), e))

@@ -5,6 +5,8 @@
 // shared by rtl_cosim.rs (both lists) and rtl_synth.rs (the bundled units only)
 #![allow(dead_code)]
 
+pub mod quantized;
+
 use bumpsim_hw::rtl::{self, Dot3Rtl, ModulateRtl, PowerTableRtl, RtlUnit, ShadeRtl};
 use bumpsim_hw::units::{
     Address, BlendEquation, CullFragment, CullTest, FbBlend, Filter, TexFetch, Texels,
@@ -22,14 +24,14 @@ pub struct Case {
     pub rtl: RtlUnit,
 }
 
-fn fixed(signed: bool, w: u8, f: u8) -> Encoding {
+pub(crate) fn fixed(signed: bool, w: u8, f: u8) -> Encoding {
     Encoding::fixed(if signed {
         Format::s(w, f)
     } else {
         Format::u(w, f)
     })
 }
-fn uu(w: u8) -> Encoding {
+pub(crate) fn uu(w: u8) -> Encoding {
     Encoding::texel(Codec::UnitUnsigned, false, w)
 }
 fn us(w: u8) -> Encoding {
@@ -209,7 +211,7 @@ pub fn bundled() -> Vec<Case> {
             _ => None,
         }
     };
-    vec![
+    let mut cases = vec![
         dot3(
             "sgi_dot",
             Dot3Rtl {
@@ -323,7 +325,9 @@ pub fn bundled() -> Vec<Case> {
                 out: uu(8),
             },
         ),
-    ]
+    ];
+    cases.extend(quantized::bundled());
+    cases
 }
 
 /// Other parameters of the generators: clamps, codecs, rounding and overflow modes,
@@ -357,7 +361,7 @@ pub fn variants() -> Vec<Case> {
     );
     both.parallel = 2;
     both.out = zero;
-    vec![
+    let mut cases = vec![
         // configs/phong-teapot.ron and emboss.ron: s2.8 normals, 256 x 12-bit rsqrt table
         normalize(
             "var_normalize_phong",
@@ -567,5 +571,7 @@ pub fn variants() -> Vec<Case> {
             us(8),
             fixed(false, 9, 8),
         ),
-    ]
+    ];
+    cases.extend(quantized::variants());
+    cases
 }

@@ -1,0 +1,74 @@
+//! `bumpsim rtl CONFIG --out DIR [--cosim N]` on the quantized normal maps unit, the one whose
+//! Verilog is generated from the engine's own (baked) unit: the files, the frame phase and a
+//! co-simulation with iverilog, which is required (`.ci/install-iverilog.sh`): the test
+//! **fails** without it unless `BUMPSIM_SKIP_IVERILOG=1` is set.
+
+mod common;
+
+use common::*;
+
+fn skip_iverilog() -> bool {
+    std::env::var_os("BUMPSIM_SKIP_IVERILOG").is_some_and(|v| !v.is_empty() && v != "0")
+}
+
+#[test]
+fn the_quantized_unit_cosimulates_from_the_engines_own_unit() {
+    if skip_iverilog() {
+        println!("rtl: skipped (BUMPSIM_SKIP_IVERILOG is set)");
+        return;
+    }
+    let s = Scratch::new("rtl-quantized");
+    let out = s.join("rtl");
+    let cfg = config("quantized-sn16");
+    let o = bumpsim(&[
+        "rtl",
+        cfg.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--cosim",
+        "400",
+    ]);
+    o.expect_code(0, "rtl --cosim");
+    // Lambert, one light: 16 slots and the 4-clock pipeline; the model adds the LUT load
+    assert!(
+        o.stdout.contains("frame 20 clocks (model 32)")
+            && o.stdout.contains("cosim 400 vectors, 0 mismatches"),
+        "{}",
+        o.stdout
+    );
+    let files = listing(&out);
+    for f in [
+        "qnm.v",
+        "qnm.regs",
+        "bumpsim_qnm_indices.hex",
+        "bumpsim_qnm_normals.hex",
+    ] {
+        assert!(files.iter().any(|x| x == f), "{f} not in {files:?}");
+    }
+    // the colour table is written by the builder: no contents file
+    assert!(!files.iter().any(|x| x.contains("colours")), "{files:?}");
+    let normals = std::fs::read_to_string(out.join("bumpsim_qnm_normals.hex")).unwrap();
+    assert_eq!(normals.lines().count(), 16);
+    let regs = std::fs::read_to_string(out.join("qnm.regs")).unwrap();
+    // 3 vector words, 3 coefficients, 3 ambient words
+    assert_eq!(
+        regs.lines().filter(|l| !l.starts_with('#')).count(),
+        9,
+        "{regs}"
+    );
+}
+
+#[test]
+fn a_function_without_a_generator_is_named() {
+    let s = Scratch::new("rtl-cartoon");
+    let out = s.join("rtl");
+    let cfg = config("quantized-cartoon");
+    let o = bumpsim(&["rtl", cfg.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    o.expect_code(0, "rtl");
+    assert!(
+        o.stdout
+            .contains("not generated: material 0: the Cartoon function has no generator yet"),
+        "{}",
+        o.stdout
+    );
+}
