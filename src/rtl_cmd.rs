@@ -2,7 +2,7 @@
 //! (`bumpsim_hw::rtl`, `docs/rtl.md`).
 //!
 //! For every unit with a generator (Dot3, PowerTable, Shade, BumpBlend, Modulate, Normalize, Perturb,
-//! TexFetch, CullFragment, FbBlend, QuantizedNormals)
+//! TexFetch, CullFragment, FbBlend, QuantizedNormals, TexramFrame)
 //! the unit's parameters are taken from its config spec, the encodings of the signals wired to
 //! it (the built engine's unit) and the scene (material, bump lights), and the unit is rebuilt
 //! from them with the hw constructors; the rebuilt unit must have the engine's gate budget (the
@@ -20,7 +20,7 @@ use bumpsim_hw::rtl::{
 };
 use bumpsim_hw::units::{
     BlendKind, BumpBlend, BumpBlendParams, CullFragment, FbBlend, LightState, Normalize, Perturb,
-    QuantizedFetch, ShadeInputs, ShadeParams, TexFetch,
+    QuantizedFetch, ShadeInputs, ShadeParams, TexFetch, TexramFrame,
 };
 use bumpsim_hw::{Mode, PortSpec, Sampler, Unit, Word};
 use bumpsim_pipeline::config::{InputError, Loaded};
@@ -235,6 +235,21 @@ pub(crate) fn generate(
             let u = BumpBlend::new(blend_params(s, scene), |n| enc_of(ins, n))?;
             Generated {
                 rtl: rtl::blend::rtl(&u, top)?,
+                model: Some(Box::new(u)),
+            }
+        }
+        UnitSpec::TexramFrame(s) => {
+            let enc = |n: &str| enc_of(ins, n).ok_or(format!("no {n}"));
+            let u = TexramFrame::new(
+                enc("n")?,
+                enc("m")?,
+                s.form,
+                s.table_bits,
+                s.value_bits,
+                s.out,
+            )?;
+            Generated {
+                rtl: rtl::texram::rtl(&u, top),
                 model: Some(Box::new(u)),
             }
         }

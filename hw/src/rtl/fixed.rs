@@ -209,6 +209,63 @@ pub fn mul(m: &mut Module, a: &Fx, b: &Fx) -> Fx {
     with_fac(p, fac)
 }
 
+/// Exact square `a^2` as a designer folds it: the magnitude bits' partial products `u_i u_j`
+/// (`i < j`) once, doubled by position, and the diagonal `u_i` (about half a multiplier's
+/// array, what `CostTable::squarer` prices); a signed `a = u - s 2^n` adds the one row
+/// `- s u 2^(n+1)` and the constant `s 2^(2n)`.
+pub fn square(m: &mut Module, a: &Fx) -> Fx {
+    let hi = a.lo.unsigned_abs().max(a.hi.unsigned_abs());
+    let hi = (hi * hi) as i128;
+    let a = align_wire(m, a, a.frac);
+    let fac = [a.fac.clone(), a.fac.clone()].concat();
+    let frac = 2 * a.frac;
+    let (n, signed) = if a.lo >= 0 {
+        (super::verilog::unsigned_bits(a.hi as u128), false)
+    } else {
+        (signed_bits(a.lo, a.hi) - 1, true)
+    };
+    if n == 0 {
+        // a one-bit signed value (-1 or 0): its square is its sign bit
+        let p = make(
+            m,
+            "sq",
+            0,
+            1,
+            frac,
+            &format!("$signed({{1'b0, {}[0]}})", a.name),
+        );
+        return with_fac(p, fac);
+    }
+    let u = m.uwire("u", n, &format!("{}[{}:0]", a.name, n - 1));
+    let w = 2 * n;
+    let mut terms = Vec::new();
+    for i in 0..n {
+        terms.push(format!("({{{}'d0, {u}[{i}]}} << {})", w - 1, 2 * i));
+        if i + 1 < n {
+            let k = n - i - 1;
+            let row = m.uwire(
+                "sqr",
+                k,
+                &format!("{u}[{}:{}] & {{{k}{{{u}[{i}]}}}}", n - 1, i + 1),
+            );
+            // u_i u_j (j > i) weighs 2^(i + j + 1): the row's low bit (j = i + 1) at 2i + 2
+            terms.push(format!("({{{}'d0, {row}}} << {})", w - k, 2 * i + 2));
+        }
+    }
+    let uu = m.uwire("uu", w, &terms.join(" + "));
+    let mut e = format!("$signed({{1'b0, {uu}}})");
+    if signed {
+        let sb = format!("{}[{n}]", a.name);
+        let row = m.uwire("sqs", n, &format!("{{{n}{{{sb}}}}} & {u}"));
+        e += &format!(
+            " - ($signed({{1'b0, {row}}}) <<< {}) + ($signed({{1'b0, {sb}}}) <<< {})",
+            n + 1,
+            2 * n
+        );
+    }
+    with_fac(make(m, "sq", 0, hi, frac, &e), fac)
+}
+
 /// `a` at `frac` fraction bits (a shift left; `frac >= a.frac`).
 pub(super) fn aligned(a: &Fx, frac: u32) -> (String, i128, i128) {
     let s = frac - a.frac;

@@ -2,9 +2,11 @@
 //! bit-exact with their bit-accurate mode (`docs/rtl.md`).
 //!
 //! Each generator takes the parameters that build the unit ([`Dot3Rtl`], [`PowerTableRtl`],
-//! [`ShadeRtl`], [`ModulateRtl`]; [`blend::rtl`], [`normalize::rtl`], [`perturb::rtl`] and
-//! [`fetch::rtl`] read a built [`crate::units::BumpBlend`], [`crate::units::Normalize`],
-//! [`crate::units::Perturb`] or [`crate::units::TexFetch`]) and writes the
+//! [`ShadeRtl`], [`ModulateRtl`]; [`blend::rtl`], [`normalize::rtl`], [`perturb::rtl`],
+//! [`fetch::rtl`], [`texram::rtl`] and [`quantized::rtl`] read a built
+//! [`crate::units::BumpBlend`], [`crate::units::Normalize`], [`crate::units::Perturb`],
+//! [`crate::units::TexFetch`], [`crate::units::TexramFrame`] or
+//! [`crate::units::QuantizedFetch`]) and writes the
 //! datapath with the twins of [`crate::arith::Acc`]'s operations in [`fixed`], so the widths,
 //! rounding, clamps and casts are those of the model's code. Co-simulation against the model
 //! (`hw/tests/rtl_cosim.rs`) checks every output word; [`synth`] prices the result with yosys.
@@ -36,6 +38,7 @@ pub mod quantized;
 pub mod shade;
 pub mod synth;
 pub mod testbench;
+pub mod texram;
 pub mod vectors;
 pub mod verilog;
 

@@ -154,6 +154,7 @@ fn schedule(b: &PaletteBuilder) -> Result<Schedule, String> {
                 None,
             ]
         };
+        let amb3 = |a: &[f64; 3]| [Some(w(a[0])), Some(w(a[1])), Some(w(a[2])), None];
         // the diffuse slots per function; the specular slots (view, specular colour) after
         let (ambient, spec) = match f {
             LightingFn::Lambert {
@@ -162,15 +163,7 @@ fn schedule(b: &PaletteBuilder) -> Result<Schedule, String> {
                 lights,
             } => {
                 slots.extend(lights.iter().map(|l| diffuse_slot(l, rgb(*diffuse, l.1))));
-                (
-                    [
-                        Some(w(ambient[0])),
-                        Some(w(ambient[1])),
-                        Some(w(ambient[2])),
-                        None,
-                    ],
-                    None,
-                )
+                (amb3(ambient), None)
             }
             LightingFn::Specular {
                 ambient,
@@ -181,13 +174,7 @@ fn schedule(b: &PaletteBuilder) -> Result<Schedule, String> {
                 ..
             } => {
                 slots.extend(lights.iter().map(|l| diffuse_slot(l, rgb(*diffuse, l.1))));
-                let a = [
-                    Some(w(ambient[0])),
-                    Some(w(ambient[1])),
-                    Some(w(ambient[2])),
-                    None,
-                ];
-                (a, Some((*view, *specular, lights)))
+                (amb3(ambient), Some((*view, *specular, lights)))
             }
             LightingFn::SpecularSplit {
                 ambient,

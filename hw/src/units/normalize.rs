@@ -204,10 +204,21 @@ impl Unit for Normalize {
             3,
             t.mux(w + vb, 2) * levels as f64,
         );
+        // the four stages as `rtl::normalize` builds them, loaded on every edge (no load
+        // enable): the squared length, the vector through three stages, the detector's shift,
+        // index and zero flag (twice the shift and the flag), the table value; then the
+        // output registers
+        let kb = bit_length(w as u128 + 1);
+        let stages = (2 * w + 2) + 9 * w + (2 * kb + self.rsqrt.index_bits() + 2) + (vb + 1);
         g.add(
-            format!("pipeline registers {}", 3 * w + 2 * w + 3 * wo),
+            format!("stage registers {stages}"),
             1,
-            t.register(3 * w + 2 * w + 3 * wo),
+            t.dff * stages as f64,
+        );
+        g.add(
+            format!("output registers {}", 3 * wo),
+            1,
+            t.register(3 * wo),
         );
         g
     }

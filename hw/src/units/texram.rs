@@ -110,6 +110,10 @@ impl TexramFrame {
     pub fn form(&self) -> TexramForm {
         self.form
     }
+    /// The reciprocal-square-root table (for the Verilog generator).
+    pub(crate) fn rsqrt(&self) -> &Rsqrt {
+        &self.rsqrt
+    }
 }
 
 impl Unit for TexramFrame {

@@ -9,7 +9,8 @@ pub mod quantized;
 
 use bumpsim_hw::rtl::{self, Dot3Rtl, ModulateRtl, PowerTableRtl, RtlUnit, ShadeRtl};
 use bumpsim_hw::units::{
-    Address, BlendEquation, CullFragment, CullTest, FbBlend, Filter, TexFetch, Texels,
+    Address, BlendEquation, CullFragment, CullTest, FbBlend, Filter, TexFetch, Texels, TexramForm,
+    TexramFrame,
 };
 use bumpsim_hw::units::{
     BlendKind, BumpBlend, BumpBlendParams, Clamp, LightState, Selective, ShadeInputs, ShadeParams,
@@ -66,6 +67,22 @@ fn modulate(name: &'static str, p: ModulateRtl) -> Case {
         rtl: p.rtl(name),
     }
 }
+fn texram(
+    name: &'static str,
+    (n, m): (Encoding, Encoding),
+    form: TexramForm,
+    (table_bits, value_bits): (u32, u32),
+    out: Encoding,
+) -> Case {
+    let u = TexramFrame::new(n, m, form, table_bits, value_bits, out).unwrap();
+    let rtl = rtl::texram::rtl(&u, name);
+    Case {
+        name,
+        unit: Box::new(u),
+        rtl,
+    }
+}
+
 fn normalize(name: &'static str, u: bumpsim_hw::units::Normalize) -> Case {
     let rtl = rtl::normalize::rtl(&u, name);
     Case {
@@ -325,6 +342,20 @@ pub fn bundled() -> Vec<Case> {
                 out: uu(8),
             },
         ),
+        // configs/phong-teapot.ron (and the texram, VISA configs): N_i / |N_i|, s10.8
+        normalize(
+            "phong_norm",
+            bumpsim_hw::units::Normalize::new(fixed(true, 10, 8), 8, 12, fixed(true, 10, 8))
+                .unwrap(),
+        ),
+        // configs/texram-teapot.ron: the normalised frame, s10.8 in and out
+        texram(
+            "texram_frame",
+            (fixed(true, 10, 8), fixed(true, 10, 8)),
+            TexramForm::Normalized,
+            (8, 12),
+            fixed(true, 10, 8),
+        ),
     ];
     cases.extend(quantized::bundled());
     cases
@@ -570,6 +601,27 @@ pub fn variants() -> Vec<Case> {
             uu(8),
             us(8),
             fixed(false, 9, 8),
+        ),
+        // unsigned lanes (the squares without their sign row)
+        normalize(
+            "var_normalize_unsigned",
+            bumpsim_hw::units::Normalize::new(uu(6), 6, 10, fixed(true, 10, 8)).unwrap(),
+        ),
+        // configs/texram-teapot-scaled.ron: N_i not normalised, v = |N_i| e1
+        texram(
+            "texram_scaled",
+            (fixed(true, 10, 8), fixed(true, 10, 8)),
+            TexramForm::Scaled,
+            (8, 12),
+            fixed(true, 10, 8),
+        ),
+        // unit codes in, a small table, a wider output
+        texram(
+            "texram_unit_codes",
+            (us(8), sym),
+            TexramForm::Normalized,
+            (5, 9),
+            fixed(true, 12, 9),
         ),
     ];
     cases.extend(quantized::variants());
