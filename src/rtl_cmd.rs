@@ -2,7 +2,7 @@
 //! (`bumpsim_hw::rtl`, `docs/rtl.md`).
 //!
 //! For every unit with a generator (Dot3, PowerTable, Shade, BumpBlend, Modulate, Normalize, Perturb,
-//! TexFetch, CullFragment, FbBlend, QuantizedNormals, TexramFrame)
+//! TexFetch, CullFragment, FbBlend, QuantizedNormals, TexramFrame, QuatFrame)
 //! the unit's parameters are taken from its config spec, the encodings of the signals wired to
 //! it (the built engine's unit) and the scene (material, bump lights), and the unit is rebuilt
 //! from them with the hw constructors; the rebuilt unit must have the engine's gate budget (the
@@ -20,7 +20,7 @@ use bumpsim_hw::rtl::{
 };
 use bumpsim_hw::units::{
     BlendKind, BumpBlend, BumpBlendParams, CullFragment, FbBlend, LightState, Normalize, Perturb,
-    QuantizedFetch, ShadeInputs, ShadeParams, TexFetch, TexramFrame,
+    QuantizedFetch, QuatFrame, ShadeInputs, ShadeParams, TexFetch, TexramFrame,
 };
 use bumpsim_hw::{Mode, PortSpec, Sampler, Unit, Word};
 use bumpsim_pipeline::config::{InputError, Loaded};
@@ -235,6 +235,18 @@ pub(crate) fn generate(
             let u = BumpBlend::new(blend_params(s, scene), |n| enc_of(ins, n))?;
             Generated {
                 rtl: rtl::blend::rtl(&u, top)?,
+                model: Some(Box::new(u)),
+            }
+        }
+        UnitSpec::QuatFrame(s) => {
+            let m = if s.scaled {
+                Some(enc_of(ins, "m").ok_or("no m")?)
+            } else {
+                None
+            };
+            let u = QuatFrame::new(first()?, m, s.table_bits, s.value_bits, s.out)?;
+            Generated {
+                rtl: rtl::quat::rtl(&u, top),
                 model: Some(Box::new(u)),
             }
         }

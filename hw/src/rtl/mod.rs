@@ -3,9 +3,9 @@
 //!
 //! Each generator takes the parameters that build the unit ([`Dot3Rtl`], [`PowerTableRtl`],
 //! [`ShadeRtl`], [`ModulateRtl`]; [`blend::rtl`], [`normalize::rtl`], [`perturb::rtl`],
-//! [`fetch::rtl`], [`texram::rtl`] and [`quantized::rtl`] read a built
+//! [`fetch::rtl`], [`texram::rtl`], [`quat::rtl`] and [`quantized::rtl`] read a built
 //! [`crate::units::BumpBlend`], [`crate::units::Normalize`], [`crate::units::Perturb`],
-//! [`crate::units::TexFetch`], [`crate::units::TexramFrame`] or
+//! [`crate::units::TexFetch`], [`crate::units::TexramFrame`], [`crate::units::QuatFrame`] or
 //! [`crate::units::QuantizedFetch`]) and writes the
 //! datapath with the twins of [`crate::arith::Acc`]'s operations in [`fixed`], so the widths,
 //! rounding, clamps and casts are those of the model's code. Co-simulation against the model
@@ -35,6 +35,7 @@ pub mod palette_builder;
 pub mod perturb;
 pub mod power;
 pub mod quantized;
+pub mod quat;
 pub mod shade;
 pub mod synth;
 pub mod testbench;
@@ -154,6 +155,16 @@ impl Plan {
             capture: false,
             interval: 1,
             finish: false,
+        }
+    }
+
+    /// A pipeline of `latency` (>= 2) stages whose last edge writes the output registers
+    /// (every stage register loaded on every edge; the inputs held until `done`).
+    pub fn pipeline(latency: u32) -> Plan {
+        Plan {
+            capture: false,
+            interval: latency.max(2) - 1,
+            finish: true,
         }
     }
 

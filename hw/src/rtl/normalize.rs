@@ -112,12 +112,7 @@ pub(crate) fn times_pow2(m: &mut Module, p: &Fx, kk: &str, k_lo: i64, k_hi: i64)
 pub fn rtl(u: &Normalize, top: &str) -> RtlUnit {
     let rs = u.rsqrt();
     let tb = rs.index_bits();
-    let plan = Plan {
-        capture: false,
-        interval: 3,
-        finish: true,
-    };
-    let mut sh = Shell::new(top, plan);
+    let mut sh = Shell::new(top, Plan::pipeline(4));
     let ins = u.inputs().to_vec();
     let enc = ins[0].enc;
     let out = u.outputs()[0].enc;

@@ -46,12 +46,7 @@ pub fn rtl(u: &TexramFrame, top: &str) -> RtlUnit {
     let rs = u.rsqrt();
     let tb = rs.index_bits();
     let scaled = u.form() == TexramForm::Scaled;
-    let plan = Plan {
-        capture: false,
-        interval: 5,
-        finish: true,
-    };
-    let mut sh = Shell::new(top, plan);
+    let mut sh = Shell::new(top, Plan::pipeline(6));
     let ins = u.inputs().to_vec();
     let out = u.outputs()[0].enc;
     let nw = sh.port(0, &ins[0], false);

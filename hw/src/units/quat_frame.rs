@@ -89,6 +89,10 @@ impl QuatFrame {
         })
     }
 
+    /// The reciprocal-square-root table (for the Verilog generator).
+    pub(crate) fn rsqrt(&self) -> &Rsqrt {
+        &self.rsqrt
+    }
     /// Whether the unit reads the 2x2 matrix `m`.
     pub fn has_m(&self) -> bool {
         self.inputs.len() == 2

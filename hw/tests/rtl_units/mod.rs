@@ -9,8 +9,8 @@ pub mod quantized;
 
 use bumpsim_hw::rtl::{self, Dot3Rtl, ModulateRtl, PowerTableRtl, RtlUnit, ShadeRtl};
 use bumpsim_hw::units::{
-    Address, BlendEquation, CullFragment, CullTest, FbBlend, Filter, TexFetch, Texels, TexramForm,
-    TexramFrame,
+    Address, BlendEquation, CullFragment, CullTest, FbBlend, Filter, QuatFrame, TexFetch, Texels,
+    TexramForm, TexramFrame,
 };
 use bumpsim_hw::units::{
     BlendKind, BumpBlend, BumpBlendParams, Clamp, LightState, Selective, ShadeInputs, ShadeParams,
@@ -23,6 +23,16 @@ pub struct Case {
     pub name: &'static str,
     pub unit: Box<dyn Unit>,
     pub rtl: RtlUnit,
+}
+
+impl Case {
+    pub fn new(name: &'static str, unit: impl Unit + 'static, rtl: RtlUnit) -> Case {
+        Case {
+            name,
+            unit: Box::new(unit),
+            rtl,
+        }
+    }
 }
 
 pub(crate) fn fixed(signed: bool, w: u8, f: u8) -> Encoding {
@@ -40,32 +50,16 @@ fn us(w: u8) -> Encoding {
 }
 
 fn dot3(name: &'static str, p: Dot3Rtl) -> Case {
-    Case {
-        name,
-        unit: Box::new(p.unit()),
-        rtl: p.rtl(name),
-    }
+    Case::new(name, p.unit(), p.rtl(name))
 }
 fn power(name: &'static str, p: PowerTableRtl) -> Case {
-    Case {
-        name,
-        unit: Box::new(p.unit()),
-        rtl: p.rtl(name),
-    }
+    Case::new(name, p.unit(), p.rtl(name))
 }
 fn shade(name: &'static str, p: ShadeRtl) -> Case {
-    Case {
-        name,
-        unit: Box::new(p.unit()),
-        rtl: p.rtl(name),
-    }
+    Case::new(name, p.unit(), p.rtl(name))
 }
 fn modulate(name: &'static str, p: ModulateRtl) -> Case {
-    Case {
-        name,
-        unit: Box::new(p.unit()),
-        rtl: p.rtl(name),
-    }
+    Case::new(name, p.unit(), p.rtl(name))
 }
 fn texram(
     name: &'static str,
@@ -76,29 +70,29 @@ fn texram(
 ) -> Case {
     let u = TexramFrame::new(n, m, form, table_bits, value_bits, out).unwrap();
     let rtl = rtl::texram::rtl(&u, name);
-    Case {
-        name,
-        unit: Box::new(u),
-        rtl,
-    }
+    Case::new(name, u, rtl)
+}
+
+fn quat(
+    name: &'static str,
+    q: Encoding,
+    m: Option<Encoding>,
+    (table_bits, value_bits): (u32, u32),
+    out: Encoding,
+) -> Case {
+    let u = QuatFrame::new(q, m, table_bits, value_bits, out).unwrap();
+    let rtl = rtl::quat::rtl(&u, name);
+    Case::new(name, u, rtl)
 }
 
 fn normalize(name: &'static str, u: bumpsim_hw::units::Normalize) -> Case {
     let rtl = rtl::normalize::rtl(&u, name);
-    Case {
-        name,
-        unit: Box::new(u),
-        rtl,
-    }
+    Case::new(name, u, rtl)
 }
 fn blend(name: &'static str, p: BumpBlendParams, wire: impl Fn(&str) -> Option<Encoding>) -> Case {
     let u = BumpBlend::new(p, wire).unwrap();
     let rtl = rtl::blend::rtl(&u, name).unwrap();
-    Case {
-        name,
-        unit: Box::new(u),
-        rtl,
-    }
+    Case::new(name, u, rtl)
 }
 
 /// A texel fetch of a `w x h` texture of `lanes`-lane pseudo-random texels in the range of
@@ -141,11 +135,7 @@ fn fetch(
         .with_address(address, address);
     let u = TexFetch::new(uv, tex, sampler, ports, mem_latency, out).unwrap();
     let rtl = rtl::fetch::rtl(&u, name).unwrap();
-    Case {
-        name,
-        unit: Box::new(u),
-        rtl,
-    }
+    Case::new(name, u, rtl)
 }
 
 fn fb_blend(
@@ -157,21 +147,13 @@ fn fb_blend(
 ) -> Case {
     let u = FbBlend::new(eq, base, entry, fb).unwrap();
     let rtl = rtl::fb_blend::rtl(&u, name);
-    Case {
-        name,
-        unit: Box::new(u),
-        rtl,
-    }
+    Case::new(name, u, rtl)
 }
 
 fn cull(name: &'static str, v: Encoding, tests: &[CullTest]) -> Case {
     let u = CullFragment::new(v, tests).unwrap();
     let rtl = rtl::cull::rtl(&u, name);
-    Case {
-        name,
-        unit: Box::new(u),
-        rtl,
-    }
+    Case::new(name, u, rtl)
 }
 
 fn light(color: [f64; 3], l: [f64; 3], h: [f64; 3]) -> LightState {
@@ -353,6 +335,14 @@ pub fn bundled() -> Vec<Case> {
             "texram_frame",
             (fixed(true, 10, 8), fixed(true, 10, 8)),
             TexramForm::Normalized,
+            (8, 12),
+            fixed(true, 10, 8),
+        ),
+        // configs/visa-quat-teapot.ron: the frame of an interpolated quaternion, s10.8
+        quat(
+            "quat_frame",
+            fixed(true, 10, 8),
+            None,
             (8, 12),
             fixed(true, 10, 8),
         ),
@@ -623,6 +613,15 @@ pub fn variants() -> Vec<Case> {
             (5, 9),
             fixed(true, 12, 9),
         ),
+        // the 2x2 matrix m (scale and shear), unit-code quaternions into a wider output
+        quat(
+            "quat_scaled",
+            fixed(true, 10, 8),
+            Some(fixed(true, 8, 6)),
+            (8, 12),
+            fixed(true, 12, 8),
+        ),
+        quat("quat_unit_codes", sym, None, (5, 9), us(9)),
     ];
     cases.extend(quantized::variants());
     cases

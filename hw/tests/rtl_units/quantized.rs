@@ -79,11 +79,7 @@ pub fn unit(
     )
     .unwrap();
     let rtl = rtl::quantized::rtl(&u, name).unwrap();
-    Case {
-        name,
-        unit: Box::new(u),
-        rtl,
-    }
+    Case::new(name, u, rtl)
 }
 
 /// Indices `0..n` in turn, so that every entry of the table is under some texel.
