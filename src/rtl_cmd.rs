@@ -275,6 +275,16 @@ pub(crate) fn generate(
                 model: None,
             }
         }
+        UnitSpec::RegisterCombiners(_) => {
+            let u = unit
+                .as_any()
+                .downcast_ref::<bumpsim_hw::units::combiner::Combiner>()
+                .ok_or("the engine's unit is not a register combiner")?;
+            Generated {
+                rtl: rtl::combiner::rtl(u, top),
+                model: None,
+            }
+        }
         _ => return Ok(None),
     };
     Ok(Some(g))

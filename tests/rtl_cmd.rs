@@ -1,7 +1,8 @@
-//! `bumpsim rtl CONFIG --out DIR [--cosim N]` on the quantized normal maps unit, the one whose
-//! Verilog is generated from the engine's own (baked) unit: the files, the frame phase and a
-//! co-simulation with iverilog, which is required (`.ci/install-iverilog.sh`): the test
-//! **fails** without it unless `BUMPSIM_SKIP_IVERILOG=1` is set.
+//! `bumpsim rtl CONFIG --out DIR [--cosim N]` on the units whose Verilog is generated from the
+//! engine's own unit: the quantized normal maps unit (baked; the files, the frame phase) and
+//! the register combiners (the program in host registers), each co-simulated with iverilog,
+//! which is required (`.ci/install-iverilog.sh`): the tests **fail** without it unless
+//! `BUMPSIM_SKIP_IVERILOG=1` is set.
 
 mod common;
 
@@ -71,4 +72,45 @@ fn a_function_without_a_generator_is_named() {
         "{}",
         o.stdout
     );
+}
+
+#[test]
+fn the_register_combiners_cosimulate_with_the_program_in_host_registers() {
+    if skip_iverilog() {
+        println!("rtl: skipped (BUMPSIM_SKIP_IVERILOG is set)");
+        return;
+    }
+    let s = Scratch::new("rtl-combiners");
+    let out = s.join("rtl");
+    let cfg = config("nv20-combiner-bump");
+    let o = bumpsim(&[
+        "rtl",
+        cfg.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--cosim",
+        "300",
+    ]);
+    o.expect_code(0, "rtl --cosim");
+    // eight general stages and the two-stage final combiner
+    let line = o
+        .stdout
+        .lines()
+        .find(|l| l.starts_with("rc "))
+        .unwrap_or_else(|| panic!("{}", o.stdout));
+    assert!(
+        line.contains("latency 10")
+            && line.contains("registers 107")
+            && line.contains("cosim 300 vectors, 0 mismatches"),
+        "{line}"
+    );
+    let regs = std::fs::read_to_string(out.join("rc.regs")).unwrap();
+    // the mux select; 8 stages x (2 portions x (4 ICW bytes + OCW) + c0, c1); the 7 final
+    // variables, the flags and the final c0, c1
+    assert_eq!(
+        regs.lines().filter(|l| !l.starts_with('#')).count(),
+        107,
+        "{regs}"
+    );
+    assert!(regs.contains("stages[0].rgb.a (icw byte)"), "{regs}");
 }

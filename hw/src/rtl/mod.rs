@@ -24,7 +24,9 @@
 
 pub mod blend;
 pub mod cast;
+pub mod combiner;
 pub mod cull;
+pub mod divide;
 pub mod dot3;
 pub mod fb_blend;
 pub mod fetch;

@@ -206,11 +206,19 @@ impl Combiner {
         std::array::from_fn(|k| {
             let port = PORT_OF[k];
             let enc = &self.params.inputs[port];
+            let lanes = self.port_of[port].map_or(0, |i| self.inputs[i].lanes as usize);
             let w = match (ins, self.port_of[port]) {
                 (Some(w), Some(i)) => w[i],
                 _ => Word::default(),
             };
-            std::array::from_fn(|l| p.port(&w.lanes[l], enc))
+            // a lane the port lacks reads 0 (not the reading of code 0: 1/255 in UnitSymmetric)
+            std::array::from_fn(|l| {
+                if l < lanes {
+                    p.port(&w.lanes[l], enc)
+                } else {
+                    p.zero()
+                }
+            })
         })
     }
 }
