@@ -12,24 +12,33 @@ fn skip_iverilog() -> bool {
     std::env::var_os("BUMPSIM_SKIP_IVERILOG").is_some_and(|v| !v.is_empty() && v != "0")
 }
 
-#[test]
-fn the_quantized_unit_cosimulates_from_the_engines_own_unit() {
+/// `bumpsim rtl` on a bundled config with `--cosim n`, into a scratch directory kept alive by
+/// the returned `Scratch`; `None` when iverilog is skipped explicitly.
+fn rtl_cosim(name: &str, n: &str) -> Option<(Scratch, std::path::PathBuf, Out)> {
     if skip_iverilog() {
         println!("rtl: skipped (BUMPSIM_SKIP_IVERILOG is set)");
-        return;
+        return None;
     }
-    let s = Scratch::new("rtl-quantized");
+    let s = Scratch::new(&format!("rtl-{name}"));
     let out = s.join("rtl");
-    let cfg = config("quantized-sn16");
+    let cfg = config(name);
     let o = bumpsim(&[
         "rtl",
         cfg.to_str().unwrap(),
         "--out",
         out.to_str().unwrap(),
         "--cosim",
-        "400",
+        n,
     ]);
     o.expect_code(0, "rtl --cosim");
+    Some((s, out, o))
+}
+
+#[test]
+fn the_quantized_unit_cosimulates_from_the_engines_own_unit() {
+    let Some((_s, out, o)) = rtl_cosim("quantized-sn16", "400") else {
+        return;
+    };
     // Lambert, one light: 16 slots and the 4-clock pipeline; the model adds the LUT load
     assert!(
         o.stdout.contains("frame 20 clocks (model 32)")
@@ -76,22 +85,9 @@ fn a_function_without_a_generator_is_named() {
 
 #[test]
 fn the_register_combiners_cosimulate_with_the_program_in_host_registers() {
-    if skip_iverilog() {
-        println!("rtl: skipped (BUMPSIM_SKIP_IVERILOG is set)");
+    let Some((_s, out, o)) = rtl_cosim("nv20-combiner-bump", "300") else {
         return;
-    }
-    let s = Scratch::new("rtl-combiners");
-    let out = s.join("rtl");
-    let cfg = config("nv20-combiner-bump");
-    let o = bumpsim(&[
-        "rtl",
-        cfg.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--cosim",
-        "300",
-    ]);
-    o.expect_code(0, "rtl --cosim");
+    };
     // eight general stages and the two-stage final combiner
     let line = o
         .stdout
