@@ -16,6 +16,42 @@ pub struct Acc {
     pub frac: u32,
 }
 
+/// How a datapath reads the codes of one encoding in `i64`: [`Acc::from_code`] is affine in
+/// the code for every codec, `raw = code m + c` with `frac` fraction bits, so a port's reader
+/// is found once and a code is read without a match on its codec. Only for encodings whose
+/// readings fit in `bits` <= 62 bits (sign included).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Reader {
+    pub m: i64,
+    pub c: i64,
+    pub frac: u32,
+    /// Bits (sign included) that bound `|code m + c|` ([`Acc::code_bits`]).
+    pub bits: u32,
+}
+
+impl Reader {
+    /// The reader of `enc`, if its readings fit in 62 bits.
+    pub fn new(enc: &Encoding) -> Option<Reader> {
+        let bits = Acc::code_bits(enc);
+        if bits > 62 {
+            return None;
+        }
+        let n = enc.format.width as u32;
+        let (m, c, frac) = match enc.codec {
+            Codec::Fixed => (1, 0, enc.format.frac as u32),
+            Codec::UnitSigned => (1, 0, n - 1),
+            Codec::UnitUnsigned => ((1i64 << n) + 1, 0, 2 * n),
+            Codec::UnitSymmetric => (2 * ((1i64 << n) + 1), (1i64 << n) + 1, 2 * n),
+        };
+        Some(Reader { m, c, frac, bits })
+    }
+    /// [`Acc::from_code`]'s `raw` of `code`.
+    #[inline]
+    pub fn read(&self, code: i64) -> i64 {
+        code * self.m + self.c
+    }
+}
+
 // Named methods rather than operator traits: a datapath reads as the hardware's steps.
 #[allow(clippy::should_implement_trait)]
 impl Acc {
@@ -30,6 +66,7 @@ impl Acc {
     /// Fixed and `UnitSigned` codes are dyadic and read exactly. The `c / (2^n - 1)` codecs are
     /// read the way texture hardware expands them, by bit replication to 2n bits:
     /// `c / (2^n - 1) ~ c (2^n + 1) / 2^2n`, an error below `2^-2n`.
+    #[inline]
     pub fn from_code(raw: i64, enc: &Encoding) -> Acc {
         let n = enc.format.width as u32;
         let raw = raw as i128;
@@ -41,12 +78,25 @@ impl Acc {
         }
     }
 
+    /// Bits (sign included) that bound the magnitude of [`Acc::from_code`]'s `raw` for any
+    /// code of `enc`: where sums of products stay below 2^63, a datapath may take them in
+    /// `i64`, with the same result.
+    pub fn code_bits(enc: &Encoding) -> u32 {
+        let n = enc.format.width as u32;
+        match enc.codec {
+            Codec::Fixed | Codec::UnitSigned => n + 1,
+            Codec::UnitUnsigned | Codec::UnitSymmetric => 2 * n + 3,
+        }
+    }
+
     /// Exact product.
+    #[inline]
     pub fn mul(self, o: Acc) -> Acc {
         Acc::new(self.raw * o.raw, self.frac + o.frac)
     }
 
     /// Exact sum (aligned to the larger number of fraction bits).
+    #[inline]
     pub fn add(self, o: Acc) -> Acc {
         let f = self.frac.max(o.frac);
         Acc::new((self.raw << (f - self.frac)) + (o.raw << (f - o.frac)), f)
@@ -102,6 +152,7 @@ impl Acc {
     }
 
     /// Cast into a port encoding with its quantization and overflow modes.
+    #[inline]
     pub fn to_code(self, enc: &Encoding) -> i64 {
         let n = enc.format.width as u32;
         let int = Format {
@@ -181,6 +232,46 @@ mod tests {
         // huge values saturate instead of wrapping
         assert_eq!(Acc::new(i128::MAX / 4, 0).to_code(&enc), 127);
         assert_eq!(Acc::new(i128::MIN / 4, 0).to_code(&enc), -128);
+    }
+
+    #[test]
+    fn a_reader_reads_every_code_as_from_code_does() {
+        for (codec, signed, widths) in [
+            (Codec::UnitUnsigned, false, [1u8, 8, 12, 16, 29]),
+            (Codec::UnitSigned, true, [2, 8, 12, 16, 32]),
+            (Codec::UnitSymmetric, true, [1, 8, 12, 16, 29]),
+        ] {
+            for n in widths {
+                let enc = Encoding::texel(codec, signed, n);
+                let r = Reader::new(&enc).expect("fits");
+                let f = enc.format;
+                let step = ((f.max_raw() - f.min_raw()) / 4099).max(1);
+                let codes = (f.min_raw()..=f.max_raw()).step_by(step as usize);
+                for c in codes.chain([f.min_raw(), f.max_raw()]) {
+                    let a = Acc::from_code(c, &enc);
+                    assert_eq!(
+                        (r.read(c) as i128, r.frac),
+                        (a.raw, a.frac),
+                        "{codec:?}{n} {c}"
+                    );
+                    assert!(
+                        a.raw.unsigned_abs() < 1u128 << (r.bits - 1),
+                        "{codec:?}{n} {c}"
+                    );
+                }
+            }
+        }
+        for (w, fr) in [(10u8, 8u8), (16, 12), (32, 16), (61, 3)] {
+            let enc = Encoding::fixed(Format::s(w, fr));
+            let r = Reader::new(&enc).expect("fits");
+            for c in [enc.format.min_raw(), -1, 0, 1, enc.format.max_raw()] {
+                let a = Acc::from_code(c, &enc);
+                assert_eq!((r.read(c) as i128, r.frac), (a.raw, a.frac));
+            }
+        }
+        // readings beyond 62 bits have no reader: the datapaths keep i128
+        assert!(Reader::new(&Encoding::texel(Codec::UnitUnsigned, false, 30)).is_none());
+        assert!(Reader::new(&Encoding::fixed(Format::s(62, 0))).is_none());
     }
 
     #[test]

@@ -165,6 +165,7 @@ impl Format {
         pow2(-(self.frac as i32))
     }
     /// Real value of a raw word in the plain fixed-point reading.
+    #[inline]
     pub fn to_f64(&self, raw: i64) -> f64 {
         raw as f64 * self.lsb()
     }
@@ -219,6 +220,7 @@ impl Format {
         pow2(self.frac as i32)
     }
     /// Cast a raw value that has `from_frac` fraction bits into this format.
+    #[inline]
     pub fn cast(&self, raw: i128, from_frac: u32, q: Quant, o: Overflow) -> i64 {
         let to = self.frac as u32;
         let v = if from_frac <= to {
@@ -235,6 +237,7 @@ impl Format {
         self.overflow(v, o)
     }
     /// Apply the overflow mode to an integer already at this format's scale.
+    #[inline]
     pub fn overflow(&self, v: i128, o: Overflow) -> i64 {
         let (lo, hi) = (self.min_raw() as i128, self.max_raw() as i128);
         let sym_min = o == Overflow::SatSym && self.signed && v == lo; // ac_fixed: MIN -> -MAX
@@ -362,6 +365,7 @@ pub fn pow2(k: i32) -> f64 {
 }
 
 /// Shift `v` right by `by` bits, rounding the discarded bits by `q`.
+#[inline]
 pub fn shift_round(v: i128, by: u32, q: Quant) -> i128 {
     if by == 0 {
         return v;
@@ -497,6 +501,7 @@ impl Encoding {
         }
     }
     /// Real value of a raw word.
+    #[inline]
     pub fn decode(&self, raw: i64) -> f64 {
         let n = self.format.width as i32;
         match self.codec {
@@ -507,6 +512,7 @@ impl Encoding {
         }
     }
     /// Raw word for a real number (rounded by `quant`, clamped or wrapped by `overflow`).
+    #[inline]
     pub fn encode(&self, x: f64) -> i64 {
         let n = self.format.width as i32;
         let f = &self.format;

@@ -15,7 +15,7 @@
 //! * Cube maps: the face and face coordinates of a direction ([`cube_face`],
 //!   [`cube_face_bits`]), OpenGL 1.3 §3.8.6.
 
-use crate::arith::Acc;
+use crate::arith::{Acc, Reader};
 use crate::format::Encoding;
 use crate::texture::{Level, Texture};
 use crate::unit::MAX_LANES;
@@ -38,11 +38,20 @@ impl Address {
     /// Texel index along an axis of `n` texels.
     #[inline]
     pub fn apply(self, i: i64, n: i64) -> i64 {
+        // a power-of-two side (every texture's) takes the remainder as a mask, as the
+        // hardware does: the same index as `rem_euclid` without a division
+        let rem = |i: i64, n: i64| {
+            if n > 0 && n & (n - 1) == 0 {
+                i & (n - 1)
+            } else {
+                i.rem_euclid(n)
+            }
+        };
         match self {
-            Address::Wrap => i.rem_euclid(n),
+            Address::Wrap => rem(i, n),
             Address::Clamp => i.clamp(0, n - 1),
             Address::Mirror => {
-                let m = i.rem_euclid(2 * n);
+                let m = rem(i, 2 * n);
                 if m >= n {
                     2 * n - 1 - m
                 } else {
@@ -208,23 +217,52 @@ impl Sampler {
                         f << (wb - bits)
                     }
                 };
-                let (wu, wv) = (
-                    Acc::new(trunc(fu, frac - log_w) as i128, wb),
-                    Acc::new(trunc(fv, frac - log_h) as i128, wb),
-                );
-                let one = Acc::new(1, 0);
-                let [t00, t10, t01, t11] = [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)]
-                    .map(|(a, b)| self.index(l, face, a, b));
-                let lerp = |a: Acc, b: Acc, w: Acc| a.mul(one.sub(w)).add(b.mul(w));
-                for (lane, r) in res.iter_mut().enumerate().take(lanes) {
-                    let top = lerp(code(t00, lane), code(t10, lane), wu);
-                    let bot = lerp(code(t01, lane), code(t11, lane), wu);
-                    *r = lerp(top, bot, wv).to_code(out);
-                }
+                let (wu, wv) = (trunc(fu, frac - log_w), trunc(fv, frac - log_h));
+                let taps = [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)]
+                    .map(|(a, b)| l.code(self.index(l, face, a, b)));
+                let narrow = Reader::new(texel).filter(|r| r.bits + 2 * wb <= 62);
+                res = bilinear(taps, texel, lanes, [wu, wv], wb, out, narrow);
             }
         }
         res
     }
+}
+
+/// The bilinear filter of four taps' codes (t00, t10, t01, t11) of encoding `texel`, with
+/// weights `w = [wu, wv]` of `wb` bits, cast into `out`: the exact `a (1 - w) + b w` along u,
+/// then along v. With `narrow` (the texel's [`Reader`], its readings and two weights within
+/// 62 bits) the same integers are summed in `i64` instead of `i128`.
+fn bilinear(
+    taps: [&[i64; MAX_LANES]; 4],
+    texel: &Encoding,
+    lanes: usize,
+    w: [i64; 2],
+    wb: u32,
+    out: &Encoding,
+    narrow: Option<Reader>,
+) -> [i64; MAX_LANES] {
+    let mut res = [0i64; MAX_LANES];
+    if let Some(r) = narrow {
+        let full = 1i64 << wb;
+        let lerp = |a: i64, b: i64, w: i64| a * (full - w) + b * w;
+        for (lane, o) in res.iter_mut().enumerate().take(lanes) {
+            let c = |k: usize| r.read(taps[k][lane]);
+            let top = lerp(c(0), c(1), w[0]);
+            let bot = lerp(c(2), c(3), w[0]);
+            *o = Acc::new(lerp(top, bot, w[1]) as i128, r.frac + 2 * wb).to_code(out);
+        }
+        return res;
+    }
+    let one = Acc::new(1, 0);
+    let (wu, wv) = (Acc::new(w[0] as i128, wb), Acc::new(w[1] as i128, wb));
+    let lerp = |a: Acc, b: Acc, w: Acc| a.mul(one.sub(w)).add(b.mul(w));
+    for (lane, o) in res.iter_mut().enumerate().take(lanes) {
+        let c = |k: usize| Acc::from_code(taps[k][lane], texel);
+        let top = lerp(c(0), c(1), wu);
+        let bot = lerp(c(2), c(3), wu);
+        *o = lerp(top, bot, wv).to_code(out);
+    }
+    res
 }
 
 /// The major axis of a cube-map direction: (face, sc, tc, ma) by OpenGL 1.3 table 3.19, faces
@@ -285,10 +323,82 @@ pub fn cube_face_bits(d: [i64; 3], frac: u32) -> (usize, i64, i64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::format::{Codec, Format};
+    use proptest::prelude::*;
+
+    /// Texel and output encodings of the project's texels (8- and 16-bit unit codes, fixed
+    /// point, HILO16) and the widest each path takes.
+    fn encodings() -> Vec<Encoding> {
+        vec![
+            Encoding::texel(Codec::UnitUnsigned, false, 8),
+            Encoding::texel(Codec::UnitSigned, true, 8),
+            Encoding::texel(Codec::UnitSymmetric, true, 8),
+            Encoding::texel(Codec::UnitUnsigned, false, 16),
+            Encoding::texel(Codec::UnitSigned, true, 16),
+            Encoding::texel(Codec::UnitSymmetric, true, 16),
+            Encoding::fixed(Format::s(10, 8)),
+            Encoding::fixed(Format::u(16, 12)),
+            Encoding::fixed(Format::s(32, 16)),
+        ]
+    }
+
+    proptest! {
+        #[test]
+        fn bilinear_in_i64_is_the_i128_filter(
+            t in 0usize..9, o in 0usize..9, wb in 1u32..=16,
+            codes in prop::array::uniform4(prop::array::uniform4(any::<i64>())),
+            w in prop::array::uniform2(any::<u32>()),
+        ) {
+            let (texel, out) = (encodings()[t], encodings()[o]);
+            let f = texel.format;
+            let span = (f.max_raw() - f.min_raw()) as u64 + 1;
+            let codes = codes.map(|c| c.map(|x| f.min_raw() + (x as u64 % span) as i64));
+            let w = w.map(|x| i64::from(x) % ((1i64 << wb) + 1));
+            let taps = [&codes[0], &codes[1], &codes[2], &codes[3]];
+            let narrow = Reader::new(&texel).filter(|r| r.bits + 2 * wb <= 62);
+            prop_assume!(narrow.is_some());
+            prop_assert_eq!(
+                bilinear(taps, &texel, 4, w, wb, &out, narrow),
+                bilinear(taps, &texel, 4, w, wb, &out, None)
+            );
+        }
+    }
+
+    #[test]
+    fn bilinear_in_i64_matches_for_every_4_bit_tap_pair_and_weight() {
+        // exhaustive at 4-bit texels: every code of two taps (the other two at the ends of
+        // the range) and every weight of 4 bits, each codec
+        for (codec, signed) in [
+            (Codec::UnitUnsigned, false),
+            (Codec::UnitSigned, true),
+            (Codec::UnitSymmetric, true),
+        ] {
+            let texel = Encoding::texel(codec, signed, 4);
+            let out = Encoding::texel(codec, signed, 8);
+            let (lo, hi) = (texel.format.min_raw(), texel.format.max_raw());
+            let narrow = Reader::new(&texel);
+            assert!(narrow.is_some());
+            for a in lo..=hi {
+                for b in lo..=hi {
+                    let codes = [[a, b, lo, hi], [b, a, hi, lo], [lo; 4], [hi; 4]];
+                    let taps = [&codes[0], &codes[1], &codes[2], &codes[3]];
+                    for wu in 0..=16 {
+                        for wv in [0, 1, 7, 8, 15, 16] {
+                            assert_eq!(
+                                bilinear(taps, &texel, 4, [wu, wv], 4, &out, narrow),
+                                bilinear(taps, &texel, 4, [wu, wv], 4, &out, None),
+                                "{codec:?} {a} {b} {wu} {wv}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
 
     #[test]
     fn address_modes_fold_every_index_of_three_periods() {
-        for n in [1i64, 2, 4, 8] {
+        for n in [1i64, 2, 3, 4, 5, 8, 4096] {
             for i in -3 * n..3 * n {
                 let w = Address::Wrap.apply(i, n);
                 assert_eq!(w, ((i % n) + n) % n);

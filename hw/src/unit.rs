@@ -13,7 +13,7 @@
 //! clocked shell [`crate::stage::Stage`] wraps any unit and provides it, so a unit only states
 //! its numbers.
 
-use crate::format::Encoding;
+use crate::format::{Codec, Encoding};
 use crate::gates::{CostTable, GateBudget};
 use crate::texture::Texture;
 use std::sync::Arc;
@@ -67,6 +67,7 @@ impl Word {
         w
     }
     /// A word from raw words, decoded (bit-accurate mode).
+    #[inline]
     pub fn from_raw(enc: &Encoding, raws: &[i64]) -> Word {
         let mut w = Word::default();
         for (l, &raw) in w.lanes.iter_mut().zip(raws) {
@@ -79,8 +80,21 @@ impl Word {
     }
     /// Quantize real values into a port's encoding: the bit-accurate way to produce a word
     /// from a value computed in f64 (used at interfaces such as the attribute interpolator).
+    #[inline]
     pub fn quantize(enc: &Encoding, xs: &[f64]) -> Word {
         let mut w = Word::default();
+        if enc.codec == Codec::Fixed {
+            // the codec's match and the scale once per word, not per lane
+            let (f, lsb) = (&enc.format, enc.format.lsb());
+            for (l, &x) in w.lanes.iter_mut().zip(xs) {
+                let raw = f.from_f64(x, enc.quant, enc.overflow);
+                *l = Sample {
+                    x: raw as f64 * lsb,
+                    raw,
+                };
+            }
+            return w;
+        }
         for (l, &x) in w.lanes.iter_mut().zip(xs) {
             let raw = enc.encode(x);
             *l = Sample {

@@ -10,7 +10,7 @@
 //! Bit-accurate mode: the products and their sum are exact (`(wa + wb + 2)`-bit adder), then
 //! clamped and cast once into the output encoding with its rounding and overflow modes.
 
-use crate::arith::Acc;
+use crate::arith::{Acc, Reader};
 use crate::format::Encoding;
 use crate::gates::{CostTable, GateBudget};
 use crate::unit::{Mode, PortSpec, Unit, Word};
@@ -32,6 +32,8 @@ pub struct Dot3 {
     outputs: Vec<PortSpec>,
     parallel: u32,
     clamp: Clamp,
+    /// The readers of `a` and `b` when a sum of three products fits in `i64` (62 bits).
+    narrow: Option<(Reader, Reader)>,
 }
 
 impl Dot3 {
@@ -49,11 +51,15 @@ impl Dot3 {
         let outputs = (0..k)
             .map(|i| PortSpec::new(&format!("d{i}"), 1, out))
             .collect();
+        let narrow = Reader::new(&a)
+            .zip(Reader::new(&b))
+            .filter(|(ra, rb)| ra.bits + rb.bits + 2 <= 62);
         Dot3 {
             inputs,
             outputs,
             parallel: parallel.clamp(1, k.max(1)),
             clamp,
+            narrow,
         }
     }
 
@@ -122,13 +128,16 @@ impl Unit for Dot3 {
                     *o = Word::from_exact(&out, &[self.clamp_f64(d)]);
                 }
                 Mode::BitAccurate => {
-                    let (ea, eb) = (&self.inputs[0].enc, &self.inputs[1 + i].enc);
-                    let mut s = Acc::ZERO;
-                    for j in 0..3 {
-                        let p = Acc::from_code(a.lanes[j].raw, ea)
-                            .mul(Acc::from_code(b.lanes[j].raw, eb));
-                        s = s.add(p);
-                    }
+                    let s = if let Some((ra, rb)) = self.narrow {
+                        // the same exact sum in i64 (three products of one scale)
+                        let p = |j: usize| ra.read(a.lanes[j].raw) * rb.read(b.lanes[j].raw);
+                        Acc::new((p(0) + p(1) + p(2)) as i128, ra.frac + rb.frac)
+                    } else {
+                        let (ea, eb) = (&self.inputs[0].enc, &self.inputs[1 + i].enc);
+                        let rd =
+                            |w: &Word, j: usize, e: &Encoding| Acc::from_code(w.lanes[j].raw, e);
+                        (0..3).fold(Acc::ZERO, |s, j| s.add(rd(a, j, ea).mul(rd(b, j, eb))))
+                    };
                     let s = match self.clamp {
                         Clamp::Unit => s.clamp(Acc::ZERO, Acc::new(1, 0)),
                         Clamp::Positive => {
@@ -154,6 +163,45 @@ mod tests {
 
     fn word(mode: Mode, enc: &Encoding, v: [f64; 3]) -> Word {
         Word::for_mode(mode, enc, &v)
+    }
+
+    #[test]
+    fn the_i64_sum_is_the_i128_sum_for_every_5_bit_pair_of_each_codec() {
+        // every pair of codes on lane 0 (lanes 1, 2 at the ends of the range), 5-bit operands
+        // of each codec into outputs of each clamp: the narrow and the wide datapath agree
+        let codecs = [
+            Encoding::texel(Codec::UnitUnsigned, false, 5),
+            Encoding::texel(Codec::UnitSigned, true, 5),
+            Encoding::texel(Codec::UnitSymmetric, true, 5),
+            Encoding::fixed(Format::s(5, 3)),
+        ];
+        let out = Encoding::fixed(Format::s(14, 11));
+        for ea in codecs {
+            for eb in codecs {
+                for clamp in [Clamp::Unit, Clamp::Positive, Clamp::None] {
+                    let fast = Dot3::new(ea, eb, 1, 1, clamp, out);
+                    assert!(fast.narrow.is_some());
+                    let wide = Dot3 {
+                        narrow: None,
+                        ..Dot3::new(ea, eb, 1, 1, clamp, out)
+                    };
+                    let (fa, fb) = (ea.format, eb.format);
+                    for x in fa.min_raw()..=fa.max_raw() {
+                        for y in fb.min_raw()..=fb.max_raw() {
+                            let a = Word::from_raw(&ea, &[x, fa.min_raw(), fa.max_raw()]);
+                            let b = Word::from_raw(&eb, &[y, fb.max_raw(), fb.max_raw()]);
+                            let (mut o1, mut o2) = ([Word::default()], [Word::default()]);
+                            fast.eval(Mode::BitAccurate, &[a, b], &mut o1);
+                            wide.eval(Mode::BitAccurate, &[a, b], &mut o2);
+                            assert_eq!(o1, o2, "{ea} {eb} {clamp:?} {x} {y}");
+                        }
+                    }
+                }
+            }
+        }
+        // 32-bit unit codes read in 67 bits: the wide datapath
+        let e32 = Encoding::texel(Codec::UnitUnsigned, false, 32);
+        assert!(Dot3::new(e32, e32, 1, 1, Clamp::Unit, out).narrow.is_none());
     }
 
     #[test]

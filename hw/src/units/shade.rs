@@ -14,7 +14,7 @@
 //! host once per frame, quantized to the coefficient encoding. The sum is exact and cast once
 //! into the output encoding.
 
-use crate::arith::Acc;
+use crate::arith::{Acc, Reader};
 use crate::format::{Codec, Encoding};
 use crate::gates::{CostTable, GateBudget};
 use crate::unit::{Mode, PortSpec, Unit, Word};
@@ -50,6 +50,66 @@ pub struct Shade {
     ka: [Acc; 3],
     kdl: Vec<[Acc; 3]>,
     ksl: Vec<[Acc; 3]>,
+    /// Input indices of the optional `base` and `src` ports (found once, not per fragment).
+    base_port: Option<usize>,
+    src_port: Option<usize>,
+    /// The bit-accurate sum in `i64`, where every term fits ([`Fast`]).
+    fast: Option<Fast>,
+}
+
+/// Shade's exact sum in `i64`: the same terms as the `Acc` datapath, each read by its port's
+/// [`Reader`] and shifted to the sum's fraction bits, where the whole sum is known to stay
+/// below 2^62 (so it equals the `i128` sum).
+struct Fast {
+    d: Reader,
+    s: Option<Reader>,
+    base: Option<Reader>,
+    src: Option<Reader>,
+    ka: [i64; 3],
+    kdl: Vec<[i64; 3]>,
+    ksl: Vec<[i64; 3]>,
+    /// Left shifts of the src, ambient, diffuse and specular terms to `frac`.
+    shift: [u32; 4],
+    frac: u32,
+}
+
+impl Fast {
+    fn new(intensity: &Encoding, has: &ShadeInputs, coef: &Encoding, k: usize) -> Option<Fast> {
+        let (d, kc) = (Reader::new(intensity)?, Reader::new(coef)?);
+        let opt = |e: &Option<Encoding>| {
+            e.as_ref()
+                .map(Reader::new)
+                .map_or(Some(None), |r| r.map(Some))
+        };
+        let (s, base, src) = (opt(&has.specular)?, opt(&has.base)?, opt(&has.src)?);
+        // (fraction bits, magnitude bits) of each term; base 1 is (0, 1)
+        let (bf, bb) = base.map_or((0, 1), |r| (r.frac, r.bits));
+        let terms = [
+            src.map(|r| (r.frac, r.bits)),
+            Some((kc.frac + bf, kc.bits + bb)),
+            (k > 0).then_some((kc.frac + bf + d.frac, kc.bits + bb + d.bits)),
+            s.filter(|_| k > 0)
+                .map(|r| (kc.frac + r.frac, kc.bits + r.bits)),
+        ];
+        let frac = terms.iter().flatten().map(|t| t.0).max()?;
+        let count = 2 + 2 * k as u32; // terms summed, at most
+        let widest = terms.iter().flatten().map(|t| t.1 + frac - t.0).max()?;
+        if widest + (32 - count.leading_zeros()) > 62 {
+            return None;
+        }
+        let shift = terms.map(|t| t.map_or(0, |t| frac - t.0));
+        Some(Fast {
+            d,
+            s,
+            base,
+            src,
+            ka: [0; 3],
+            kdl: Vec::new(),
+            ksl: Vec::new(),
+            shift,
+            frac,
+        })
+    }
 }
 
 impl Shade {
@@ -77,17 +137,31 @@ impl Shade {
         }
         let q = |x: f64| Acc::from_code(coef.encode(x), &coef);
         let ka = params.ambient.map(q);
-        let kdl = params
+        let kdl: Vec<[Acc; 3]> = params
             .light_colors
             .iter()
             .map(|lc| std::array::from_fn(|c| q(params.diffuse[c] * lc[c])))
             .collect();
-        let ksl = params
+        let ksl: Vec<[Acc; 3]> = params
             .light_colors
             .iter()
             .map(|lc| std::array::from_fn(|c| q(params.specular[c] * lc[c])))
             .collect();
+        let base_port = crate::unit::port_index(&inputs, "base");
+        let src_port = crate::unit::port_index(&inputs, "src");
+        let fast = Fast::new(&intensity, &has, &coef, k as usize).map(|f| {
+            let raw = |a: &[Acc; 3]| a.map(|a| a.raw as i64);
+            Fast {
+                ka: raw(&ka),
+                kdl: kdl.iter().map(raw).collect(),
+                ksl: ksl.iter().map(raw).collect(),
+                ..f
+            }
+        });
         Shade {
+            fast,
+            base_port,
+            src_port,
             inputs,
             outputs: vec![PortSpec::new("color", 3, out)],
             params,
@@ -102,10 +176,6 @@ impl Shade {
 
     fn k(&self) -> usize {
         self.params.light_colors.len()
-    }
-
-    fn port(&self, name: &str) -> Option<usize> {
-        crate::unit::port_index(&self.inputs, name)
     }
 }
 
@@ -255,8 +325,8 @@ impl Unit for Shade {
         let out = self.outputs[0].enc;
         let k = self.k();
         let spec = |i: usize| self.has.specular.map(|_| &ins[k + i]);
-        let base = self.port("base").map(|i| &ins[i]);
-        let src = self.port("src").map(|i| &ins[i]);
+        let base = self.base_port.map(|i| &ins[i]);
+        let src = self.src_port.map(|i| &ins[i]);
         match mode {
             Mode::Exact => {
                 let p = &self.params;
@@ -271,23 +341,41 @@ impl Unit for Shade {
                 });
                 outs[0] = Word::from_exact(&out, &c);
             }
+            Mode::BitAccurate if self.fast.is_some() => {
+                let f = self.fast.as_ref().expect("checked");
+                let [s_src, s_ka, s_kd, s_ks] = f.shift;
+                let codes: [i64; 3] = std::array::from_fn(|c| {
+                    let code = |w: Option<&Word>, r: Option<Reader>| {
+                        w.zip(r).map(|(w, r)| r.read(w.lanes[c].raw))
+                    };
+                    let b = code(base, f.base).unwrap_or(1);
+                    let mut v = code(src, f.src).map_or(0, |x| x << s_src);
+                    v += (f.ka[c] * b) << s_ka;
+                    for (i, d) in ins.iter().enumerate().take(k) {
+                        v += (f.kdl[i][c] * b * f.d.read(d.lanes[0].raw)) << s_kd;
+                        if let (Some(s), Some(r)) = (spec(i), f.s) {
+                            v += (f.ksl[i][c] * r.read(s.lanes[0].raw)) << s_ks;
+                        }
+                    }
+                    Acc::new(v as i128, f.frac).to_code(&out)
+                });
+                outs[0] = Word::from_raw(&out, &codes);
+            }
             Mode::BitAccurate => {
                 let rd = |w: &Word, l: usize, e: &Encoding| Acc::from_code(w.lanes[l].raw, e);
-                let ie = self.inputs[0].enc;
-                let codes: Vec<i64> = (0..3)
-                    .map(|c| {
-                        let b = base.map_or(Acc::new(1, 0), |w| rd(w, c, &self.has.base.unwrap()));
-                        let mut v = src.map_or(Acc::ZERO, |w| rd(w, c, &self.has.src.unwrap()));
-                        v = v.add(self.ka[c].mul(b));
-                        for (i, d) in ins.iter().enumerate().take(k) {
-                            v = v.add(self.kdl[i][c].mul(b.mul(rd(d, 0, &ie))));
-                            if let (Some(s), Some(se)) = (spec(i), &self.has.specular) {
-                                v = v.add(self.ksl[i][c].mul(rd(s, 0, se)));
-                            }
+                let ie = self.inputs.first().map_or(self.coef, |p| p.enc);
+                let codes: [i64; 3] = std::array::from_fn(|c| {
+                    let b = base.map_or(Acc::new(1, 0), |w| rd(w, c, &self.has.base.unwrap()));
+                    let mut v = src.map_or(Acc::ZERO, |w| rd(w, c, &self.has.src.unwrap()));
+                    v = v.add(self.ka[c].mul(b));
+                    for (i, d) in ins.iter().enumerate().take(k) {
+                        v = v.add(self.kdl[i][c].mul(b.mul(rd(d, 0, &ie))));
+                        if let (Some(s), Some(se)) = (spec(i), &self.has.specular) {
+                            v = v.add(self.ksl[i][c].mul(rd(s, 0, se)));
                         }
-                        v.to_code(&out)
-                    })
-                    .collect();
+                    }
+                    v.to_code(&out)
+                });
                 outs[0] = Word::from_raw(&out, &codes);
             }
         }
@@ -393,6 +481,98 @@ mod tests {
             parallel,
             out,
         )
+    }
+
+    /// Port encodings the tests draw from: unit codes of 4 to 16 bits, fixed point.
+    fn encoding(k: usize) -> Encoding {
+        [
+            Encoding::texel(Codec::UnitUnsigned, false, 8),
+            Encoding::texel(Codec::UnitUnsigned, false, 12),
+            Encoding::texel(Codec::UnitSigned, true, 8),
+            Encoding::texel(Codec::UnitSymmetric, true, 8),
+            Encoding::texel(Codec::UnitUnsigned, false, 16),
+            Encoding::fixed(Format::u(9, 8)),
+            Encoding::fixed(Format::s(10, 8)),
+            Encoding::texel(Codec::UnitUnsigned, false, 4),
+        ][k % 8]
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn the_i64_sum_is_the_i128_sum(
+            lights in 0usize..4,
+            pick in proptest::array::uniform6(0usize..8),
+            present in proptest::array::uniform3(proptest::bool::ANY),
+            colors in proptest::array::uniform12(0.0f64..1.0),
+            codes in proptest::collection::vec(proptest::num::i64::ANY, 24),
+        ) {
+            let [ei, es, eb, ec, ecoef, eo] = pick.map(encoding);
+            let has = ShadeInputs {
+                specular: present[0].then_some(es),
+                base: present[1].then_some(eb),
+                src: present[2].then_some(ec),
+            };
+            let params = ShadeParams {
+                ambient: [colors[0], colors[1], colors[2]],
+                diffuse: [colors[3], colors[4], colors[5]],
+                specular: [colors[6], colors[7], colors[8]],
+                light_colors: (0..lights).map(|l| [colors[9 + l % 3], colors[9], colors[11 - l % 3]]).collect(),
+            };
+            let fast = Shade::new(ei, has, params.clone(), ecoef, 1, eo);
+            proptest::prop_assume!(fast.fast.is_some());
+            let wide = Shade {
+                fast: None,
+                ..Shade::new(ei, has, params, ecoef, 1, eo)
+            };
+            // every input word from the drawn codes, folded into its port's range
+            let ins: Vec<Word> = fast
+                .inputs
+                .iter()
+                .enumerate()
+                .map(|(p, port)| {
+                    let f = port.enc.format;
+                    let span = (f.max_raw() - f.min_raw()) as u64 + 1;
+                    let raws: Vec<i64> = (0..3)
+                        .map(|l| f.min_raw() + (codes[(3 * p + l) % 24] as u64 % span) as i64)
+                        .collect();
+                    Word::from_raw(&port.enc, &raws)
+                })
+                .collect();
+            let (mut o1, mut o2) = ([Word::default()], [Word::default()]);
+            fast.eval(Mode::BitAccurate, &ins, &mut o1);
+            wide.eval(Mode::BitAccurate, &ins, &mut o2);
+            proptest::prop_assert_eq!(o1, o2);
+        }
+    }
+
+    #[test]
+    fn wide_coefficients_keep_the_i128_sum() {
+        // 32-bit unit-code coefficients read in 67 bits: no i64 path
+        let i = Encoding::fixed(Format::u(9, 8));
+        let has = ShadeInputs {
+            specular: Some(i),
+            base: None,
+            src: None,
+        };
+        let params = unit(1).params;
+        let coef = Encoding::texel(Codec::UnitUnsigned, false, 32);
+        assert!(Shade::new(i, has, params.clone(), coef, 1, coef)
+            .fast
+            .is_none());
+        assert!(Shade::new(
+            i,
+            has,
+            params,
+            Encoding::texel(Codec::UnitUnsigned, false, 8),
+            1,
+            coef
+        )
+        .fast
+        .is_some());
+        assert!(
+            unit(1).fast.is_some(),
+            "the bundled widths take the i64 path"
+        );
     }
 
     #[test]

@@ -365,11 +365,10 @@ pub fn interpolate_snapped(
     bary: [f64; 3],
 ) -> Word {
     let mut xs = [0.0; 4];
+    // one sum in both modes: a fold of the three products from -0.0 (the bit-accurate
+    // mode's former `sum()`) is this sum bit for bit
     for (l, x) in xs.iter_mut().enumerate().take(lanes) {
-        *x = match mode {
-            Mode::Exact => bary[0] * v[0][l] + bary[1] * v[1][l] + bary[2] * v[2][l],
-            Mode::BitAccurate => (0..3).map(|k| bary[k] * v[k][l]).sum(),
-        };
+        *x = bary[0] * v[0][l] + bary[1] * v[1][l] + bary[2] * v[2][l];
     }
     Word::for_mode(mode, enc, &xs[..lanes])
 }
