@@ -193,6 +193,11 @@ config_errors! {
     // a unit's name names its files (`bumpsim rtl`, `gates --synth`): no path in it
     unit_name_with_a_path: ("unit-path", "sgi-teapot", &[("name: \"fetch\"", "name: \"/tmp/x\"")], Some("name: \"/tmp/x\""),
         &["engine.units[0].name", "\"/tmp/x\"", "expected a unique name of ASCII letters, digits, '_' and '-'"]);
+    // the cycle report and traces name the scan converter, setup and ROP beside the units
+    unit_name_of_the_back_end: ("unit-rop", "sgi-teapot", &[("name: \"spec\"", "name: \"rop\""), ("\"spec.y0\"", "\"rop.y0\""), ("\"spec.y1\"", "\"rop.y1\"")], Some("name: \"rop\""),
+        &["engine.units[2].name", "\"rop\"", "front or back end", "reserved: setup, scan, rop"]);
+    unit_name_of_the_front_end: ("unit-scan", "sgi-teapot", &[("name: \"fetch\"", "name: \"scan\""), ("\"fetch.t\"", "\"scan.t\"")], Some("name: \"scan\""),
+        &["engine.units[0].name", "\"scan\"", "reserved: setup, scan, rop"]);
     input_port_that_does_not_exist: ("no-port", "sgi-teapot", &[("\"b3\": \"h1\"}", "\"b3\": \"h1\", \"b4\": \"h1\"}")], Some("name: \"dot\""),
         &["engine.units[1].inputs", "no input port \"b4\"", "expected a, b0, b1, b2, b3"]);
 }

@@ -84,10 +84,11 @@ fn trace_snapshots() {
         let from = uint(&report, "cycles.frame") + setup_cycles(&config_text);
         let text = trace_text(&cfg, from, from + WINDOW, &scratch);
         let units = engine_units(&config_text);
+        // the engine's units between the scan converter and the ROP
         assert!(
             text.starts_with(&format!(
                 "# bumpsim trace: {} units, cycles {from}..={}",
-                units.len(),
+                units.len() + 2,
                 from + WINDOW - 1
             )),
             "{name}: {text}"
@@ -108,7 +109,8 @@ fn palette_build_trace_snapshot() {
     assert_eq!(uint(&report, "cycles.frame"), 32);
     let text = trace_text(&cfg, 0, 34, &scratch);
     let lines: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
-    assert_eq!(lines.len(), 34, "{text}");
+    // the unit's 34 clocks, and the scan converter's and the ROP's from the frame's end (32)
+    assert_eq!(lines.len(), 34 + 2 * 2, "{text}");
     for (c, l) in lines.iter().enumerate().take(32) {
         assert!(l.contains("busy"), "cycle {c}: {l}");
         let write = format!("out#{} ", c.wrapping_sub(16));

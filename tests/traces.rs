@@ -7,7 +7,8 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use vcd::{IdCode, ScopeItem};
 
-const UNITS: [&str; 4] = ["fetch", "dot", "spec", "shade"];
+/// The scan converter, the engine's units in pipe order, the ROP.
+const UNITS: [&str; 6] = ["scan", "fetch", "dot", "spec", "shade", "rop"];
 const WINDOW: (u64, u64) = (300, 340);
 
 fn trace(out: &Path, format: &str, units: Option<&str>) -> Out {
@@ -73,10 +74,10 @@ fn text_trace_has_every_unit_every_cycle() {
     assert_eq!(
         first,
         format!(
-            "# bumpsim trace: 4 units, cycles {}..={}, {} records",
+            "# bumpsim trace: 6 units, cycles {}..={}, {} records",
             WINDOW.0,
             WINDOW.1 - 1,
-            4 * n
+            6 * n
         )
     );
     for u in UNITS {
@@ -106,6 +107,38 @@ fn text_trace_has_every_unit_every_cycle() {
         "dot accepts no fragment in {WINDOW:?}"
     );
     assert!(b["shade"].iter().any(|(_, l)| l.contains(" out#")));
+    // the scan converter hands each fragment's attributes to the fetch (uv first), which
+    // takes them in a later cycle; the ROP takes the colour the shade unit gave
+    let after = |unit: &str, tag: &str, id: &str| {
+        b[unit].iter().find_map(|(c, l)| {
+            let at = l.find(&format!("{tag}#{id} "))?;
+            Some((*c, l[at..].split_whitespace().nth(1)?.to_string()))
+        })
+    };
+    let (mut uv, mut colour) = (0, 0);
+    for (c, l) in &b["scan"] {
+        let Some(at) = l.find("out#") else { continue };
+        let mut f = l[at + 4..].split_whitespace();
+        let id = f.next().unwrap();
+        let given = f.next().unwrap().to_string();
+        assert!(given.starts_with("uv="), "{l}");
+        if let Some((c2, taken)) = after("fetch", "in", id) {
+            assert!(c2 > *c, "fragment {id}: scanned at {c}, fetched at {c2}");
+            assert_eq!(taken, given, "fragment {id}'s uv");
+            uv += 1;
+        }
+    }
+    for (c, l) in &b["shade"] {
+        let Some(at) = l.find("out#") else { continue };
+        let mut f = l[at + 4..].split_whitespace();
+        let (id, given) = (f.next().unwrap(), f.next().unwrap());
+        if let Some((c2, taken)) = after("rop", "in", id) {
+            assert!(c2 > *c, "fragment {id}: shaded at {c}, written at {c2}");
+            assert_eq!(taken, given, "fragment {id}'s colour");
+            colour += 1;
+        }
+    }
+    assert!(uv > 3 && colour > 3, "{uv} uv, {colour} colours followed");
 }
 
 #[test]

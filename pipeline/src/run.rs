@@ -277,6 +277,7 @@ impl Prepared {
             setup,
             fill_token: fill,
             slots: self.engine.signals.len(),
+            attributes: self.engine.attributes.len(),
             fifo_depth: self.fifo_depth,
         }
     }
@@ -443,12 +444,12 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
     if let Some((_, d)) = &early {
         timings.part("reference", *d);
     }
+    let trace_units = trace_units(&p.engine);
     if let Some(t) = trace {
         if let Some(names) = &t.units {
             for n in names {
-                if !p.engine.stages.iter().any(|s| &s.name == n) {
-                    let known: Vec<&str> =
-                        p.engine.stages.iter().map(|s| s.name.as_str()).collect();
+                if !trace_units.iter().any(|u| &u.name == n) {
+                    let known: Vec<&str> = trace_units.iter().map(|u| u.name.as_str()).collect();
                     return Err(InputError::new(
                         "--units",
                         "",
@@ -563,9 +564,8 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
         edges: measured.edges,
     };
     let trace = trace.map(|t| {
-        let units = bit.stages.iter().map(TraceUnit::of_stage).collect();
         let full = Trace {
-            units,
+            units: trace_units,
             records: result.probes,
         };
         match &t.units {
@@ -583,6 +583,26 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
         trace,
         timings,
     })
+}
+
+/// The units of a trace, in the order of [`sim::trace_index`]: the scan converter (its
+/// outputs the interpolated attributes), the engine's stages, the ROP (its input the engine's
+/// output).
+fn trace_units(engine: &Engine) -> Vec<TraceUnit> {
+    let [_, scan, rop] = sim::FIXED_UNITS;
+    let attributes = engine.signals[..engine.attributes.len()]
+        .iter()
+        .map(|s| s.spec.clone())
+        .collect();
+    let mut units = vec![TraceUnit::new(scan, "scan", Vec::new(), attributes)];
+    units.extend(engine.stages.iter().map(TraceUnit::of_stage));
+    units.push(TraceUnit::new(
+        rop,
+        "rop",
+        vec![engine.output.spec.clone()],
+        Vec::new(),
+    ));
+    units
 }
 
 #[cfg(test)]

@@ -27,6 +27,12 @@ pub use function::{evaluate, evaluate_lanes, Outputs};
 use serde::Serialize;
 use std::collections::BTreeMap;
 
+/// The front end's and the back end's units in the cycle report and in traces, beside the
+/// engine's own: triangle setup, the scan converter (which hands each fragment's interpolated
+/// attributes to the first FIFO) and the ROP (which drains one fragment per clock from the
+/// last). Engine units may not take these names.
+pub const FIXED_UNITS: [&str; 3] = ["setup", "scan", "rop"];
+
 /// Cycle accounting of one frame.
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]
 pub struct CycleReport {
@@ -40,8 +46,9 @@ pub struct CycleReport {
     pub triangles: u64,
     /// `(total - frame) / fragments`.
     pub per_fragment: f64,
-    /// Counters of the setup unit, the scan converter and every engine unit, from the end of
-    /// the frame work to the end of the frame.
+    /// Counters of the setup unit, the scan converter, every engine unit and the ROP (busy in
+    /// a clock that takes a fragment from the last FIFO, idle otherwise), from the end of the
+    /// frame work to the end of the frame.
     pub per_unit: BTreeMap<String, Counters>,
 }
 
@@ -56,6 +63,9 @@ pub struct Workload<'a> {
     pub fill_token: &'a FillToken<'a>,
     /// Slots of a token.
     pub slots: usize,
+    /// The interpolated attributes: the token's first slots, which the scan converter's
+    /// probes show.
+    pub attributes: usize,
     pub fifo_depth: usize,
 }
 
@@ -68,8 +78,20 @@ pub struct SimResult {
     /// Output word of each fragment, by fragment index; `None` for a killed fragment.
     pub outputs: Vec<Option<Word>>,
     pub cycles: CycleReport,
-    /// Probes of the stages, by stage index, for the traced cycles.
+    /// Probes of the traced cycles, by trace unit ([`trace_index`]).
     pub probes: Vec<(usize, Probe)>,
+}
+
+/// The index of a probe's unit in a trace: the scan converter first (0), then the engine's
+/// stages in order (`1..=stages`), then the ROP (`stages + 1`).
+pub mod trace_index {
+    pub const SCAN: usize = 0;
+    pub fn stage(i: usize) -> usize {
+        i + 1
+    }
+    pub fn rop(stages: usize) -> usize {
+        stages + 1
+    }
 }
 
 /// Probes of the frame work inside the `trace` window: the stages' per-frame work runs one
@@ -97,7 +119,7 @@ fn frame_probes(stages: &[Stage], trace: Option<(u64, u64)>) -> Vec<(usize, Prob
                     .filter(|x| start.saturating_add(x.0) == cycle)
                     .map(|x| (x.1, x.2.clone()));
                 out.push((
-                    i,
+                    trace_index::stage(i),
                     Probe {
                         cycle,
                         state: CycleState::Busy,
@@ -139,7 +161,7 @@ pub fn run(stages: &[Stage], output: Wire, w: Workload, trace: Option<(u64, u64)
 pub struct Timed {
     pub outputs: Outputs,
     pub cycles: CycleReport,
-    /// Probes of the stages, by stage index, for the traced cycles.
+    /// Probes of the traced cycles, by trace unit ([`trace_index`]).
     pub probes: Vec<(usize, Probe)>,
 }
 
@@ -203,15 +225,26 @@ fn run_with<O: Send>(
         );
         for &k in ks {
             let (i, p) = &mut probes[k];
-            let s = &stages[*i];
+            // what the unit took and gave: the scan converter gives the attributes, the ROP
+            // takes the engine's output, a stage its ports
+            let (ins, outs) = match *i {
+                trace_index::SCAN => (Vec::new(), t.slots[..w.attributes].to_vec()),
+                i if i == trace_index::rop(stages.len()) => {
+                    (vec![output.read(&t.slots)], Vec::new())
+                }
+                i => {
+                    let s = &stages[i - 1];
+                    (s.input_words(&t), s.output_words(&t))
+                }
+            };
             if let Some((id, words)) = &mut p.accepted {
                 if *id == f {
-                    *words = s.input_words(&t);
+                    *words = ins;
                 }
             }
             if let Some((id, words)) = &mut p.emitted {
                 if *id == f {
-                    *words = s.output_words(&t);
+                    *words = outs;
                 }
             }
         }
@@ -303,7 +336,7 @@ fn timing(
         .fold(0, u64::saturating_add);
     let mut probes = frame_probes(engine, trace);
     let first = probes.len();
-    let (mut setup_c, mut scan_c) = (Counters::default(), Counters::default());
+    let [mut setup_c, mut scan_c, mut rop_c] = [Counters::default(); 3];
     let mut next_tri = 0usize;
     let mut setting_up: Option<(usize, u64)> = None; // (triangle, cycle its setup completes)
     let mut ready: Option<usize> = None;
@@ -322,13 +355,32 @@ fn timing(
     loop {
         let probe = trace.is_some_and(|(a, b)| cycle >= a && cycle < b);
         // frame buffer write
-        if fifos[nstage].pop().is_some() {
+        let drained = fifos[nstage].pop();
+        if drained.is_some() {
             written += 1;
+            rop_c.accepted += 1;
+        }
+        bump(&mut rop_c, drained.is_some(), false);
+        if probe {
+            let state = match drained {
+                Some(_) => CycleState::Busy,
+                None => CycleState::Idle,
+            };
+            let accepted = drained.map(|id| (id, Vec::new()));
+            probes.push((
+                trace_index::rop(nstage),
+                Probe {
+                    cycle,
+                    state,
+                    accepted,
+                    emitted: None,
+                },
+            ));
         }
         for i in (0..nstage).rev() {
             let (a, b) = fifos.split_at_mut(i + 1);
             if let Some(p) = stages[i].tick(cycle, &mut a[i], &mut b[0], probe) {
-                probes.push((i, p));
+                probes.push((trace_index::stage(i), p));
             }
         }
         // scan conversion: one fragment per clock
@@ -345,9 +397,12 @@ fn timing(
                 },
             }
         }
+        let mut scanned = None;
         if let Some((t, k)) = scanning {
             if fifos[0].has_room() {
-                fifos[0].push((w.triangles[t].start + k) as u64);
+                let id = (w.triangles[t].start + k) as u64;
+                fifos[0].push(id);
+                scanned = Some(id);
                 scanning = Some((t, k + 1));
                 scan_busy = true;
             } else {
@@ -355,6 +410,23 @@ fn timing(
             }
         }
         bump(&mut scan_c, scan_busy, scan_stall);
+        if probe {
+            let state = match (scan_busy, scan_stall) {
+                (_, true) => CycleState::Stall,
+                (true, _) => CycleState::Busy,
+                _ => CycleState::Idle,
+            };
+            let emitted = scanned.map(|id| (id, Vec::new()));
+            probes.push((
+                trace_index::SCAN,
+                Probe {
+                    cycle,
+                    state,
+                    accepted: None,
+                    emitted,
+                },
+            ));
+        }
         // triangle setup
         let (mut setup_busy, mut setup_stall) = (false, false);
         if let Some((t, done)) = setting_up {
@@ -391,8 +463,10 @@ fn timing(
         }
     }
     let mut per_unit = BTreeMap::new();
-    per_unit.insert("setup".to_string(), setup_c);
-    per_unit.insert("scan".to_string(), scan_c);
+    let [setup, scan, rop] = FIXED_UNITS;
+    per_unit.insert(setup.to_string(), setup_c);
+    per_unit.insert(scan.to_string(), scan_c);
+    per_unit.insert(rop.to_string(), rop_c);
     for s in stages.iter() {
         per_unit.insert(s.name.clone(), s.counters);
     }

@@ -145,6 +145,18 @@ pub fn build(l: &Loaded, scene: &Scene) -> Result<Engine, InputError> {
                 ),
             ));
         }
+        if crate::sim::FIXED_UNITS.contains(&u.name.as_str()) {
+            return Err(l.error(
+                &field,
+                &needle,
+                format!(
+                    "unit name {:?} names a unit of the front or back end in reports and traces: \
+                     expected another name (reserved: {})",
+                    u.name,
+                    crate::sim::FIXED_UNITS.join(", ")
+                ),
+            ));
+        }
         if signals.iter().any(|s| s.name == u.name) {
             return Err(l.error(
                 &field,
