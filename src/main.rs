@@ -1,5 +1,6 @@
 //! The `bumpsim` command line. Exit codes: 0 success, 2 bad config or input, 1 internal error.
 
+use bumpsim_pipeline::animation;
 use bumpsim_pipeline::config::{self, InputError};
 use bumpsim_pipeline::output::{write_atomic, OutputSet};
 use bumpsim_pipeline::plot;
@@ -240,14 +241,20 @@ fn execute(cmd: Command) -> Result<(), Failure> {
         } => rtl_cmd::execute(&args.load()?, &out, cosim, synth)?,
         Command::Render { args, out, timings } => {
             let l = args.load()?;
-            let mut r = run::run(&l, None)?;
+            let animation = animation::run(&l)?;
+            let mut r = animation.first;
             let mut set = OutputSet::new(&out);
-            set.add_pngs(&[
+            // frame k > 0 of an animation: its bit-accurate image as frame-k.png
+            let names: Vec<String> = (1..=animation.images.len())
+                .map(|k| format!("frame-{k:03}.png"))
+                .collect();
+            let mut pngs = vec![
                 ("image.png", &r.image),
                 ("reference.png", &r.reference),
                 ("error.png", &r.error),
-            ])
-            .map_err(Failure::Internal)?;
+            ];
+            pngs.extend(names.iter().map(String::as_str).zip(&animation.images));
+            set.add_pngs(&pngs).map_err(Failure::Internal)?;
             set.add("report.json", r.report.to_json().into_bytes());
             set.commit().map_err(|e| {
                 Failure::Input(InputError::new(out.display().to_string(), "--out", e))
@@ -257,14 +264,18 @@ fn execute(cmd: Command) -> Result<(), Failure> {
                 eprint!("phase wall times:\n{}", r.timings.to_text());
             }
             print!("{}", r.report.to_table());
+            let frames = match names.len() {
+                0 => String::new(),
+                n => format!(", frame-001..{n:03}.png"),
+            };
             println!(
-                "\nwrote {}/{{image,reference,error}}.png and report.json",
+                "\nwrote {}/{{image,reference,error}}.png{frames} and report.json",
                 out.display()
             );
         }
         Command::Report { args, json } => {
             let l = args.load()?;
-            let r = run::run(&l, None)?;
+            let r = animation::run(&l)?.first;
             if json {
                 print!("{}", r.report.to_json());
             } else {

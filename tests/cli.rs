@@ -164,9 +164,17 @@ fn config_end_to_end(name: &str) {
         out.as_os_str(),
     ]);
     o.expect_code(0, &format!("render {what}"));
+    // an animation (`frames`) also writes each later frame's image
+    let report = json(&std::fs::read_to_string(out.join("report.json")).unwrap());
+    let frames = report
+        .get("animation")
+        .map_or(1, |_| uint(&report, "animation.frames"));
+    let mut files: Vec<String> = (1..frames).map(|k| format!("frame-{k:03}.png")).collect();
+    files.extend(["error.png", "image.png", "reference.png", "report.json"].map(String::from));
+    files.sort();
     assert_eq!(
         listing(&out),
-        ["error.png", "image.png", "reference.png", "report.json"],
+        files,
         "{what}: render writes exactly these files"
     );
     for png in ["image.png", "reference.png", "error.png"] {

@@ -1,5 +1,6 @@
 //! bumpsim pipelines: scenes, rasterizer, float reference, configs, the cycle simulator,
 //! reports and traces.
+pub mod animation;
 pub mod artifacts;
 pub mod config;
 pub mod edges;

@@ -34,6 +34,11 @@ pub struct Report {
     pub artifacts: Artifacts,
     /// The edge-discontinuity measure (`pipeline/src/edges.rs`, docs/metrics.md).
     pub edges: Edges,
+    /// A config with `frames`: every frame's cycles, per-frame work, traffic, error and
+    /// flicker (`crate::animation`); left out for a single frame. The rest of the report is
+    /// frame 0's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub animation: Option<crate::animation::AnimationReport>,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -332,6 +337,41 @@ impl Report {
                 e.edge_p99_lsb,
                 e.worst_seam_lsb
             );
+        }
+        if let Some(a) = &self.animation {
+            let _ = writeln!(
+                s,
+                "\nanimation {} frames ({} cycles in all, {} of them per-frame work; the \
+                 report above is frame 0's)",
+                a.frames, a.total_cycles, a.frame_work_cycles
+            );
+            let _ = writeln!(
+                s,
+                "  {:>5} {:>10} {:>10} {:>10} {:>12} {:>9} {:>8} {:>11}",
+                "frame",
+                "cycles",
+                "frame work",
+                "fragments",
+                "texel bits",
+                "PSNR dB",
+                "max LSB",
+                "flicker LSB"
+            );
+            for r in &a.per_frame {
+                let flicker = r.flicker_lsb.map_or("-".to_string(), |f| format!("{f:.3}"));
+                let _ = writeln!(
+                    s,
+                    "  {:>5} {:>10} {:>10} {:>10} {:>12} {:>9.2} {:>8.0} {:>11}",
+                    r.frame,
+                    r.cycles,
+                    r.frame_work,
+                    r.fragments,
+                    r.texture_bits,
+                    r.total_psnr_db,
+                    r.total_max_lsb,
+                    flicker
+                );
+            }
         }
         s
     }

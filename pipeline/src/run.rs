@@ -562,6 +562,7 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
         error: measured.errors,
         artifacts: measured.artifacts,
         edges: measured.edges,
+        animation: None,
     };
     let trace = trace.map(|t| {
         let full = Trace {

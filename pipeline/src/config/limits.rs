@@ -496,6 +496,17 @@ pub fn estimate(c: &Config) -> Estimate {
             _ => {}
         }
     }
+    // each frame of an animation is a run of its own (its assets shared when they are the
+    // same), and its image is kept until the outputs are written
+    let frames = c.frames.len() as f64;
+    if frames > 0.0 {
+        let secs = e.seconds();
+        e.add(
+            format!("frames: {frames} more frames of {pixels} pixels"),
+            frames * secs,
+            frames * pixels * 3.0,
+        );
+    }
     e
 }
 

@@ -13,6 +13,7 @@
 
 pub mod error;
 pub mod finite;
+pub mod frames;
 pub mod limits;
 pub mod overrides;
 
@@ -53,6 +54,11 @@ pub struct Config {
     /// Overrides of the primitive gate costs (see docs/gates.md).
     #[serde(default)]
     pub cost: CostTable,
+    /// A short animation: each entry is one more frame after the config itself, given as
+    /// `--set` overrides of its per-frame inputs (lights, camera, material, model; see
+    /// [`frames`] and docs/configs.md, "Frames"). Left out of the config hash when empty.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub frames: Vec<Vec<String>>,
 }
 
 /// An image side: 1 to 16384 pixels.
@@ -679,6 +685,7 @@ pub fn load_with(path: &Path, sets: &[String], opts: LoadOptions) -> Result<Load
         sets: sets.to_vec(),
     };
     validate(&loaded)?;
+    frames::check(&loaded)?;
     limits::check_budget(&loaded, opts.force)?;
     Ok(loaded)
 }

@@ -1,0 +1,177 @@
+//! A config's animation (`frames`, [`crate::config::frames`]): every frame rendered as a run of
+//! its own, one after another, and the report of frame 0 extended with a row per frame: the
+//! frame's cycles and its per-frame work (the palette builds and table loads the hardware pays
+//! again each frame), its fragments and texture traffic, its error against the reference, and
+//! the temporal flicker of the bit-accurate image against the frame before.
+
+use crate::config::{frames, InputError, Loaded};
+use crate::run::{self, RunResult};
+use image::RgbImage;
+use serde::Serialize;
+
+/// The animation section of a report.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AnimationReport {
+    /// Frames, frame 0 included.
+    pub frames: u32,
+    /// Cycles of all frames.
+    pub total_cycles: u64,
+    /// Per-frame work (cycles before the first triangle) of all frames.
+    pub frame_work_cycles: u64,
+    /// The largest flicker between two successive frames.
+    pub max_flicker_lsb: f64,
+    pub per_frame: Vec<FrameRow>,
+}
+
+/// One frame of an animation.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FrameRow {
+    pub frame: u32,
+    /// The frame's overrides (none for frame 0).
+    pub sets: Vec<String>,
+    pub cycles: u64,
+    /// Cycles of per-frame work (`cycles.frame`).
+    pub frame_work: u64,
+    pub fragments: u64,
+    pub killed: u64,
+    /// Texel bits read in the frame, all textures.
+    pub texture_bits: u64,
+    /// Bit-accurate image against the float reference.
+    pub total_psnr_db: f64,
+    pub total_max_lsb: f64,
+    /// Mean over the pixels covered in this frame and the one before, and over channels, of
+    /// how much the bit-accurate image's error against the reference changed, in 8-bit codes:
+    /// `|(image_k - reference_k) - (image_k-1 - reference_k-1)|`. 0 when the hardware follows
+    /// the reference's change exactly; error that moves with the light (a quantized normal
+    /// jumping to another palette entry) shows here. Absent for frame 0.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub flicker_lsb: Option<f64>,
+}
+
+/// A rendered animation: frame 0's run (with the animation section in its report) and the
+/// bit-accurate images of the later frames.
+pub struct Animation {
+    pub first: RunResult,
+    pub images: Vec<RgbImage>,
+}
+
+/// Render every frame of `l` (frame 0 only when it has no `frames`).
+pub fn run(l: &Loaded) -> Result<Animation, InputError> {
+    let mut first = run::run(l, None)?;
+    if l.config.frames.is_empty() {
+        return Ok(Animation {
+            first,
+            images: Vec::new(),
+        });
+    }
+    let mut rows = vec![row(0, &[], &first, None)];
+    let mut images = Vec::new();
+    let mut prev: Option<RunResult> = None;
+    for k in 1..=l.config.frames.len() {
+        let r = run::run(&frames::frame(l, k)?, None)?;
+        let before = prev.as_ref().unwrap_or(&first);
+        rows.push(row(
+            k,
+            &l.config.frames[k - 1],
+            &r,
+            Some(flicker(before, &r)),
+        ));
+        images.push(r.image.clone());
+        prev = Some(r);
+    }
+    first.report.animation = Some(AnimationReport {
+        frames: rows.len() as u32,
+        total_cycles: rows.iter().map(|r| r.cycles).fold(0, u64::saturating_add),
+        frame_work_cycles: rows
+            .iter()
+            .map(|r| r.frame_work)
+            .fold(0, u64::saturating_add),
+        max_flicker_lsb: rows
+            .iter()
+            .filter_map(|r| r.flicker_lsb)
+            .fold(0.0, f64::max),
+        per_frame: rows,
+    });
+    Ok(Animation { first, images })
+}
+
+fn row(k: usize, sets: &[String], r: &RunResult, flicker_lsb: Option<f64>) -> FrameRow {
+    let rep = &r.report;
+    FrameRow {
+        frame: k as u32,
+        sets: sets.to_vec(),
+        cycles: rep.cycles.total,
+        frame_work: rep.cycles.frame,
+        fragments: rep.cycles.fragments,
+        killed: rep.cycles.killed,
+        texture_bits: rep
+            .bandwidth
+            .texture_memory
+            .values()
+            .map(|t| t.bits_per_frame)
+            .fold(0, u64::saturating_add),
+        total_psnr_db: rep.error.total.psnr_db,
+        total_max_lsb: rep.error.total.max_abs_lsb,
+        flicker_lsb,
+    }
+}
+
+/// [`FrameRow::flicker_lsb`] of `b` after `a`.
+fn flicker(a: &RunResult, b: &RunResult) -> f64 {
+    flicker_of(
+        [&a.image, &a.reference],
+        &a.mask,
+        [&b.image, &b.reference],
+        &b.mask,
+    )
+}
+
+/// The flicker of frames given as (image, reference) and mask, of one size (frames change
+/// inputs, not the image).
+fn flicker_of(a: [&RgbImage; 2], ma: &[bool], b: [&RgbImage; 2], mb: &[bool]) -> f64 {
+    let err = |[img, rf]: [&RgbImage; 2], i: usize, c: usize| {
+        let (x, y) = ((i as u32) % img.width(), (i as u32) / img.width());
+        i32::from(img.get_pixel(x, y).0[c]) - i32::from(rf.get_pixel(x, y).0[c])
+    };
+    let (mut sum, mut n) = (0u64, 0u64);
+    let both = ma
+        .iter()
+        .zip(mb)
+        .enumerate()
+        .filter(|(_, (p, q))| **p && **q);
+    for (i, _) in both {
+        for c in 0..3 {
+            sum += u64::from(err(b, i, c).abs_diff(err(a, i, c)));
+            n += 1;
+        }
+    }
+    if n == 0 {
+        0.0
+    } else {
+        sum as f64 / n as f64
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use image::Rgb;
+
+    fn img(v: [u8; 4]) -> RgbImage {
+        RgbImage::from_fn(2, 2, |x, y| Rgb([v[(2 * y + x) as usize]; 3]))
+    }
+
+    #[test]
+    fn flicker_is_the_mean_change_of_the_error_over_pixels_covered_in_both() {
+        // pixel 0: error 0 -> 0 (the image follows the reference's change); pixel 1: error
+        // +2 -> -1 (3 codes); pixel 2 uncovered in the second frame; pixel 3: 5 -> 5.
+        // (0 + 3 + 0) x 3 channels over 9 = 1
+        let (a, ra) = (img([10, 12, 50, 9]), img([10, 10, 40, 4]));
+        let (b, rb) = (img([20, 12, 0, 9]), img([20, 13, 0, 4]));
+        let (all, three) = ([true; 4], [true, true, false, true]);
+        assert_eq!(flicker_of([&a, &ra], &all, [&b, &rb], &three), 1.0);
+        assert_eq!(flicker_of([&a, &ra], &all, [&a, &ra], &all), 0.0);
+        // nothing covered in both: no flicker
+        assert_eq!(flicker_of([&a, &ra], &all, [&b, &rb], &[false; 4]), 0.0);
+    }
+}

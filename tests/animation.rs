@@ -1,0 +1,185 @@
+//! Animations (`frames`, issue 8 item 4): the frames of `configs/quantized-sphere-orbit.ron`
+//! (Tarini's quantized normal maps under an orbiting light), each paying the palette rebuild
+//! as per-frame work, each the run of its own config, and their flicker.
+
+mod common;
+
+use bumpsim_pipeline::animation::{self, AnimationReport};
+use bumpsim_pipeline::config;
+use common::*;
+
+const ORBIT: &str = "quantized-sphere-orbit";
+const SMALL64: [&str; 2] = ["scene.width=64", "scene.height=64"];
+
+fn animate(sets: &[&str]) -> (bumpsim_pipeline::report::Report, AnimationReport, usize) {
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    let l = config::load(&config(ORBIT), &sets).unwrap_or_else(|e| panic!("{e}"));
+    let a = animation::run(&l).unwrap_or_else(|e| panic!("{e}"));
+    let anim = a
+        .first
+        .report
+        .animation
+        .clone()
+        .expect("an animation section");
+    (a.first.report, anim, a.images.len())
+}
+
+#[test]
+fn every_frame_is_the_run_of_its_own_config_and_pays_the_palette_build() {
+    let (first, a, images) = animate(&SMALL64);
+    assert_eq!((a.frames, a.per_frame.len(), images), (8, 8, 7));
+    // frame 0 is the config itself: the report's own figures
+    let f0 = &a.per_frame[0];
+    assert_eq!(
+        (f0.cycles, f0.frame_work),
+        (first.cycles.total, first.cycles.frame)
+    );
+    assert!(f0.sets.is_empty() && f0.flicker_lsb.is_none());
+    // the 256-entry table is rebuilt every frame: the same frame work each frame (256 builder
+    // clocks and the LUT load), in the totals
+    for r in &a.per_frame {
+        assert_eq!(r.frame_work, 768, "frame {}", r.frame);
+        assert!(r.flicker_lsb.is_some() == (r.frame > 0));
+    }
+    assert_eq!(a.frame_work_cycles, 8 * 768);
+    assert_eq!(
+        a.total_cycles,
+        a.per_frame.iter().map(|r| r.cycles).sum::<u64>()
+    );
+    // frame 3 is the config with frame 3's overrides and no frames, rendered alone
+    let f3 = &a.per_frame[3];
+    let mut alone: Vec<&str> = SMALL64.to_vec();
+    alone.push("frames=[]");
+    alone.extend(f3.sets.iter().map(String::as_str));
+    let r3 = config_report(ORBIT, &alone);
+    assert!(r3.animation.is_none());
+    assert_eq!(
+        (f3.cycles, f3.frame_work, f3.fragments),
+        (r3.cycles.total, r3.cycles.frame, r3.cycles.fragments)
+    );
+    assert_eq!(f3.total_psnr_db, r3.error.total.psnr_db);
+    assert_eq!(f3.total_max_lsb, r3.error.total.max_abs_lsb);
+    // and the light moved: the frames differ from frame 0
+    assert_ne!(f3.total_max_lsb.to_bits(), 0f64.to_bits());
+    assert_ne!(r3.config_hash, first.config_hash);
+}
+
+#[test]
+fn a_256_entry_palette_flickers_more_than_unquantized_normals() {
+    // the same animation, the same engine with every distinct normal (Quantizer::Exact,
+    // 16-bit indices): measured at 64x64, 256 entries 2.2-2.9 LSB, exact 0.4-0.8 LSB
+    let (_, q, _) = animate(&SMALL64);
+    let mut exact = SMALL64.to_vec();
+    exact.extend([
+        "engine.units.qnm.unit.quantizer=Exact",
+        "engine.units.qnm.unit.s_n=65536",
+        "engine.units.qnm.unit.index_bits=16",
+    ]);
+    let (_, e, _) = animate(&exact);
+    let mean = |a: &AnimationReport| {
+        let f: Vec<f64> = a.per_frame.iter().filter_map(|r| r.flicker_lsb).collect();
+        f.iter().sum::<f64>() / f.len() as f64
+    };
+    let (fq, fe) = (mean(&q), mean(&e));
+    println!("flicker: 256 entries {fq:.3} LSB, exact normals {fe:.3} LSB");
+    assert!(fq > 2.0 * fe && fe > 0.0, "{fq} {fe}");
+    // the rebuild grows with the table: 65,536 entries cost 3 clocks each per frame
+    assert!(e.frame_work_cycles > 100 * q.frame_work_cycles);
+}
+
+#[test]
+fn render_writes_every_frame_and_the_report_lists_them() {
+    let scratch = Scratch::new("animation-render");
+    let out = scratch.join("out");
+    let mut args = vec!["render".to_string(), config(ORBIT).display().to_string()];
+    for s in SMALL64 {
+        args.extend(["--set".to_string(), s.to_string()]);
+    }
+    args.extend(["--out".to_string(), out.display().to_string()]);
+    let o = bumpsim(&args);
+    o.expect_code(0, "render the orbit");
+    assert!(o.stdout.contains("animation 8 frames"), "{}", o.stdout);
+    let mut want: Vec<String> = (1..=7).map(|k| format!("frame-{k:03}.png")).collect();
+    want.extend(["error.png", "image.png", "reference.png", "report.json"].map(String::from));
+    want.sort();
+    assert_eq!(listing(&out), want);
+    let report = json(&std::fs::read_to_string(out.join("report.json")).unwrap());
+    assert_eq!(uint(&report, "animation.frames"), 8);
+    let first = image::open(out.join("image.png")).unwrap().to_rgb8();
+    let seventh = image::open(out.join("frame-007.png")).unwrap().to_rgb8();
+    assert_eq!(first.dimensions(), (64, 64));
+    assert_ne!(first, seventh, "the light moved");
+}
+
+#[test]
+fn a_frame_sets_per_frame_inputs_only_and_bad_frames_are_errors_before_rendering() {
+    let cases: [(&str, &[&str]); 5] = [
+        // the hardware is the same in every frame
+        (
+            "frames=[[\"engine.units.qnm.unit.s_n=16\"]]",
+            &[
+                "frames[0][0]",
+                "per-frame inputs only",
+                "scene.lights, scene.camera",
+            ],
+        ),
+        (
+            "frames=[[], [\"scene.width=32\"]]",
+            &["frames[1][0]", "per-frame inputs only"],
+        ),
+        // an override that does not apply, and a frame that is not a valid config
+        (
+            "frames=[[\"scene.lights[3].color=(1, 1, 1)\"]]",
+            &["frames[0][0]", "scene.lights[3]"],
+        ),
+        (
+            "frames=[[\"scene.lights[0].kind.dir=(0, 0, 0)\"]]",
+            &["frames[0] (frame 1)", "scene.lights[0]"],
+        ),
+        (
+            "frames=[[\"scene.camera.target=(0.0, 0.8, 3.2)\"]]",
+            &[
+                "frames[0] (frame 1)",
+                "scene.camera.target",
+                "different from the eye",
+            ],
+        ),
+    ];
+    for (set, needles) in cases {
+        expect_rejected(&config(ORBIT), set, needles);
+    }
+    // at most 64 frames after frame 0
+    let many = format!("frames=[{}]", vec!["[]"; 65].join(", "));
+    expect_rejected(
+        &config(ORBIT),
+        &many,
+        &["frames", "65 frames", "at most 64"],
+    );
+    // at most 64 overrides in a frame
+    let long = format!(
+        "frames=[[], [{}]]",
+        vec!["\"scene.material.shininess=8\""; 65].join(", ")
+    );
+    expect_rejected(
+        &config(ORBIT),
+        &long,
+        &["frames[1]", "65 overrides", "at most 64"],
+    );
+    // at most 2^26 pixels over all frames
+    let scratch = Scratch::new("animation-bad");
+    let out = scratch.join("out");
+    let args = [
+        "render",
+        &config(ORBIT).display().to_string(),
+        "--set",
+        "scene.width=4096",
+        "--set",
+        "scene.height=4096",
+        "--out",
+        &out.display().to_string(),
+    ];
+    let o = bumpsim(&args);
+    o.expect_code(2, "8 frames of 4096^2");
+    assert!(o.stderr.contains("over all frames"), "{}", o.stderr);
+    assert!(!out.exists(), "nothing is written on an error");
+}
