@@ -5,19 +5,18 @@ mod common;
 
 use common::*;
 
-const FILES: [&str; 4] = ["image.png", "reference.png", "error.png", "report.json"];
-
-#[test]
-fn teapot_renders_are_byte_identical_across_runs_and_thread_counts() {
-    let cfg = config("sgi-teapot");
-    let scratch = Scratch::new("determinism");
+/// Render `stem` twice and on one and on two rayon threads; every file of every run must be
+/// byte-identical to the first run's (the same files, the same bytes).
+fn renders_are_byte_identical(stem: &str) {
+    let cfg = config(stem);
+    let scratch = Scratch::new(&format!("determinism-{stem}"));
     let runs: [(&str, Option<&str>); 4] = [
         ("a", None),
         ("b", None),
         ("threads1", Some("1")),
         ("threads2", Some("2")),
     ];
-    let mut outputs: Vec<(String, Vec<Vec<u8>>)> = Vec::new();
+    let mut outputs: Vec<(String, Vec<(String, Vec<u8>)>)> = Vec::new();
     for (tag, threads) in runs {
         let out = scratch.join(tag);
         let envs: Vec<(&str, &str)> = threads
@@ -33,22 +32,44 @@ fn teapot_renders_are_byte_identical_across_runs_and_thread_counts() {
             ],
             &envs,
         );
-        o.expect_code(0, &format!("render run {tag}"));
-        let files = FILES
-            .iter()
-            .map(|f| std::fs::read(out.join(f)).unwrap_or_else(|e| panic!("{tag}/{f}: {e}")))
+        o.expect_code(0, &format!("{stem}: render run {tag}"));
+        let files = listing(&out)
+            .into_iter()
+            .map(|f| {
+                let bytes = std::fs::read(out.join(&f));
+                let bytes = bytes.unwrap_or_else(|e| panic!("{tag}/{f}: {e}"));
+                (f, bytes)
+            })
             .collect();
         outputs.push((tag.to_string(), files));
     }
     let (first_tag, first) = &outputs[0];
+    assert!(
+        first.len() >= 4,
+        "{stem}: {first_tag} wrote {} files",
+        first.len()
+    );
     for (tag, files) in &outputs[1..] {
-        for (k, f) in FILES.iter().enumerate() {
+        let names = |v: &[(String, Vec<u8>)]| v.iter().map(|f| f.0.clone()).collect::<Vec<_>>();
+        assert_eq!(names(files), names(first), "{stem}: the files of run {tag}");
+        for ((f, bytes), (_, want)) in files.iter().zip(first) {
             assert!(
-                files[k] == first[k],
-                "{f} of run {tag} differs from run {first_tag} ({} vs {} bytes)",
-                files[k].len(),
-                first[k].len()
+                bytes == want,
+                "{stem}: {f} of run {tag} differs from run {first_tag} ({} vs {} bytes)",
+                bytes.len(),
+                want.len()
             );
         }
     }
+}
+
+#[test]
+fn teapot_renders_are_byte_identical_across_runs_and_thread_counts() {
+    renders_are_byte_identical("sgi-teapot");
+}
+
+/// An animation's every frame (`frame-00k.png`) and its report's animation section too.
+#[test]
+fn animations_are_byte_identical_across_runs_and_thread_counts() {
+    renders_are_byte_identical("quantized-sphere-orbit");
 }
