@@ -5,6 +5,9 @@ mod common;
 
 use common::*;
 
+/// A render's files: (name, bytes) in name order.
+type Files = Vec<(String, Vec<u8>)>;
+
 /// Render `stem` twice and on one and on two rayon threads; every file of every run must be
 /// byte-identical to the first run's (the same files, the same bytes).
 fn renders_are_byte_identical(stem: &str) {
@@ -16,7 +19,7 @@ fn renders_are_byte_identical(stem: &str) {
         ("threads1", Some("1")),
         ("threads2", Some("2")),
     ];
-    let mut outputs: Vec<(String, Vec<(String, Vec<u8>)>)> = Vec::new();
+    let mut outputs: Vec<(String, Files)> = Vec::new();
     for (tag, threads) in runs {
         let out = scratch.join(tag);
         let envs: Vec<(&str, &str)> = threads
@@ -50,7 +53,7 @@ fn renders_are_byte_identical(stem: &str) {
         first.len()
     );
     for (tag, files) in &outputs[1..] {
-        let names = |v: &[(String, Vec<u8>)]| v.iter().map(|f| f.0.clone()).collect::<Vec<_>>();
+        let names = |v: &Files| v.iter().map(|f| f.0.clone()).collect::<Vec<_>>();
         assert_eq!(names(files), names(first), "{stem}: the files of run {tag}");
         for ((f, bytes), (_, want)) in files.iter().zip(first) {
             assert!(

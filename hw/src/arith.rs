@@ -209,6 +209,26 @@ pub fn csd(mut k: u128) -> Vec<(u32, i8)> {
     d
 }
 
+/// The reciprocal of the odd `o > 1` for dividends in `[0, u_max]`: `(M, s)` with
+/// `floor(u M / 2^s) = floor(u / o)` for every such `u` (the smallest `s`, or among the next
+/// eight the `M` with the fewest signed digits). The division by a constant of the generated
+/// Verilog (`rtl::divide`) and its price (`CostTable::div_round`).
+pub fn reciprocal(o: i128, u_max: i128) -> (i128, u32) {
+    let exact = |s: u32| -> Option<i128> {
+        let p = 1i128 << s;
+        let m = (p + o - 1) / o;
+        let e = m * o - p;
+        (u_max.checked_mul(e)? < p).then_some(m)
+    };
+    let first = (1..100)
+        .find(|&s| exact(s).is_some())
+        .expect("a reciprocal within 100 bits");
+    (first..first + 8)
+        .filter_map(|s| exact(s).map(|m| (m, s)))
+        .min_by_key(|&(m, s)| (csd(m as u128).len(), s))
+        .unwrap()
+}
+
 /// Smallest number of bits that holds `v` unsigned (0 for 0).
 pub fn bit_length(v: u128) -> u32 {
     128 - v.leading_zeros()

@@ -170,6 +170,31 @@ impl CostTable {
     pub fn constant_multiplier(&self, n: u32, k: u128) -> f64 {
         crate::arith::csd(k).len().saturating_sub(1) as f64 * self.adder(n)
     }
+    /// Round-half-up `x / d` of an integer `x` in `[lo, hi]` for a constant `d > 0`, as the
+    /// generated Verilog builds it (`rtl::divide::div_round`): `2x + d` (an adder), the shift
+    /// by `2d`'s trailing zeros, the offset into `[0, U]` and back when `x` may be negative
+    /// (two adders), and the multiply by the reciprocal of the odd part
+    /// ([`crate::arith::reciprocal`]: an adder per signed digit after the first).
+    pub fn div_round(&self, lo: i128, hi: i128, d: i128) -> f64 {
+        let bits = |lo: i128, hi: i128| {
+            crate::arith::bit_length(lo.unsigned_abs().max(hi.unsigned_abs())) + 1
+        };
+        let (nlo, nhi) = (2 * lo + d, 2 * hi + d);
+        let mut ge = self.adder(bits(nlo, nhi));
+        let t = (2 * d).trailing_zeros();
+        let o = (2 * d) >> t;
+        let (xlo, xhi) = (nlo >> t, nhi >> t);
+        if o == 1 || xlo.div_euclid(o) == xhi.div_euclid(o) {
+            return ge;
+        }
+        let k = if xlo < 0 { (-xlo + o - 1) / o } else { 0 };
+        let (ulo, uhi) = (xlo + k * o, xhi + k * o);
+        if k != 0 {
+            ge += self.adder(bits(xlo, xhi)) + self.adder(bits(ulo / o, uhi / o));
+        }
+        let (m, _) = crate::arith::reciprocal(o, uhi);
+        ge + self.constant_multiplier(bits(ulo, uhi), m as u128)
+    }
     /// A sequencer's step counter over `steps` clocks: a register bit and an incrementer bit
     /// per bit of the count.
     pub fn sequencer(&self, steps: u32) -> f64 {

@@ -11,24 +11,7 @@
 
 use super::fixed::{make, plain, scale, Fx};
 use super::verilog::lit;
-
-/// The reciprocal of the odd `o > 1` for dividends in `[0, u_max]`: `(M, s)` with
-/// `floor(u M / 2^s) = floor(u / o)` for every such `u`.
-pub fn reciprocal(o: i128, u_max: i128) -> (i128, u32) {
-    let exact = |s: u32| -> Option<i128> {
-        let p = 1i128 << s;
-        let m = (p + o - 1) / o;
-        let e = m * o - p;
-        (u_max.checked_mul(e)? < p).then_some(m)
-    };
-    let first = (1..100)
-        .find(|&s| exact(s).is_some())
-        .expect("a reciprocal within 100 bits");
-    (first..first + 8)
-        .filter_map(|s| exact(s).map(|m| (m, s)))
-        .min_by_key(|&(m, s)| (crate::arith::csd(m as u128).len(), s))
-        .unwrap()
-}
+use crate::arith::reciprocal;
 
 /// `floor(x / d)` for the integer wire `x` (0 fraction bits) and a constant `d > 0`.
 pub fn floor_div(m: &mut super::verilog::Module, x: &Fx, d: i128) -> Fx {

@@ -270,13 +270,19 @@ impl Unit for Combiner {
             4 * n,
             t.adder(2 * w + 2),
         );
+        // each product read back in register units, round-half-up `/ S` as the Verilog
+        // divides (`rtl::divide`): a lane product in [-S^2, S^2], the dot product's first lane
+        // (the sum of three) in [-3 S^2, 3 S^2]; RGB AB and CD (3 lanes each), alpha AB, CD
+        let s = 255i128 << (w - DEFAULT_WIDTH);
         g.add(
-            format!(
-                "product rounding / (255 2^f) (2 adders {}) x8 products x{n}",
-                2 * w + 2
-            ),
-            8 * n,
-            2.0 * t.adder(2 * w + 2),
+            format!("product rounding / (255 2^f) as a reciprocal multiply (6 products) x{n}"),
+            6 * n,
+            t.div_round(-s * s, s * s, s),
+        );
+        g.add(
+            format!("dot-product rounding / (255 2^f) (RGB AB, CD) x{n}"),
+            2 * n,
+            t.div_round(-3 * s * s, 3 * s * s, s),
         );
         g.add(
             format!("AB + CD adder {} x4 x{n}", w + 2),
@@ -307,9 +313,9 @@ impl Unit for Combiner {
             t.mux(w, 4),
         );
         g.add(
-            format!("pipeline registers: 9 registers x 4 lanes x {w} bits x{n}"),
+            format!("pipeline registers: 9 registers x 4 lanes x {w} bits, loaded every edge x{n}"),
             n,
-            t.register(36 * w),
+            t.dff * f64::from(36 * w),
         );
         g.add(
             format!("stage state: ICW, OCW (RGB, alpha), 2 factors = 192 bits x{n}"),
