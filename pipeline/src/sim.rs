@@ -341,7 +341,6 @@ fn timing(
     let mut setting_up: Option<(usize, u64)> = None; // (triangle, cycle its setup completes)
     let mut ready: Option<usize> = None;
     let mut scanning: Option<(usize, usize)> = None; // (triangle, next fragment)
-    let mut written = 0usize;
     let mut cycle = frame;
     let bump = |c: &mut Counters, busy: bool, stall: bool| {
         if stall {
@@ -357,7 +356,6 @@ fn timing(
         // frame buffer write
         let drained = fifos[nstage].pop();
         if drained.is_some() {
-            written += 1;
             rop_c.accepted += 1;
         }
         bump(&mut rop_c, drained.is_some(), false);
@@ -451,7 +449,8 @@ fn timing(
         }
         bump(&mut setup_c, setup_busy, setup_stall);
         cycle += 1;
-        let idle = written == nfrag
+        // every fragment written: the ROP has taken them all
+        let idle = rop_c.accepted == nfrag as u64
             && next_tri == w.triangles.len()
             && setting_up.is_none()
             && ready.is_none()
