@@ -156,6 +156,36 @@ impl CostTable {
     pub fn mux(&self, n: u32, k: u32) -> f64 {
         self.mux2 * n as f64 * k.saturating_sub(1) as f64
     }
+    /// The decode of a `sel_bits`-bit code into `lines` one-hot select lines (a
+    /// `sel_bits`-input AND a line, as two-input ANDs), shared by every select that reads the
+    /// same code: the generators' register reads (`rtl::fixed::select`, a chain of `sel == i`
+    /// tests) are `mux(n, k + 1)` over `k` inputs that are not a constant 0 plus this decode.
+    /// yosys: a 12-way read of 9 bits with 10 such inputs 276 GE, a 14-way read of 10 bits with
+    /// 12, 358.5 (`mux` + decode: 249.6 and 327.6); in the register combiners' final
+    /// combiner, where four reads share each code, within 4%.
+    pub fn decoder(&self, lines: u32, sel_bits: u32) -> f64 {
+        self.and2 * f64::from(sel_bits.saturating_sub(1)) * f64::from(lines)
+    }
+    /// `x + c` for a constant `c` on `n` bits: a carry chain, a half adder a bit.
+    pub fn constant_add(&self, n: u32) -> f64 {
+        self.half_adder * n as f64
+    }
+    /// `x k` of an `n`-bit `x` as its signed digits' shifts and adds, each digit after the
+    /// first a full adder where the two shifted copies overlap and a carry or borrow chain (a
+    /// half adder a bit) where they do not (as the power table's index rounding): `x (2^16 -
+    /// 1)` of a 13-bit `x` is a borrow chain, not a 13-bit subtractor, and the cast's rounding
+    /// keeps only its top.
+    pub fn shift_add(&self, n: u32, k: u128) -> f64 {
+        let mut digits: Vec<u32> = crate::arith::csd(k).into_iter().map(|(s, _)| s).collect();
+        digits.sort_unstable_by(|a, b| b.cmp(a));
+        digits
+            .windows(2)
+            .map(|w| {
+                let gap = w[0] - w[1];
+                self.adder(n.saturating_sub(gap)) + self.half_adder * n.min(gap) as f64
+            })
+            .sum()
+    }
     /// n-bit register with load enable.
     pub fn register(&self, n: u32) -> f64 {
         self.reg_bit * n as f64
@@ -171,16 +201,19 @@ impl CostTable {
         crate::arith::csd(k).len().saturating_sub(1) as f64 * self.adder(n)
     }
     /// Round-half-up `x / d` of an integer `x` in `[lo, hi]` for a constant `d > 0`, as the
-    /// generated Verilog builds it (`rtl::divide::div_round`): `2x + d` (an adder), the shift
-    /// by `2d`'s trailing zeros, the offset into `[0, U]` and back when `x` may be negative
-    /// (two adders), and the multiply by the reciprocal of the odd part
-    /// ([`crate::arith::reciprocal`]: an adder per signed digit after the first).
+    /// generated Verilog builds it (`rtl::divide::div_round`): `2x + d` (a constant add), the
+    /// shift by `2d`'s trailing zeros, the offset into `[0, U]` and back when `x` may be
+    /// negative (two constant adds), and the multiply by the reciprocal of the odd part
+    /// ([`crate::arith::reciprocal`]) by its digits' shifts and adds ([`Self::shift_add`]).
+    /// yosys, `d = 255` (the register combiners at width 9): `x` in `[0, S^2]` 259.5 GE (this:
+    /// 239.1), `[-S^2, S^2]` 468.0 (458.1), `[-3 S^2, 3 S^2]` 510.6 (511.9), `[-2 S^2, 6 S^2]`
+    /// 549.0 (518.6).
     pub fn div_round(&self, lo: i128, hi: i128, d: i128) -> f64 {
         let bits = |lo: i128, hi: i128| {
             crate::arith::bit_length(lo.unsigned_abs().max(hi.unsigned_abs())) + 1
         };
         let (nlo, nhi) = (2 * lo + d, 2 * hi + d);
-        let mut ge = self.adder(bits(nlo, nhi));
+        let mut ge = self.constant_add(bits(nlo, nhi));
         let t = (2 * d).trailing_zeros();
         let o = (2 * d) >> t;
         let (xlo, xhi) = (nlo >> t, nhi >> t);
@@ -190,10 +223,10 @@ impl CostTable {
         let k = if xlo < 0 { (-xlo + o - 1) / o } else { 0 };
         let (ulo, uhi) = (xlo + k * o, xhi + k * o);
         if k != 0 {
-            ge += self.adder(bits(xlo, xhi)) + self.adder(bits(ulo / o, uhi / o));
+            ge += self.constant_add(bits(xlo, xhi)) + self.constant_add(bits(ulo / o, uhi / o));
         }
         let (m, _) = crate::arith::reciprocal(o, uhi);
-        ge + self.constant_multiplier(bits(ulo, uhi), m as u128)
+        ge + self.shift_add(bits(ulo, uhi), m as u128)
     }
     /// A sequencer's step counter over `steps` clocks: a register bit and an incrementer bit
     /// per bit of the count.
@@ -319,6 +352,28 @@ enum Store {
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn the_dividers_and_decoders_are_priced_as_documented() {
+        // docs/gates.md: `div_round` by 255 over the register combiners' ranges at width 9,
+        // each beside the yosys figure of its cone (259.5, 468.0, 510.6, 549.0 GE)
+        let t = CostTable::default();
+        let s = 255i128;
+        for ((lo, hi), want) in [
+            ((0, s * s), 239.09),
+            ((-s * s, s * s), 458.06),
+            ((-3 * s * s, 3 * s * s), 511.9),
+            ((-2 * s * s, 6 * s * s), 518.56),
+        ] {
+            let got = t.div_round(lo, hi, s);
+            assert!((got - want).abs() < 0.005, "[{lo}, {hi}]: {got}");
+        }
+        // a power-of-two divisor is the rounding add alone
+        assert!((t.div_round(-100, 100, 64) - t.constant_add(10)).abs() < 1e-9);
+        // register reads: yosys 276 and 358.5 GE
+        assert!((t.mux(9, 11) + t.decoder(10, 4) - 249.6).abs() < 0.005);
+        assert!((t.mux(10, 13) + t.decoder(12, 4) - 327.48).abs() < 0.005);
+    }
     use super::*;
 
     #[test]

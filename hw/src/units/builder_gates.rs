@@ -17,7 +17,6 @@ use super::palette_builder::{LightingFn, PaletteBuilder};
 use super::specgen::SpecGen;
 use crate::format::{Codec, Encoding};
 use crate::gates::{CostTable, GateBudget};
-use crate::units::fetch::shift_add;
 
 fn bits(hi: u128) -> u32 {
     (128 - hi.leading_zeros()).max(1)
@@ -162,7 +161,7 @@ pub(crate) fn pipelined(b: &PaletteBuilder, t: &CostTable) -> Option<GateBudget>
     g.add(
         format!("intensity cast x{k_int} {}", dot_frac + 1),
         1,
-        shift_add(t, dot_frac + 1, k_int),
+        t.shift_add(dot_frac + 1, k_int),
     );
     let spec_any = lanes.iter().any(|l| l.specular);
     if spec_any {
@@ -216,12 +215,12 @@ pub(crate) fn pipelined(b: &PaletteBuilder, t: &CostTable) -> Option<GateBudget>
             g.add(
                 format!("lane {j} diffuse reading x{kd} {pw}"),
                 1,
-                shift_add(t, pw, kd),
+                t.shift_add(pw, kd),
             );
             g.add(
                 format!("lane {j} power reading x{ks} {pw}"),
                 1,
-                shift_add(t, pw, ks),
+                t.shift_add(pw, ks),
             );
             width = pw + bits(kd.max(ks));
             g.add(
@@ -246,7 +245,7 @@ pub(crate) fn pipelined(b: &PaletteBuilder, t: &CostTable) -> Option<GateBudget>
             g.add(
                 format!("lane {j} accumulator reading x{strip} {aw}"),
                 1,
-                shift_add(t, aw, strip),
+                t.shift_add(aw, strip),
             );
             cw_in = aw + bits(strip);
             // the ambient word sits above the accumulator's fraction: an adder over its bits
@@ -270,7 +269,7 @@ pub(crate) fn pipelined(b: &PaletteBuilder, t: &CostTable) -> Option<GateBudget>
         g.add(
             format!("lane {j} entry cast x{k_cast} {cw_in}"),
             1,
-            shift_add(t, cw_in, k_cast),
+            t.shift_add(cw_in, k_cast),
         );
         g.add(format!("lane {j} entry clamp {we}"), 1, t.clamp(we));
     }

@@ -38,7 +38,6 @@ use crate::arith::Acc;
 use crate::format::{Codec, Encoding};
 use crate::gates::{CostTable, GateBudget};
 use crate::unit::{Mode, PortSpec, Unit, Word};
-use crate::units::fetch::shift_add;
 
 /// Which of Tarini's blending equations.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -160,7 +159,7 @@ impl Unit for FbBlend {
         let mut g = GateBudget::new();
         if be != fb {
             let k = rep(&be) * out_k;
-            g.add(format!("base word cast x{k} {wf}"), 3, shift_add(t, wf, k));
+            g.add(format!("base word cast x{k} {wf}"), 3, t.shift_add(wf, k));
             g.add(format!("base word clamp {wf}"), 3, t.clamp(wf));
         }
         g.add(
@@ -176,12 +175,12 @@ impl Unit for FbBlend {
         );
         if self.eq == BlendEquation::Exact {
             let k = rep(&fb) * rep(&ee) * out_k;
-            g.add(format!("d word cast x{k} {wf}"), 3, shift_add(t, wf, k));
+            g.add(format!("d word cast x{k} {wf}"), 3, t.shift_add(wf, k));
         }
         let ws = pw + we + 1;
         g.add(format!("blend adder {ws}"), 3, t.adder(ws));
         let k = rep(&ee) * out_k;
-        g.add(format!("result cast x{k} {wf}"), 3, shift_add(t, wf, k));
+        g.add(format!("result cast x{k} {wf}"), 3, t.shift_add(wf, k));
         g.add(format!("result clamp {wf}"), 3, t.clamp(wf));
         g.add(format!("output register {}", 3 * wf), 1, t.register(3 * wf));
         g.add("sequencer", 1, t.sequencer(1));
@@ -339,7 +338,7 @@ mod tests {
             .unwrap()
             .gates(&t);
         // equation (1)'s extra pass is one more framebuffer word: d = r_o alpha
-        let d = 3.0 * shift_add(&t, 8, 257 * 257 * 255);
+        let d = 3.0 * t.shift_add(8, 257 * 257 * 255);
         assert!((g.total() - g2.total() - d).abs() < 1e-9);
     }
 }

@@ -114,22 +114,6 @@ impl TexFetch {
     }
 }
 
-/// `x k` of an `n`-bit `x` as its signed digits' shifts and adds, each digit after the first
-/// a full adder where the two shifted copies overlap and a carry or borrow chain (a half adder
-/// a bit) where they do not (as the power table's index rounding): `x (2^16 - 1)` of a 13-bit
-/// `x` is a borrow chain, not a 13-bit subtractor, and the cast's rounding keeps only its top.
-pub(crate) fn shift_add(t: &CostTable, n: u32, k: u128) -> f64 {
-    let mut digits: Vec<u32> = crate::arith::csd(k).into_iter().map(|(s, _)| s).collect();
-    digits.sort_unstable_by(|a, b| b.cmp(a));
-    digits
-        .windows(2)
-        .map(|w| {
-            let gap = w[0] - w[1];
-            t.adder(n.saturating_sub(gap)) + t.half_adder * n.min(gap) as f64
-        })
-        .sum()
-}
-
 impl Unit for TexFetch {
     fn kind(&self) -> &'static str {
         "tex_fetch"
@@ -289,7 +273,7 @@ impl Unit for TexFetch {
                 k *= (1u128 << wo) - 1;
             }
             if k > 1 {
-                g.add(format!("cast x{k} {vw}"), lanes, shift_add(t, vw, k));
+                g.add(format!("cast x{k} {vw}"), lanes, t.shift_add(vw, k));
             }
             let (tl, th) = (
                 texel.decode(texel.format.min_raw()),
@@ -485,9 +469,9 @@ mod tests {
         let t = CostTable::default();
         // x 257 of 17 bits: the copies overlap over 9 bits; x (2^16 - 1) of 13 bits: not at all
         let fa = t.full_adder;
-        assert!((shift_add(&t, 17, 257) - (9.0 * fa + 8.0 * t.half_adder)).abs() < 1e-9);
-        assert!((shift_add(&t, 13, 65535) - 13.0 * t.half_adder).abs() < 1e-9);
-        assert_eq!(shift_add(&t, 13, 1), 0.0);
+        assert!((t.shift_add(17, 257) - (9.0 * fa + 8.0 * t.half_adder)).abs() < 1e-9);
+        assert!((t.shift_add(13, 65535) - 13.0 * t.half_adder).abs() < 1e-9);
+        assert_eq!(t.shift_add(13, 1), 0.0);
         // u4.12 on 8 x 4 texels: 9 and 10 fraction bits below the texel, weights of 8 bits
         // carry all 8; on a 256 x 256 texture only 4 of a u4.12 coordinate's bits remain
         let uv = Encoding::fixed(Format::u(16, 12));

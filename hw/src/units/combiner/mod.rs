@@ -198,6 +198,113 @@ impl Combiner {
         r.map(|v| v.err.min(1.0) + out_round)
     }
 
+    /// The final combiner's datapath as `rtl::combiner` builds it (two pipeline stages):
+    /// the `spare0 + secondary` sum, the variables A to G (register selects, the usage
+    /// select, `max(0, x)` and the invert), `E * F`, the stage registers, then per colour lane
+    /// `A B + (1 - A) C` read back by `/ S`, `+ D`, and the clamps and codes. Widths are the
+    /// exact ranges the Verilog's wires have: a mapped variable is in `[0, S]`, `w - 1` bits.
+    fn final_gates(&self, t: &CostTable, g: &mut GateBudget) {
+        let w = self.params.width;
+        let f = w - DEFAULT_WIDTH;
+        let s = 255i128 << f;
+        let v = w - 1; // [0, S]; A to D are in [0, 2 S] (spare0 + secondary unclamped), w bits
+        let bits = |x: i128| crate::arith::bit_length(x.unsigned_abs());
+        // the registers that are not a constant 0 after the general stages: the final
+        // combiner's two constants, the 8 the stages write, FOG if it has a port
+        let regs = 2 + 8 + u32::from(self.port_of[2].is_some());
+        g.add(
+            format!("final register reads x{w} of {regs} (E, F: 3 lanes + alpha; G: blue, alpha; A-D: alpha)"),
+            14,
+            t.mux(w, regs + 1),
+        );
+        g.add(
+            format!(
+                "final register reads x{} of {} (A-D x 3 lanes: + spare0 + secondary, E F)",
+                w + 1,
+                regs + 2
+            ),
+            12,
+            t.mux(w + 1, regs + 3),
+        );
+        g.add(
+            format!(
+                "final register codes decoded (A-G, {} lines each)",
+                regs + 2
+            ),
+            7,
+            t.decoder(regs + 2, 4),
+        );
+        g.add(
+            format!("final usage select 2:1 x{w} (A-F x 3 lanes, G)"),
+            19,
+            t.mux(w, 2),
+        );
+        // S - x on [0, S] with the invert flag: the bits' complement (an XOR with the flag)
+        // when S = 2^v - 1, else a subtractor and a select
+        let invert = if f == 0 {
+            t.xor2 * f64::from(v)
+        } else {
+            t.adder(v) + t.mux(v, 2)
+        };
+        g.add(
+            format!("final max(0, x) and invert {v} bits (spare0, secondary, E, F x 3 lanes, G)"),
+            13,
+            t.and2 * f64::from(v) + invert,
+        );
+        g.add(
+            format!("final max(0, x), clamp to S and invert {w} bits (A-D x 3 lanes)"),
+            12,
+            t.and2 * f64::from(w) + t.clamp(v) + invert,
+        );
+        g.add(
+            format!("spare0 + secondary: adder {w}, clamp to S, select"),
+            3,
+            t.adder(w) + t.clamp(v) + t.mux(w, 2),
+        );
+        g.add(format!("E*F multiplier {v}x{v}"), 3, t.multiplier(v, v));
+        g.add("E*F / S (reciprocal multiply)", 3, t.div_round(0, s * s, s));
+        g.add(
+            format!(
+                "final stage registers: A-D x 3 lanes x {w} bits, G {v} bits, loaded every edge"
+            ),
+            1,
+            t.dff * f64::from(12 * w + v),
+        );
+        if f > 0 {
+            g.add(format!("1 - A subtractor {w}"), 3, t.adder(w));
+        }
+        g.add(format!("A*B multiplier {w}x{w}"), 3, t.multiplier(w, w));
+        g.add(
+            format!("(1-A)*C multiplier {v}x{w} and the sign row {w}"),
+            3,
+            t.multiplier(v, w) + t.adder(w),
+        );
+        let (lo, hi) = (-2 * s * s, 6 * s * s);
+        g.add(
+            format!("A B + (1 - A) C adder {}", bits(hi) + 1),
+            3,
+            t.adder(bits(hi) + 1),
+        );
+        g.add(
+            "A B + (1 - A) C / S (reciprocal multiply)",
+            3,
+            t.div_round(lo, hi, s),
+        );
+        g.add(
+            format!("+ D adder {}", bits(8 * s) + 1),
+            3,
+            t.adder(bits(8 * s) + 1),
+        );
+        g.add(
+            format!("colour clamp to [0, S], {v} bits"),
+            3,
+            t.clamp(v) + t.and2 * f64::from(v),
+        );
+        if f > 0 {
+            g.add(format!("rounding to 8 bits (adder {v})"), 4, t.adder(v));
+        }
+    }
+
     /// The port words as register values, in register order (fog, primary, secondary,
     /// tex0..3).
     fn register_inputs<P: Path>(&self, p: &P, ins: Option<&[Word]>) -> [[P::V; 4]; 7] {
@@ -245,10 +352,27 @@ impl Unit for Combiner {
         let mut g = GateBudget::new();
         // one general stage, RGB (3 lanes) and alpha (1 lane) portions; x n stages
         let vars = 4 * (3 + 1); // variable lanes per stage
+                                // the register reads: per stage RGB 4 variables x (3 lanes + the alpha pick), alpha
+                                // 4 x (blue + alpha); a register that reads a constant 0 (ZERO; FOG and the ports
+                                // without a port; SPARE0 and SPARE1 before the first stage writes them) is no input
+        let ports = |ks: &[usize]| ks.iter().filter(|&&k| self.port_of[k].is_some()).count() as u32;
+        let fog = ports(&[2]);
+        let first = 2 + fog + ports(&[0, 1, 3, 4, 5, 6]);
+        let later = 2 + fog + 8;
+        // 24 reads of `v` inputs, 8 codes (one ICW register field per variable) decoded
+        let reads = |v: u32| 24.0 * t.mux(w, v + 1) + 8.0 * t.decoder(v, 4);
         g.add(
-            format!("operand select 12:1 x{w} (4 variables x 4 lanes) x{n} stages"),
-            vars * n,
-            t.mux(w, 12),
+            format!("operand select x{w} of {first} registers, 24 reads (stage 0)"),
+            1,
+            reads(first),
+        );
+        g.add(
+            format!(
+                "operand select x{w} of {later} registers, 24 reads x{} stages",
+                n - 1
+            ),
+            n - 1,
+            reads(later),
         );
         g.add(
             format!("component-usage mux 2:1 x{w} x{n}"),
@@ -261,9 +385,13 @@ impl Unit for Combiner {
             t.clamp(w) + t.adder(w + 1) + t.mux(w + 1, 8),
         );
         g.add(
-            format!("multiplier {w}x{w} (RGB 6, alpha 2) x{n}"),
+            format!(
+                "signed multiplier {w}x{w}: {v}x{v}, the two sign rows and the corner into the \
+                 top {w} bits (RGB 6, alpha 2) x{n}",
+                v = w - 1
+            ),
             8 * n,
-            t.multiplier(w, w),
+            t.multiplier(w - 1, w - 1) + 3.0 * t.adder(w),
         );
         g.add(
             format!("dot-product adders {} (2 dots x 2) x{n}", 2 * w + 2),
@@ -308,63 +436,33 @@ impl Unit for Combiner {
             t.mux(w, 2),
         );
         g.add(
-            format!("register write-back 4:1 x{w} (8 registers x 4 lanes) x{n}"),
-            32 * n,
-            t.mux(w, 4),
-        );
-        g.add(
-            format!("pipeline registers: 9 registers x 4 lanes x {w} bits, loaded every edge x{n}"),
+            format!("register write-back x{w}: 3 writes a colour lane, 5 an alpha lane (8 registers) x{n}"),
             n,
-            t.dff * f64::from(36 * w),
+            24.0 * t.mux(w, 4) + 8.0 * t.mux(w, 6),
         );
         g.add(
-            format!("stage state: ICW, OCW (RGB, alpha), 2 factors = 192 bits x{n}"),
+            format!("write-back destination compares (8 registers x 6 fields) x{n}"),
             n,
-            t.register(192),
-        );
-        // the final combiner
-        g.add(
-            format!("final operand select 14:1 x{} (A-F x 3 lanes)", w + 1),
-            18,
-            t.mux(w + 1, 14) + t.mux(w + 1, 2),
-        );
-        g.add(format!("final G select 12:1 x{w}"), 1, t.mux(w, 12));
-        g.add(
-            format!("final input invert (adder {w}, clamp {w})"),
-            19 + 6,
-            t.adder(w) + t.clamp(w),
+            48.0 * t.decoder(1, 4),
         );
         g.add(
-            format!("spare0 + secondary adder {} and clamp", w + 1),
-            3,
-            t.adder(w + 1) + t.clamp(w + 1),
-        );
-        g.add(format!("E*F multiplier {w}x{w}"), 3, t.multiplier(w, w));
-        g.add(
-            format!("A*B and (1-A)*C multipliers {}x{}", w + 2, w + 1),
-            6,
-            t.multiplier(w + 2, w + 1),
-        );
-        g.add(format!("1 - A subtractor {}", w + 2), 3, t.adder(w + 2));
-        g.add(format!("lerp adder {}", 2 * w + 4), 3, t.adder(2 * w + 4));
-        g.add(
-            format!("final product rounding (2 adders {}) x6", 2 * w + 4),
-            6,
-            2.0 * t.adder(2 * w + 4),
+            format!(
+                "pipeline registers: {} registers x 4 lanes x {w} bits, loaded every edge x{n}",
+                8 + fog
+            ),
+            n,
+            t.dff * f64::from(4 * (8 + fog) * w),
         );
         g.add(
-            format!("+ D adder {} and clamp", w + 2),
-            3,
-            t.adder(w + 2) + t.clamp(w + 2),
+            format!("stage state: 8 ICW bytes, 2 OCW of 20 bits, 2 RGBA factors = 168 bits x{n}"),
+            n,
+            t.register(168),
         );
-        g.add(format!("alpha clamp {w}"), 1, t.clamp(w));
-        if w > DEFAULT_WIDTH {
-            g.add("output rounding to 8 bits (adder 9)", 4, t.adder(9));
-        }
+        self.final_gates(t, &mut g);
         g.add(
-            "final state: CW0, CW1, 2 factors = 128 bits",
+            "final state: 7 variables of 6 bits, 3 flags, 2 RGBA factors = 109 bits",
             1,
-            t.register(128),
+            t.register(109),
         );
         g.add("output register 32", 1, t.register(32));
         g
