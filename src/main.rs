@@ -12,6 +12,7 @@ use std::process::ExitCode;
 
 mod gates_cmd;
 mod rtl_cmd;
+mod rtl_top;
 
 #[derive(Parser)]
 #[command(
@@ -163,7 +164,9 @@ enum Command {
         json: bool,
     },
     /// Write Verilog of the engine's units into DIR (docs/rtl.md): NAME.v and NAME.regs per
-    /// unit with a generator; --cosim N replays N vectors with iverilog, --synth runs yosys.
+    /// unit with a generator, and engine.v (the units wired as the config wires them) when
+    /// every unit has one; --cosim N replays N vectors per unit and N fragments of the frame
+    /// through engine.v with iverilog, --synth runs yosys.
     Rtl {
         #[command(flatten)]
         args: ConfigArgs,

@@ -14,6 +14,7 @@
 //! `$readmemh` contents); `--cosim N` replays N vectors per unit with iverilog
 //! in `DIR/cosim/NAME/`; `--synth` runs yosys and prints the model's GE beside synthesis.
 
+use crate::rtl_top;
 use crate::Failure;
 use bumpsim_hw::rtl::{
     self, synth, testbench, vectors, Dot3Rtl, ModulateRtl, PowerTableRtl, RtlUnit, ShadeRtl,
@@ -310,8 +311,22 @@ fn write(dir: &Path, name: &str, text: &str) -> Result<(), Failure> {
 
 /// Run the command: generate, write, and optionally co-simulate and synthesise.
 pub fn execute(l: &Loaded, out: &Path, cosim: usize, synth_on: bool) -> Result<(), Failure> {
-    let scene = build_scene(l)?;
-    let eng = engine::build(l, &scene)?;
+    // with --cosim the frame is rasterised too: the top replays its fragments
+    let prepared = if cosim > 0 {
+        Some(bumpsim_pipeline::run::prepare(l)?)
+    } else {
+        None
+    };
+    let built;
+    let (scene, eng) = match &prepared {
+        Some(p) => (&p.scene, &p.engine),
+        None => {
+            let scene = build_scene(l)?;
+            let eng = engine::build(l, &scene)?;
+            built = (scene, eng);
+            (&built.0, &built.1)
+        }
+    };
     std::fs::create_dir_all(out).map_err(|e| {
         Failure::Input(InputError::new(
             out.display().to_string(),
@@ -322,10 +337,11 @@ pub fn execute(l: &Loaded, out: &Path, cosim: usize, synth_on: bool) -> Result<(
     let table = &l.config.cost;
     let mut lines = Vec::new();
     let mut failures = Vec::new();
+    let mut units = Vec::new();
     for (i, uc) in l.config.engine.units.iter().enumerate() {
-        let unit = engine_unit(&eng, &uc.name)?;
+        let unit = engine_unit(eng, &uc.name)?;
         let top = module_name(&uc.name);
-        let g = match generate(&uc.unit, unit, &scene, &top) {
+        let g = match generate(&uc.unit, unit, scene, &top) {
             Ok(Some(g)) => g,
             Ok(None) => {
                 lines.push(format!("{:<12} {:<14} not generated", uc.name, unit.kind()));
@@ -423,7 +439,56 @@ pub fn execute(l: &Loaded, out: &Path, cosim: usize, synth_on: bool) -> Result<(
                 Err(e) => failures.push(format!("{}: {e}", uc.name)),
             }
         }
+        let names = |ps: &[PortSpec]| ps.iter().map(|p| p.name.clone()).collect();
+        units.push(rtl_top::UnitRtl {
+            name: uc.name.clone(),
+            inputs: names(model.inputs()),
+            outputs: names(model.outputs()),
+            rtl: g.rtl,
+        });
         lines.push(line);
+    }
+    let all = l.config.engine.units.len();
+    if units.len() < all {
+        lines.push(format!(
+            "engine top not generated: {} of {all} units have no generator",
+            all - units.len()
+        ));
+    } else {
+        match rtl_top::build(eng, &units) {
+            Ok(t) => {
+                write(out, "engine.v", &t.verilog)?;
+                write(out, "engine.regs", &regs_text(&t))?;
+                let mut line = format!(
+                    "{:<12} {:<14} engine.v  latency {}  registers {}",
+                    "engine",
+                    rtl_top::TOP,
+                    t.latency,
+                    t.config.len()
+                );
+                if let Some(p) = &prepared {
+                    let (ins, outs) = rtl_top::fragment_vectors(p, cosim);
+                    let dir = out.join("cosim").join("engine");
+                    testbench::write(&dir, &t, &ins, &outs)
+                        .map_err(|e| Failure::Internal(format!("{}: {e}", dir.display())))?;
+                    match testbench::run_iverilog(&dir) {
+                        Ok(r) => {
+                            let _ = write!(
+                                line,
+                                "  cosim {} fragments of the frame, {} mismatches",
+                                r.vectors, r.mismatches
+                            );
+                            if r.mismatches > 0 || r.latency_errors > 0 || r.vectors != ins.len() {
+                                failures.push(format!("engine: co-simulation {r:?}"));
+                            }
+                        }
+                        Err(e) => failures.push(format!("engine: {e}")),
+                    }
+                }
+                lines.push(line);
+            }
+            Err(e) => failures.push(format!("engine top: {e}")),
+        }
     }
     for l in &lines {
         println!("{l}");

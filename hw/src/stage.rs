@@ -204,6 +204,16 @@ impl Stage {
         self.unit.as_ref()
     }
 
+    /// Where each input port reads its word in the token.
+    pub fn in_wires(&self) -> &[Wire] {
+        &self.in_wires
+    }
+
+    /// The token slot each output port writes.
+    pub fn out_slots(&self) -> &[usize] {
+        &self.out_slots
+    }
+
     /// Clear the timing state (in-flight work, the next accept, the counters) for a new frame.
     pub fn reset(&mut self) {
         self.in_flight.clear();

@@ -42,6 +42,7 @@ pub mod shade;
 pub mod synth;
 pub mod testbench;
 pub mod texram;
+pub mod top;
 pub mod vectors;
 pub mod verilog;
 

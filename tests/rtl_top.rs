@@ -1,0 +1,126 @@
+//! `bumpsim rtl CONFIG --out DIR --cosim N`: the engine's top (`engine.v`, every generated
+//! unit wired as the config wires it) co-simulated on N fragments of the rendered frame, the
+//! attribute words the interpolator gave them in, the engine's output words out. iverilog is
+//! required (`.ci/install-iverilog.sh`): the tests **fail** without it unless
+//! `BUMPSIM_SKIP_IVERILOG=1` is set.
+
+mod common;
+
+use common::*;
+use std::process::Command;
+
+fn skip_iverilog() -> bool {
+    std::env::var_os("BUMPSIM_SKIP_IVERILOG").is_some_and(|v| !v.is_empty() && v != "0")
+}
+
+/// `bumpsim rtl NAME --cosim n` into a scratch directory; its stdout and the output directory.
+fn rtl(name: &str, n: &str) -> Option<(Scratch, std::path::PathBuf, String)> {
+    if skip_iverilog() {
+        println!("rtl_top: skipped (BUMPSIM_SKIP_IVERILOG is set)");
+        return None;
+    }
+    let s = Scratch::new(&format!("rtl-top-{name}"));
+    let out = s.join("rtl");
+    let cfg = config(name);
+    let o = bumpsim(&[
+        "rtl",
+        cfg.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--cosim",
+        n,
+    ]);
+    o.expect_code(0, "rtl --cosim");
+    Some((s, out, o.stdout))
+}
+
+fn engine_line(stdout: &str) -> &str {
+    stdout
+        .lines()
+        .find(|l| l.starts_with("engine "))
+        .unwrap_or_else(|| panic!("no engine line in {stdout}"))
+}
+
+#[test]
+fn the_engine_top_replays_the_frames_own_fragments() {
+    // four units with host registers and a texture memory (sgi-teapot); a concatenation wire
+    // `cat(dot.d0, dot.d1)` (dependent-dot-lookup); a swizzled output and 107 host registers
+    // (nv20-combiner-bump); a unit with a frame phase (quantized-sn16)
+    for (name, latency, regs) in [
+        ("sgi-teapot", 13, 15),
+        ("dependent-dot-lookup", 12, 0),
+        ("nv20-combiner-bump", 15, 107),
+        ("quantized-sn16", 7, 9),
+    ] {
+        let Some((_s, out, stdout)) = rtl(name, "150") else {
+            return;
+        };
+        let line = engine_line(&stdout);
+        assert!(
+            line.contains(&format!("latency {latency}  registers {regs}"))
+                && line.contains("cosim 150 fragments of the frame, 0 mismatches"),
+            "{name}: {line}"
+        );
+        let v = std::fs::read_to_string(out.join("engine.v")).unwrap();
+        assert!(v.contains("module bumpsim_engine ("), "{name}");
+        let regs_file = std::fs::read_to_string(out.join("engine.regs")).unwrap();
+        assert_eq!(
+            regs_file.lines().filter(|l| !l.starts_with('#')).count(),
+            regs,
+            "{name}"
+        );
+    }
+}
+
+#[test]
+fn the_top_is_wired_as_the_config_wires_it() {
+    let Some((_s, out, _)) = rtl("dependent-dot-lookup", "20") else {
+        return;
+    };
+    let v = std::fs::read_to_string(out.join("engine.v")).unwrap();
+    // the lookup's (s, t) is the concatenation of the two 1-lane dot products
+    assert!(
+        v.contains(".uv_0(u_dot_d0)") && v.contains(".uv_1(u_dot_d1)"),
+        "{v}"
+    );
+}
+
+#[test]
+fn a_wrong_expected_word_is_a_mismatch() {
+    // the comparison is live: one flipped bit in the model's words is one mismatch
+    let Some((_s, out, _)) = rtl("sgi-teapot", "40") else {
+        return;
+    };
+    let dir = out.join("cosim").join("engine");
+    let hex = std::fs::read_to_string(dir.join("out.hex")).unwrap();
+    let mut lines: Vec<String> = hex.lines().map(str::to_string).collect();
+    let w = u32::from_str_radix(&lines[7], 16).unwrap() ^ 1;
+    lines[7] = format!("{w:08x}");
+    std::fs::write(dir.join("out.hex"), lines.join("\n") + "\n").unwrap();
+    let vvp = Command::new("vvp")
+        .current_dir(&dir)
+        .args(["-n", "tb.vvp"])
+        .output()
+        .expect("vvp runs");
+    let text = String::from_utf8_lossy(&vvp.stdout);
+    assert!(
+        text.contains("RESULT vectors=40 mismatches=1 latency_errors=0"),
+        "{text}"
+    );
+}
+
+#[test]
+fn a_unit_without_a_generator_leaves_no_top() {
+    let s = Scratch::new("rtl-top-none");
+    let out = s.join("rtl");
+    let cfg = config("wang-bunny-rgb8");
+    let o = bumpsim(&["rtl", cfg.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    o.expect_code(0, "rtl");
+    assert!(
+        o.stdout
+            .contains("engine top not generated: 1 of 1 units have no generator"),
+        "{}",
+        o.stdout
+    );
+    assert!(!listing(&out).iter().any(|f| f == "engine.v"));
+}
