@@ -2,9 +2,10 @@
 //! (`bumpsim_hw::rtl`, `docs/rtl.md`).
 //!
 //! For every unit with a generator (Dot3, PowerTable, Shade, BumpBlend, Modulate, Normalize, Perturb,
-//! TexFetch, CullFragment, FbBlend, QuantizedNormals, TexramFrame, QuatFrame)
+//! TexFetch, EmbossFilter, CullFragment, FbBlend, QuantizedNormals, TexramFrame, QuatFrame)
 //! the unit's parameters are taken from its config spec, the encodings of the signals wired to
-//! it (the built engine's unit) and the scene (material, bump lights), and the unit is rebuilt
+//! it (the built engine's unit) and the scene (material, bump lights, the emboss filter's
+//! heights for its default bevel width), and the unit is rebuilt
 //! from them with the hw constructors; the rebuilt unit must have the engine's gate budget (the
 //! same structure) and, with `--cosim`, the same outputs as the engine's unit on every vector.
 //! The quantized normal maps unit is the exception: its Verilog is generated from the
@@ -20,8 +21,8 @@ use bumpsim_hw::rtl::{
     self, synth, testbench, vectors, Dot3Rtl, ModulateRtl, PowerTableRtl, RtlUnit, ShadeRtl,
 };
 use bumpsim_hw::units::{
-    BlendKind, BumpBlend, BumpBlendParams, CullFragment, FbBlend, LightState, Normalize, Perturb,
-    QuantizedFetch, QuatFrame, ShadeInputs, ShadeParams, TexFetch, TexramFrame,
+    BlendKind, BumpBlend, BumpBlendParams, CullFragment, EmbossFilter, FbBlend, LightState,
+    Normalize, Perturb, QuantizedFetch, QuatFrame, ShadeInputs, ShadeParams, TexFetch, TexramFrame,
 };
 use bumpsim_hw::{Mode, PortSpec, Sampler, Unit, Word};
 use bumpsim_pipeline::config::{InputError, Loaded};
@@ -214,6 +215,25 @@ pub(crate) fn generate(
             let u = TexFetch::new(first()?, tex, sampler, s.ports, s.mem_latency, s.out)?;
             Generated {
                 rtl: rtl::fetch::rtl(&u, top)?,
+                model: Some(Box::new(u)),
+            }
+        }
+        UnitSpec::EmbossFilter(s) => {
+            let tex = unit
+                .textures()
+                .first()
+                .map(|r| r.texture.clone())
+                .ok_or("no texture")?;
+            let u = EmbossFilter::new(
+                first()?,
+                tex,
+                s.bevel(scene)?,
+                s.ports,
+                s.mem_latency,
+                s.out,
+            )?;
+            Generated {
+                rtl: rtl::emboss::rtl(&u, top)?,
                 model: Some(Box::new(u)),
             }
         }

@@ -110,3 +110,31 @@ fn the_register_combiners_cosimulate_with_the_program_in_host_registers() {
     );
     assert!(regs.contains("stages[0].rgb.a (icw byte)"), "{regs}");
 }
+
+#[test]
+fn the_emboss_filter_cosimulates_rebuilt_from_its_config() {
+    let Some((_s, out, o)) = rtl_cosim("emboss", "300") else {
+        return;
+    };
+    // the unit rebuilt with the bricks' default bevel; 3 ports behind a 4-clock memory
+    let line = o
+        .stdout
+        .lines()
+        .find(|l| l.starts_with("emboss "))
+        .unwrap_or_else(|| panic!("{}", o.stdout));
+    assert!(
+        line.contains("latency 8")
+            && line.contains("registers 1")
+            && line.contains("cosim 300 vectors, 0 mismatches"),
+        "{line}"
+    );
+    let files = listing(&out);
+    for f in ["emboss.v", "emboss.regs", "bumpsim_emboss_heights.hex"] {
+        assert!(files.iter().any(|x| x == f), "{f} not in {files:?}");
+    }
+    let heights = std::fs::read_to_string(out.join("bumpsim_emboss_heights.hex")).unwrap();
+    assert_eq!(heights.lines().count(), 256 * 256);
+    // N_z = 6 * 255 / (0.01 * 256) = 597.66 in s12.4
+    let regs = std::fs::read_to_string(out.join("emboss.regs")).unwrap();
+    assert!(regs.contains("0 16 0x255b N_z"), "{regs}");
+}

@@ -204,6 +204,32 @@ fn normalize_matches_the_model_on_every_5_bit_vector() {
     cosim_on(&c, ins, "normalize_exhaustive");
 }
 
+/// The emboss filter at every texel of a 32 x 16 map (the variant with two ports and signed
+/// coordinates), at the texel centres of the base period and of the periods on either side
+/// (negative coordinates floor, then wrap): every neighbourhood, every wrapped edge.
+#[test]
+fn emboss_matches_the_model_at_every_texel() {
+    if skip_requested() {
+        return;
+    }
+    assert!(iverilog_available(), "rtl_cosim: iverilog not found");
+    let c = rtl_units::variants()
+        .into_iter()
+        .find(|c| c.name == "emboss_ports2_signed")
+        .expect("the emboss variant");
+    let uv = c.unit.inputs()[0].enc;
+    let (w, h) = (32i64, 16i64);
+    let ins: Vec<Vec<Word>> = (-1..=1)
+        .flat_map(|period| (0..w * h).map(move |k| (period, k)))
+        .map(|(period, k)| {
+            let (i, j) = (k % w + period * w, k / w - period * h);
+            let at = |x: i64, n: i64| (x as f64 + 0.5) / n as f64;
+            vec![Word::quantize(&uv, &[at(i, w), at(j, h)])]
+        })
+        .collect();
+    cosim_on(&c, ins, "emboss_every_texel");
+}
+
 /// Every entry the builder writes, read back: one vector per texel centre of an index
 /// texture that holds every index (`quantized_sphere`: 256 entries in 64 x 64 texels, one
 /// Blinn-Phong material; `quantized_materials`: two materials over 200 entries, two lights).

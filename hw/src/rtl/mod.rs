@@ -3,9 +3,10 @@
 //!
 //! Each generator takes the parameters that build the unit ([`Dot3Rtl`], [`PowerTableRtl`],
 //! [`ShadeRtl`], [`ModulateRtl`]; [`blend::rtl`], [`normalize::rtl`], [`perturb::rtl`],
-//! [`fetch::rtl`], [`texram::rtl`], [`quat::rtl`] and [`quantized::rtl`] read a built
-//! [`crate::units::BumpBlend`], [`crate::units::Normalize`], [`crate::units::Perturb`],
-//! [`crate::units::TexFetch`], [`crate::units::TexramFrame`], [`crate::units::QuatFrame`] or
+//! [`fetch::rtl`], [`emboss::rtl`], [`texram::rtl`], [`quat::rtl`] and [`quantized::rtl`]
+//! read a built [`crate::units::BumpBlend`], [`crate::units::Normalize`],
+//! [`crate::units::Perturb`], [`crate::units::TexFetch`], [`crate::units::EmbossFilter`],
+//! [`crate::units::TexramFrame`], [`crate::units::QuatFrame`] or
 //! [`crate::units::QuantizedFetch`]) and writes the
 //! datapath with the twins of [`crate::arith::Acc`]'s operations in [`fixed`], so the widths,
 //! rounding, clamps and casts are those of the model's code. Co-simulation against the model
@@ -28,6 +29,7 @@ pub mod combiner;
 pub mod cull;
 pub mod divide;
 pub mod dot3;
+pub mod emboss;
 pub mod fb_blend;
 pub mod fetch;
 pub mod fixed;

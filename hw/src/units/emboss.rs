@@ -11,10 +11,19 @@
 //!
 //! The nine texels are read `ports` per clock from the texture memory (nearest texel under the
 //! coordinate, wrap addressing), so the initiation interval is `ceil(9 / ports)`. The mask
-//! sums are exact integers (two 4-input adder trees); `N_z` is a constant register quantized
-//! to the output format.
+//! sums are exact integers (per mask three differences and a three-input sum); `N_z` is a
+//! host-loaded register holding its code in the output encoding.
+//!
+//! Bit-accurate mode computes in integers, as the hardware ([`crate::rtl::emboss`]): the masks
+//! on the stored codes, the rescale to the 0..255 scale by the integer `255 / max_code` (1 for
+//! 8-bit unsigned texels) and one cast ([`Acc::to_code`]) into the output encoding. Where the
+//! largest code does not divide 255 (a 5-, 6-, 7-, 10-bit texel, ...) the rescale is not an
+//! integer and the former f64 formula is kept, since an exact rational cast differs from it on
+//! some words (`the_rescale_of_a_5_bit_texel_is_not_the_exact_rational`); such a unit has no
+//! Verilog generator.
 
-use crate::format::{Encoding, Format};
+use crate::arith::Acc;
+use crate::format::{Codec, Encoding, Format, Overflow};
 use crate::gates::{CostTable, GateBudget};
 use crate::sampler::{texel_axis, Filter, Sampler};
 use crate::texture::{Shape, Texture};
@@ -27,8 +36,77 @@ pub struct EmbossFilter {
     tex: Arc<Texture>,
     sampler: Sampler,
     nz: f64,
+    /// `N_z`'s code in the output encoding: the contents of its register.
+    nz_code: i64,
+    /// `255 / max_code` of the texel format when it is an integer (the exact rescale of a
+    /// mask sum of codes to the 0..255 scale), else `None` (the f64 rescale, [`cast`]).
+    code_scale: Option<i128>,
     ports: u32,
     mem_latency: u32,
+}
+
+/// The nine taps' offsets `(a, b)` (texel `(i + a, j + b)`) in reading order, row by row:
+/// tap `k` is read by port `k % ports` in clock `k / ports` (with 3 ports, one row a clock).
+pub const TAPS: [(i64, i64); 9] = [
+    (-1, -1),
+    (0, -1),
+    (1, -1),
+    (-1, 0),
+    (0, 0),
+    (1, 0),
+    (-1, 1),
+    (0, 1),
+    (1, 1),
+];
+
+/// The offsets read by port `p` of `ports`, one per clock it reads in: `[a offsets (i axis), b
+/// offsets (j axis)]` ([`TAPS`]).
+pub fn port_offsets(ports: u32, p: u32) -> [Vec<i64>; 2] {
+    let taps: Vec<(i64, i64)> = (p..9)
+        .step_by(ports as usize)
+        .map(|k| TAPS[k as usize])
+        .collect();
+    [
+        taps.iter().map(|t| t.0).collect(),
+        taps.iter().map(|t| t.1).collect(),
+    ]
+}
+
+/// The port address muxes of `ports` read ports: per axis (0 = i, 1 = j) each distinct
+/// sequence of offsets over the clocks ([`port_offsets`]) that takes more than one value, with
+/// its number of distinct offsets (the mux's inputs). Ports with the same sequence share one
+/// mux; a port whose offset is the same in every clock has none.
+pub fn address_muxes(ports: u32) -> Vec<(usize, Vec<i64>, u32)> {
+    let mut v: Vec<(usize, Vec<i64>, u32)> = Vec::new();
+    for p in 0..ports.min(9) {
+        for (a, seq) in port_offsets(ports, p).into_iter().enumerate() {
+            let mut d = seq.clone();
+            d.sort_unstable();
+            d.dedup();
+            if d.len() > 1 && !v.iter().any(|(b, s, _)| *b == a && *s == seq) {
+                v.push((a, seq, d.len() as u32));
+            }
+        }
+    }
+    v
+}
+
+/// The integer factor `255 / max_code` of a texel format, if `max_code` divides 255 (unsigned
+/// widths 1, 2, 4, 8; signed 2, 3, 5, 9).
+pub fn code_scale(texel: &Format) -> Option<i128> {
+    let m = texel.max_raw() as i128;
+    (m > 0 && 255 % m == 0).then(|| 255 / m)
+}
+
+/// A mask sum `v` of texel codes (at `texel`'s code scale) on the 0..255 intensity scale,
+/// cast into `out`: exactly `v k` (`k = 255 / max_code`, [`code_scale`]) with one
+/// [`Acc::to_code`]; without an integer `k`, the f64 formula `out.encode(v * (255 /
+/// max_code))`, rounded twice.
+pub fn cast(v: i64, texel: &Format, out: &Encoding) -> i64 {
+    match code_scale(texel) {
+        Some(k) => Acc::new(v as i128, 0).scale(k).to_code(out),
+        None => out.encode(v as f64 * (255.0 / texel.max_raw() as f64)),
+    }
 }
 
 impl EmbossFilter {
@@ -66,15 +144,66 @@ impl EmbossFilter {
                 l.height()
             ));
         }
+        let nz = 6.0 * 255.0 / bevel_w;
+        let code_scale = code_scale(&tex.texel().format);
         Ok(EmbossFilter {
             inputs: vec![PortSpec::new("uv", 2, uv)],
             outputs: vec![PortSpec::new("n", 3, out)],
             tex,
             sampler: Sampler::new(Filter::Nearest, 1)?,
-            nz: 6.0 * 255.0 / bevel_w,
+            nz,
+            nz_code: out.encode(nz),
+            code_scale,
             ports,
             mem_latency: mem_latency.max(1),
         })
+    }
+
+    /// The height map (level 0 is read).
+    pub fn texture(&self) -> &Arc<Texture> {
+        &self.tex
+    }
+    /// The sampler: nearest, wrap on both axes ([`Sampler::index`]).
+    pub fn sampler(&self) -> &Sampler {
+        &self.sampler
+    }
+    /// Texels read per clock.
+    pub fn ports(&self) -> u32 {
+        self.ports
+    }
+    /// Clocks from a texel's address to its word.
+    pub fn mem_latency(&self) -> u32 {
+        self.mem_latency
+    }
+    /// `N_z`'s code in the output encoding (its register's contents).
+    pub fn nz_code(&self) -> i64 {
+        self.nz_code
+    }
+    /// `255 / max_code` of the texel format when it is an integer ([`code_scale`]).
+    pub fn code_scale(&self) -> Option<i128> {
+        self.code_scale
+    }
+
+    /// The bits of an output code of `-i_u` (or `-i_v`) that are distinct functions of the
+    /// mask sum: neither constant nor a copy of another bit, over every sum of codes whose
+    /// differences span `span` (the whole code where the sums are too many to list).
+    fn code_bits(&self, span: i128) -> u32 {
+        let out = self.outputs[0].enc;
+        let wo = out.width();
+        if span > 1 << 12 {
+            return wo;
+        }
+        let texel = self.tex.texel().format;
+        let codes: Vec<u64> = (-3 * span..=3 * span)
+            .map(|v| out.format.bits(cast(v as i64, &texel, &out)))
+            .collect();
+        let mut columns: Vec<Vec<bool>> = (0..wo)
+            .map(|b| codes.iter().map(|c| c >> b & 1 == 1).collect::<Vec<bool>>())
+            .filter(|c| c.iter().any(|&x| x) && !c.iter().all(|&x| x))
+            .collect();
+        columns.sort();
+        columns.dedup();
+        columns.len() as u32
     }
 
     /// Mask responses over the 3x3 neighbourhood of texel (i, j) for a texel reader `t` of
@@ -116,16 +245,108 @@ impl Unit for EmbossFilter {
         }]
     }
     fn gates(&self, t: &CostTable) -> GateBudget {
-        let wc = self.inputs[0].enc.width();
-        let wt = self.tex.texel().width();
-        let wo = self.outputs[0].enc.width();
+        // the netlist of `rtl::emboss` (docs/units/emboss_filter.md, "Gates")
+        let texel = self.tex.texel().format;
+        let wt = texel.width as u32;
+        let out = self.outputs[0].enc;
+        let wo = out.width();
+        let logs = {
+            let (w, h) = self.tex.level_at(0).logs();
+            [w, h]
+        };
         let mut g = GateBudget::new();
-        g.add(format!("address adder {wc}"), 2 * self.ports, t.adder(wc));
-        g.add(format!("tap register {wt}"), 9, t.register(wt));
-        // each mask: three differences and two sums, growing to wt + 3 bits
-        g.add(format!("mask adder {}", wt + 3), 10, t.adder(wt + 3));
-        g.add(format!("N_z constant register {wo}"), 1, t.register(wo));
-        g.add(format!("output register {}", 3 * wo), 1, t.register(3 * wo));
+        // addressing: the index's low bits, a neighbour incrementer and decrementer per axis
+        for (name, log) in ["s", "t"].into_iter().zip(logs) {
+            if log > 0 {
+                g.add(
+                    format!("{name} neighbour incrementer and decrementer {log}"),
+                    2,
+                    t.half_adder * log as f64,
+                );
+            }
+        }
+        for (a, seq, n) in address_muxes(self.ports) {
+            if logs[a] > 0 {
+                g.add(
+                    format!(
+                        "{} port address mux {n}:1 x{} (offsets {seq:?})",
+                        ["s", "t"][a],
+                        logs[a]
+                    ),
+                    1,
+                    t.mux(logs[a], n),
+                );
+            }
+        }
+        // the eight taps of the masks (the centre is read but in neither)
+        g.add(format!("tap register {wt}"), 8, t.register(wt));
+        // per mask three differences of codes (a wt-bit subtractor whose borrow is the sign
+        // for unsigned codes; sign-extended signed codes) and a three-input sum at its widths;
+        // a wrapping cast keeps only the low bits of the sums, and so do the adders
+        let span = (texel.max_raw() - texel.min_raw()) as i128;
+        let k = self.code_scale.unwrap_or(1);
+        let keep = match (out.overflow, out.codec) {
+            (Overflow::Wrap, Codec::Fixed) => wo - out.format.frac as u32,
+            (Overflow::Wrap, Codec::UnitSigned) => 1,
+            _ => u32::MAX,
+        };
+        let bits = |r: i128| crate::rtl::verilog::signed_bits(-r, r).min(keep);
+        let ws = (if texel.signed { wt + 1 } else { wt }).min(keep);
+        g.add(format!("mask subtractor {ws}"), 6, t.adder(ws));
+        g.add(
+            format!("mask adder {}", bits(2 * span)),
+            2,
+            t.adder(bits(2 * span)),
+        );
+        g.add(
+            format!("mask adder {}", bits(3 * span)),
+            2,
+            t.adder(bits(3 * span)),
+        );
+        // the cast: the rescale by 255 / max_code and a unit code's 2^n - 1, each as shifts
+        // and adds; the rounding of a symmetric code; the saturation where the sums can exceed
+        // the output
+        let (lo, hi) = (-3 * span * k, 3 * span * k);
+        let vb = bits(hi);
+        if k > 1 {
+            g.add(
+                format!("rescale x{k} {}", bits(3 * span)),
+                2,
+                t.shift_add(bits(3 * span), k as u128),
+            );
+        }
+        if matches!(out.codec, Codec::UnitUnsigned | Codec::UnitSymmetric) {
+            let f = (1u128 << wo) - 1;
+            g.add(format!("cast x{f} {vb}"), 2, t.shift_add(vb, f));
+        }
+        if out.codec == Codec::UnitSymmetric {
+            g.add(format!("cast rounding {wo}"), 2, t.half_adder * wo as f64);
+        }
+        let wrap = Encoding {
+            overflow: Overflow::Wrap,
+            ..out
+        };
+        let fits = [lo, hi]
+            .iter()
+            .all(|&v| Acc::new(v, 0).to_code(&out) == Acc::new(v, 0).to_code(&wrap));
+        if !fits && out.overflow != Overflow::Wrap {
+            g.add(format!("cast saturation {wo}"), 2, t.clamp(wo));
+        }
+        g.add(
+            format!("N_z register {wo} (host-loaded)"),
+            1,
+            t.register(wo),
+        );
+        // the output registers of -i_u and -i_v: one flip-flop per distinct function of the
+        // sums among the code's bits (a constant bit, e.g. the zero bits below a fixed-point
+        // code's integer, or a copy of another, e.g. the sign, is a wire)
+        let wl = self.code_bits(span);
+        g.add(
+            format!("output register {wl} + {wl} + {wo}"),
+            1,
+            t.register(2 * wl + wo),
+        );
+        g.add("sequencer", 1, t.sequencer(self.latency()));
         g
     }
     fn eval(&self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
@@ -145,18 +366,12 @@ impl Unit for EmbossFilter {
                 let (log_w, log_h) = l.logs();
                 let i = texel_axis(uv.lanes[0].raw, frac, log_w, false).0;
                 let j = texel_axis(uv.lanes[1].raw, frac, log_h, false).0;
-                // intensities as stored codes, read on the 0..255 scale of an 8-bit texel
-                let scale = 255.0 / self.tex.texel().format.max_raw() as f64;
+                // intensities as stored codes, exact integer mask sums, rescaled to the 0..255
+                // scale of an 8-bit texel in the one cast
                 let (iu, iv) = self.masks(i, j, |k| l.code(k)[0]);
-                let f = Format {
-                    signed: true,
-                    width: 32,
-                    frac: 0,
-                };
-                let enc = Encoding::fixed(f);
-                let nz = out.encode(self.nz);
-                let to = |v: i64| out.encode(enc.decode(v) * scale);
-                outs[0] = Word::from_raw(&out, &[to(-iu), to(-iv), nz]);
+                let texel = &self.tex.texel().format;
+                let to = |v: i64| cast(v, texel, &out);
+                outs[0] = Word::from_raw(&out, &[to(-iu), to(-iv), self.nz_code]);
             }
         }
     }
@@ -165,7 +380,7 @@ impl Unit for EmbossFilter {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::format::Codec;
+    use crate::format::{Codec, Overflow, Quant};
     use crate::texture::Texels;
 
     #[test]
@@ -195,6 +410,221 @@ mod tests {
             assert!((x[0] - -24.0).abs() < 1e-9, "{mode:?} {x:?}"); // -6a
             assert!(x[1].abs() < 1e-9);
             assert!((x[2] - 255.0).abs() < 1e-9); // 6*255/6
+        }
+    }
+
+    const QUANTS: [Quant; 8] = [
+        Quant::Trn,
+        Quant::TrnZero,
+        Quant::Rnd,
+        Quant::RndZero,
+        Quant::RndInf,
+        Quant::RndMinInf,
+        Quant::RndConv,
+        Quant::RndConvOdd,
+    ];
+    const OVERFLOWS: [Overflow; 4] = [
+        Overflow::Wrap,
+        Overflow::Sat,
+        Overflow::SatZero,
+        Overflow::SatSym,
+    ];
+
+    /// The bit-accurate cast before it was written in integers: the mask sum read as an s32.0
+    /// word, times `255 / max_code` in f64, encoded into `out`.
+    fn former(v: i64, texel: &Format, out: &Encoding) -> i64 {
+        let scale = 255.0 / texel.max_raw() as f64;
+        let enc = Encoding::fixed(Format::s(32, 0));
+        out.encode(enc.decode(v) * scale)
+    }
+
+    /// Every output encoding of widths 1 to 10, 16, 24 and 32 (every fraction of a fixed
+    /// format, every codec, quantization and overflow mode).
+    fn outputs() -> Vec<Encoding> {
+        let mut v = Vec::new();
+        for w in (1u8..=10).chain([16, 24, 32]) {
+            let mut formats = Vec::new();
+            for signed in [false, true] {
+                for f in 0..=w {
+                    formats.push(Encoding::fixed(if signed {
+                        Format::s(w, f)
+                    } else {
+                        Format::u(w, f)
+                    }));
+                }
+            }
+            formats.push(Encoding::texel(Codec::UnitUnsigned, false, w));
+            if w >= 2 {
+                formats.push(Encoding::texel(Codec::UnitSigned, true, w));
+                formats.push(Encoding::texel(Codec::UnitSymmetric, true, w));
+            }
+            for e in formats {
+                for q in QUANTS {
+                    for o in OVERFLOWS {
+                        v.push(Encoding {
+                            quant: q,
+                            overflow: o,
+                            ..e
+                        });
+                    }
+                }
+            }
+        }
+        v
+    }
+
+    #[test]
+    fn the_integer_cast_is_the_former_f64_formula_on_every_word() {
+        // every texel format whose largest code divides 255, every mask sum of its codes
+        let texels = [
+            Format::u(1, 0),
+            Format::u(2, 0),
+            Format::u(4, 0),
+            Format::u(8, 0),
+            Format::u(8, 8),
+            Format::s(2, 0),
+            Format::s(3, 0),
+            Format::s(5, 0),
+            Format::s(9, 0),
+        ];
+        let outs = outputs();
+        let mut words = 0u64;
+        for t in &texels {
+            let k = code_scale(t).expect("an integer rescale");
+            assert_eq!(k * t.max_raw() as i128, 255);
+            let span = t.max_raw() - t.min_raw();
+            for out in &outs {
+                for v in -3 * span..=3 * span {
+                    assert_eq!(cast(v, t, out), former(v, t, out), "{t} {out:?} {v}");
+                    words += 1;
+                }
+            }
+        }
+        assert!(words > 40_000_000, "{words}");
+        // the other widths have no integer rescale and keep the formula
+        for t in [
+            Format::u(5, 0),
+            Format::u(10, 0),
+            Format::s(8, 0),
+            Format::u(16, 0),
+        ] {
+            assert_eq!(code_scale(&t), None, "{t}");
+            let out = Encoding::fixed(Format::s(16, 4));
+            for v in [-3 * t.max_raw(), -7, 0, 1, 3 * t.max_raw()] {
+                assert_eq!(cast(v, &t, &out), former(v, &t, &out));
+            }
+        }
+    }
+
+    #[test]
+    fn the_rescale_of_a_5_bit_texel_is_not_the_exact_rational() {
+        // 255 v / 31 truncated into s12.4, exactly and by the f64 formula: they differ, so an
+        // integer datapath cannot reproduce the model's words for such a texel
+        let t = Format::u(5, 0);
+        let mut out = Encoding::fixed(Format::s(16, 4));
+        out.quant = Quant::Trn;
+        let differ = (-93i64..=93)
+            .filter(|&v| {
+                let exact = (255 * 16 * v as i128).div_euclid(31) as i64;
+                cast(v, &t, &out) != exact
+            })
+            .count();
+        assert!(differ > 0);
+    }
+
+    #[test]
+    fn the_port_schedule_reads_every_tap_once_and_shares_its_muxes() {
+        for ports in 1..=9u32 {
+            let mut read: Vec<(i64, i64)> = (0..ports)
+                .flat_map(|p| {
+                    let [a, b] = port_offsets(ports, p);
+                    a.into_iter().zip(b).collect::<Vec<_>>()
+                })
+                .collect();
+            assert_eq!(read.len(), 9);
+            read.sort_unstable();
+            let mut all = TAPS.to_vec();
+            all.sort_unstable();
+            assert_eq!(read, all, "{ports} ports");
+        }
+        // a row a clock: the three ports share one j mux over the rows, the columns are fixed
+        assert_eq!(address_muxes(3), vec![(1, vec![-1, 0, 1], 3)]);
+        assert!(address_muxes(9).is_empty());
+        // one port walks the whole neighbourhood: a 3:1 mux on each axis
+        let one = address_muxes(1);
+        assert_eq!(one.len(), 2);
+        assert!(one.iter().all(|m| m.2 == 3));
+    }
+
+    /// A `w x h` map of pseudo-random codes of `texel`.
+    fn random_map(w: u32, h: u32, texel: Encoding, seed: u64) -> Arc<Texture> {
+        let mut x = seed;
+        let f = texel.format;
+        let values = (0..w * h)
+            .map(|_| {
+                x = x
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                let c = f.min_raw() + ((x >> 33) % (f.max_raw() - f.min_raw() + 1) as u64) as i64;
+                [texel.decode(c), 0.0, 0.0, 0.0]
+            })
+            .collect();
+        let t = Texels {
+            width: w,
+            height: h,
+            lanes: 1,
+            values,
+        };
+        Arc::new(Texture::new("heights", texel, t).unwrap())
+    }
+
+    #[test]
+    fn bit_accurate_words_are_the_former_formula_at_every_texel() {
+        // the former eval, written out: masks on the codes, the f64 cast, N_z encoded
+        for (texel, out) in [
+            (
+                Encoding::texel(Codec::UnitUnsigned, false, 8),
+                Encoding::fixed(Format::s(16, 4)),
+            ),
+            (
+                Encoding::texel(Codec::UnitUnsigned, false, 4),
+                Encoding::texel(Codec::UnitSigned, true, 10),
+            ),
+            (
+                Encoding::fixed(Format::s(9, 0)),
+                Encoding::texel(Codec::UnitSymmetric, true, 12),
+            ),
+            (
+                Encoding::texel(Codec::UnitUnsigned, false, 6),
+                Encoding::fixed(Format::s(12, 2)),
+            ),
+        ] {
+            let (w, h) = (16u32, 8u32);
+            let tex = random_map(w, h, texel, 7 + texel.width() as u64);
+            let uv = Encoding::fixed(Format::s(12, 8));
+            let u = EmbossFilter::new(uv, tex.clone(), 3.7, 3, 2, out).unwrap();
+            let l = tex.level_at(0);
+            let mut o = [Word::default()];
+            for raw_u in (uv.format.min_raw()..=uv.format.max_raw()).step_by(7) {
+                let raw_v = (raw_u * 13 + 5).rem_euclid(1 << 12) - (1 << 11);
+                u.eval(
+                    Mode::BitAccurate,
+                    &[Word::from_raw(&uv, &[raw_u, raw_v])],
+                    &mut o,
+                );
+                let i = texel_axis(raw_u, 8, 4, false).0;
+                let j = texel_axis(raw_v, 8, 3, false).0;
+                let g = |a: i64, b: i64| l.code(u.sampler.index(l, 0, i + a, j + b))[0];
+                let iu: i64 = (-1..=1).map(|b| g(1, b) - g(-1, b)).sum();
+                let iv: i64 = (-1..=1).map(|a| g(a, 1) - g(a, -1)).sum();
+                let want = [
+                    former(-iu, &texel.format, &out),
+                    former(-iv, &texel.format, &out),
+                    out.encode(6.0 * 255.0 / 3.7),
+                ];
+                let got: Vec<i64> = o[0].lanes[..3].iter().map(|s| s.raw).collect();
+                assert_eq!(got, want, "{texel:?} {raw_u} {raw_v}");
+            }
         }
     }
 }

@@ -9,8 +9,8 @@ pub mod quantized;
 
 use bumpsim_hw::rtl::{self, Dot3Rtl, ModulateRtl, PowerTableRtl, RtlUnit, ShadeRtl};
 use bumpsim_hw::units::{
-    Address, BlendEquation, CullFragment, CullTest, FbBlend, Filter, QuatFrame, TexFetch, Texels,
-    TexramForm, TexramFrame,
+    Address, BlendEquation, CullFragment, CullTest, EmbossFilter, FbBlend, Filter, QuatFrame,
+    TexFetch, Texels, TexramForm, TexramFrame,
 };
 use bumpsim_hw::units::{
     BlendKind, BumpBlend, BumpBlendParams, Clamp, LightState, Selective, ShadeInputs, ShadeParams,
@@ -201,6 +201,42 @@ fn fetch(
     Case::new(name, u, rtl)
 }
 
+/// An emboss filter over a `w x h` map of pseudo-random codes of `texel` (deterministic),
+/// read at coordinates `uv`, with bevel width `bevel`.
+#[allow(clippy::too_many_arguments)]
+fn emboss(
+    name: &'static str,
+    uv: Encoding,
+    (w, h): (u32, u32),
+    texel: Encoding,
+    bevel: f64,
+    ports: u32,
+    mem_latency: u32,
+    out: Encoding,
+) -> Case {
+    let f = texel.format;
+    let mut x = 0x2545_f491_4f6c_dd1du64 ^ name.len() as u64;
+    let values = (0..w * h)
+        .map(|_| {
+            x = x
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let c = f.min_raw() + ((x >> 33) % (f.max_raw() - f.min_raw() + 1) as u64) as i64;
+            [texel.decode(c), 0.0, 0.0, 0.0]
+        })
+        .collect();
+    let tex = Texels {
+        width: w,
+        height: h,
+        lanes: 1,
+        values,
+    };
+    let tex = std::sync::Arc::new(Texture::new(name, texel, tex).unwrap());
+    let u = EmbossFilter::new(uv, tex, bevel, ports, mem_latency, out).unwrap();
+    let rtl = rtl::emboss::rtl(&u, name).unwrap();
+    Case::new(name, u, rtl)
+}
+
 fn fb_blend(
     name: &'static str,
     eq: BlendEquation,
@@ -373,6 +409,19 @@ pub fn bundled() -> Vec<Case> {
             4,
             us(8),
         ),
+        // configs/emboss.ron and emboss-sphere.ron: Schlag's masks over a 256 x 256 map of
+        // u8 heights, u2.14 coordinates, 3 ports (a row a clock) behind a 4-clock memory, into
+        // s12.4; the bricks' default bevel (w = 0.01 x 256)
+        emboss(
+            "emboss",
+            fixed(false, 16, 14),
+            (256, 256),
+            uu(8),
+            2.56,
+            3,
+            4,
+            fixed(true, 16, 4),
+        ),
         // configs/quantized-bunny-wood-eq{1,2}.ron: Tarini's framebuffer blends, u8 words
         fb_blend("tarini_eq1", BlendEquation::Exact, uu(8), uu(8), uu(8)),
         fb_blend("tarini_eq2", BlendEquation::Approx, uu(8), uu(8), uu(8)),
@@ -417,6 +466,13 @@ pub fn bundled() -> Vec<Case> {
     ];
     cases.extend(quantized::bundled());
     cases
+}
+
+fn trn_wrap_s9_2() -> Encoding {
+    let mut e = fixed(true, 9, 2);
+    e.quant = Quant::Trn;
+    e.overflow = Overflow::Wrap;
+    e
 }
 
 /// Other parameters of the generators: clamps, codecs, rounding and overflow modes,
@@ -631,6 +687,59 @@ pub fn variants() -> Vec<Case> {
             3,
             2,
             zero,
+        ),
+        // emboss: two ports (address muxes on both axes), signed 5-bit texels (the rescale
+        // x17), signed coordinates, into a saturating SatSym code on a 32 x 16 map
+        emboss(
+            "emboss_ports2_signed",
+            fixed(true, 12, 8),
+            (32, 16),
+            fixed(true, 5, 0),
+            3.0,
+            2,
+            3,
+            {
+                let mut e = fixed(true, 9, 2);
+                e.overflow = Overflow::SatSym;
+                e
+            },
+        ),
+        // one port (nine clocks), u4 texels (x17), into a RndConv UnitSymmetric code
+        emboss(
+            "emboss_port1_sym",
+            fixed(false, 10, 8),
+            (16, 64),
+            uu(4),
+            7.0,
+            1,
+            1,
+            {
+                let mut e = Encoding::texel(Codec::UnitSymmetric, true, 12);
+                e.quant = Quant::RndConv;
+                e
+            },
+        ),
+        // nine ports (one clock) on a 1D map (no t address bits), into a wrapping s9.2
+        emboss(
+            "emboss_ports9_1d",
+            fixed(true, 16, 12),
+            (128, 1),
+            uu(8),
+            1.5,
+            9,
+            2,
+            trn_wrap_s9_2(),
+        ),
+        // four ports, a 2 x 2 map (every neighbour wraps), into a 10-bit unit code
+        emboss(
+            "emboss_ports4_tiny",
+            fixed(false, 8, 6),
+            (2, 2),
+            fixed(false, 8, 0),
+            0.25,
+            4,
+            2,
+            uu(10),
         ),
         // four lanes, mixed tests (a clip plane on each side)
         cull(

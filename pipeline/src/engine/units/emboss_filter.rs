@@ -3,8 +3,9 @@
 use super::checks::check_size;
 use super::defaults::{mem_latency, ports};
 use super::ports::input;
-use super::textures::{height_range, heights, key, texels, TextureSource};
+use super::textures::{height_range, heights, key, scene_heights, texels, TextureSource};
 use super::{BuildCtx, Spec};
+use crate::scene::Scene;
 use bumpsim_hw::units::EmbossFilter;
 use bumpsim_hw::{Encoding, PortSpec, Texture, Unit};
 use serde::{Deserialize, Serialize};
@@ -30,6 +31,24 @@ pub struct EmbossFilterSpec {
     pub out: Encoding,
 }
 
+impl EmbossFilterSpec {
+    /// Schlag's bevel width `w` the unit is built with: `bevel_w`, or `(F_max - F_min) *
+    /// size` over the scene's heights baked at `size` (`bumpsim rtl` rebuilds the unit with it).
+    pub fn bevel(&self, scene: &Scene) -> Result<f64, String> {
+        check_size(self.size)?;
+        Ok(self.bevel_of(&scene_heights(scene, self.size)?))
+    }
+
+    fn bevel_of(&self, heights: &[f64]) -> f64 {
+        let (lo, hi) = height_range(heights);
+        self.bevel_w.unwrap_or(if hi > lo {
+            (hi - lo) * self.size as f64
+        } else {
+            1.0
+        })
+    }
+}
+
 impl Spec for EmbossFilterSpec {
     fn input_names(&self, _: &BuildCtx) -> Vec<String> {
         vec![UV.into()]
@@ -43,12 +62,7 @@ impl Spec for EmbossFilterSpec {
         let size = self.size;
         check_size(size)?;
         let raw = heights(ctx, size)?;
-        let (lo, hi) = height_range(&raw);
-        let w = self.bevel_w.unwrap_or(if hi > lo {
-            (hi - lo) * size as f64
-        } else {
-            1.0
-        });
+        let w = self.bevel_of(&raw);
         // the same texture a TexFetch of BumpHeights at this texel encoding reads
         let source = TextureSource::BumpHeights { size };
         let tex = ctx

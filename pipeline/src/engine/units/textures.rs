@@ -3,7 +3,7 @@
 
 use super::checks::check_size;
 use super::BuildCtx;
-use crate::scene::NormalMethod;
+use crate::scene::{NormalMethod, Scene};
 use bumpsim_hw::units::Texels;
 use bumpsim_hw::Encoding;
 use serde::{Deserialize, Serialize};
@@ -317,7 +317,12 @@ fn square(size: u32, lanes: u8, values: Vec<[f64; 4]>) -> Texels {
 
 /// The scene's bump map baked to `size` x `size` heights (as they are, not normalised).
 pub(super) fn heights(ctx: &BuildCtx, size: u32) -> Result<Vec<f64>, String> {
-    ctx.scene.bump.bake_heights(size, size).ok_or_else(|| {
+    scene_heights(ctx.scene, size)
+}
+
+/// [`heights`] of a scene.
+pub(super) fn scene_heights(scene: &Scene, size: u32) -> Result<Vec<f64>, String> {
+    scene.bump.bake_heights(size, size).ok_or_else(|| {
         "the scene's bump map holds normals, not heights: expected a height map".into()
     })
 }
