@@ -70,14 +70,14 @@ fn the_quantized_unit_cosimulates_from_the_engines_own_unit() {
 
 #[test]
 fn a_function_without_a_generator_is_named() {
-    let s = Scratch::new("rtl-cartoon");
+    let s = Scratch::new("rtl-envmap");
     let out = s.join("rtl");
-    let cfg = config("quantized-cartoon");
+    let cfg = config("quantized-vase-envmap");
     let o = bumpsim(&["rtl", cfg.to_str().unwrap(), "--out", out.to_str().unwrap()]);
     o.expect_code(0, "rtl");
     assert!(
         o.stdout
-            .contains("not generated: material 0: the Cartoon function has no generator yet"),
+            .contains("not generated: material 0: the EnvMap function has no generator"),
         "{}",
         o.stdout
     );

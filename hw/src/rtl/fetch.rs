@@ -35,12 +35,21 @@ use crate::units::TexFetch;
 
 /// One axis: the tap indices' address bits (`[own, next]`, `log` bits each; `None` for a
 /// one-texel axis) and the fraction bits that remain after the texel index.
-struct Axis {
-    addr: [Option<String>; 2],
+pub(crate) struct Axis {
+    pub(crate) addr: [Option<String>; 2],
     frac: Option<(String, u32)>,
 }
 
-fn axis(m: &mut Module, raw: &Fx, frac: u32, log: u32, centered: bool, mode: Address) -> Axis {
+/// One axis of `2^log` texels of the coordinate `raw` at `frac` fraction bits
+/// ([`crate::sampler::texel_axis`], the address mode applied).
+pub(crate) fn axis(
+    m: &mut Module,
+    raw: &Fx,
+    frac: u32,
+    log: u32,
+    centered: bool,
+    mode: Address,
+) -> Axis {
     let f = frac - log;
     let s = if centered {
         sub(m, raw, &constant(1i128 << (f - 1), 0))

@@ -67,7 +67,7 @@ pub(super) fn with_fac(mut a: Fx, fac: Vec<u32>) -> Fx {
 }
 
 /// The factors of `a` not in `keep` (multiset difference).
-fn extra(a: &[u32], keep: &[u32]) -> Vec<u32> {
+pub(super) fn extra(a: &[u32], keep: &[u32]) -> Vec<u32> {
     let mut k = keep.to_vec();
     a.iter()
         .filter(|f| match k.iter().position(|x| x == *f) {

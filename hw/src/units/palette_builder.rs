@@ -68,9 +68,10 @@
 //! [`SpecularGenerator`] (`power`) reading `intensity` words; colour coefficients (ambient,
 //! diffuse, specular, light colours, sky, ground, environment texels) are words of the entry
 //! encoding; the sum of products is exact and cast once to the entry encoding (whose
-//! saturation is the final clamp). Two steps are not modelled bit by bit: the sphere-map
-//! address (computed in f64 from the exact reflection of the quantized vectors) and the
-//! cartoon band colours (host-computed words).
+//! saturation is the final clamp). One step is not modelled bit by bit: the sphere-map
+//! address (computed in f64 from the exact reflection of the quantized vectors, with the eye
+//! frame's axes in f64), so `EnvMap` has no Verilog generator. The cartoon band colours are
+//! words the host computes ([`band_codes`]) and loads, as it loads the other colour words.
 
 use std::ops::Range;
 
@@ -532,7 +533,10 @@ impl PaletteBuilder {
     }
 
     /// Gate estimate: the normal table, the host-loaded registers, and `entries_per_clock`
-    /// pipelines with what the functions in use need.
+    /// pipelines with what the functions in use need. With one pipeline and a function with a
+    /// Verilog generator in every material, the list of `builder_gates` (priced as the
+    /// generated netlist); otherwise (`EnvMap`, several pipelines, the other power generators)
+    /// the first estimate below.
     pub fn gates(&self, t: &CostTable) -> GateBudget {
         if let Some(g) = crate::units::builder_gates::pipelined(self, t) {
             return g;
@@ -823,6 +827,19 @@ fn exact_rgb(f: &LightingFn, n: [f64; 3]) -> [f64; 3] {
     }
 }
 
+/// The entry words of a cartoon function's `bands` band colours (RGB), as the host loads
+/// them: band `k` is `sat(ambient + diffuse k / (bands - 1))` in `entry`.
+pub fn band_codes(
+    entry: &Encoding,
+    ambient: [f64; 3],
+    diffuse: [f64; 3],
+    bands: u32,
+) -> Vec<[i64; 3]> {
+    (0..bands)
+        .map(|k| band_colour(ambient, diffuse, k, bands).map(|x| entry.encode(x)))
+        .collect()
+}
+
 /// Band `k` of `bands`: `sat(ambient + diffuse k / (bands - 1))`.
 fn band_colour(ambient: [f64; 3], diffuse: [f64; 3], k: u32, bands: u32) -> [f64; 3] {
     let q = k as f64 / (bands - 1) as f64;
@@ -963,7 +980,7 @@ impl<'a> Datapath<'a> {
                     .scale(*bands as i128)
                     .round_int(crate::format::Quant::Trn)
                     .clamp(0, *bands as i128 - 1) as u32;
-                // the host loads the band colours as entry words
+                // the host loads the band colours as entry words ([`band_codes`])
                 band_colour(*ambient, *diffuse, k, *bands).map(|x| self.f.entry.encode(x))
             }
             LightingFn::DoubledAnglePhong {

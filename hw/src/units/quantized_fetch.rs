@@ -223,21 +223,40 @@ impl Unit for QuantizedFetch {
             g.add_part(&format!("{who}: "), 1, part);
         }
         if let Some(lod) = self.inputs.get(1) {
-            // round and clamp the LOD to a level, then the level's base address plus the
-            // texel offset shifted right by the level
-            let wl = lod.enc.width();
-            let addr = 2 * 14 + 2;
+            // as `rtl::quantized` builds it: the LOD rounded to an integer (a carry chain over
+            // its integer bits) and clamped to the levels; per level the texel's offset in the
+            // level (the coordinates' top bits: the index texture wraps), selected by the
+            // level bit by bit; the level's base address (constants, a decode of the level)
+            // added to it
+            let tex = self.fetch.texture();
+            let levels = self.levels() as u32;
+            let lf = lod.enc.format.frac as u32;
+            let wr = lod.enc.width().saturating_sub(lf) + 1;
             g.add(
-                format!("mip level round and clamp {wl}"),
+                format!("mip level round and clamp {wr}"),
                 1,
-                t.adder(wl) + t.clamp(wl),
+                t.constant_add(wr) + t.clamp(wr),
             );
-            g.add(format!("mip base adder {addr}"), 1, t.adder(addr));
-            g.add(
-                format!("mip offset shifter {addr}"),
-                1,
-                t.mux(addr, self.levels() as u32),
-            );
+            let bits: Vec<u32> = (0..levels as usize)
+                .map(|l| {
+                    let (w, h) = tex.level_at(l).logs();
+                    w + h
+                })
+                .collect();
+            let texels: u64 = (0..levels as usize)
+                .map(|l| {
+                    let lv = tex.level_at(l);
+                    lv.width() as u64 * lv.height() as u64
+                })
+                .sum();
+            let abits = (64 - texels.saturating_sub(1).leading_zeros()).max(1);
+            let select: f64 = (0..abits)
+                .map(|k| t.mux(1, bits.iter().filter(|&&b| b > k).count() as u32))
+                .sum();
+            g.add(format!("mip offset select {abits}"), 1, select);
+            let lb = 32 - (levels - 1).leading_zeros();
+            g.add(format!("mip base select {abits}"), 1, t.decoder(levels, lb));
+            g.add(format!("mip base adder {abits}"), 1, t.adder(abits));
         }
         g
     }

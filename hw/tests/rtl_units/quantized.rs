@@ -51,6 +51,39 @@ fn specular(shininess: f64, lights: Vec<([f64; 3], [f64; 3])>) -> LightingFn {
     }
 }
 
+/// Cartoon shading (`quantized-cartoon`: 4 bands, the light along (1, 1, 1)).
+fn cartoon(bands: u32, lights: Vec<([f64; 3], [f64; 3])>) -> LightingFn {
+    LightingFn::Cartoon {
+        bands,
+        ambient: [0.08, 0.08, 0.08],
+        diffuse: [0.75, 0.5, 0.3],
+        lights,
+    }
+}
+
+/// Doubled-angle Phong (`quantized-doubled-angle`: the torus turned 55 degrees, so the
+/// object-space light and view below).
+fn doubled(shininess: f64, light: ([f64; 3], [f64; 3])) -> LightingFn {
+    LightingFn::DoubledAnglePhong {
+        ambient: [0.08, 0.08, 0.08],
+        diffuse: [0.75, 0.5, 0.3],
+        specular: [0.4, 0.4, 0.4],
+        shininess,
+        view: [0.0, 0.819, 0.574],
+        light,
+    }
+}
+
+/// Chrome (`quantized-chrome`: sky and ground colours, the viewer and up in object space).
+fn chrome(view: [f64; 3], up: [f64; 3]) -> LightingFn {
+    LightingFn::Chrome {
+        view,
+        up,
+        sky: [0.35, 0.55, 0.95],
+        ground: [0.45, 0.28, 0.12],
+    }
+}
+
 /// A quantized unit over `indices` (`size` x `size`, row-major) into a builder of `n`
 /// normals with `materials`.
 #[allow(clippy::too_many_arguments)]
@@ -64,7 +97,31 @@ pub fn unit(
     index_bits: u32,
     mem_latency: u32,
 ) -> Case {
-    let b = PaletteBuilder::new(normals(n), materials, formats(entry), 1).unwrap();
+    unit_with(
+        name,
+        n,
+        materials,
+        formats(entry),
+        size,
+        indices,
+        index_bits,
+        mem_latency,
+    )
+}
+
+/// [`unit`] with the builder's formats given.
+#[allow(clippy::too_many_arguments)]
+pub fn unit_with(
+    name: &'static str,
+    n: usize,
+    materials: Vec<(std::ops::Range<usize>, LightingFn)>,
+    formats: BuilderFormats,
+    size: u32,
+    indices: Vec<u32>,
+    index_bits: u32,
+    mem_latency: u32,
+) -> Case {
+    let b = PaletteBuilder::new(normals(n), materials, formats, 1).unwrap();
     let uv = fixed(false, 16, 12);
     let u = QuantizedFetch::new(
         "indices",
@@ -82,15 +139,55 @@ pub fn unit(
     Case::new(name, u, rtl)
 }
 
+/// [`unit`] with index mipmaps: a `w` x `h` level 0 of `every` index, each coarser level
+/// (halved, at least one texel a side) the top-left texel of each 2 x 2 of the one above (with
+/// an offset, so that levels differ), down to 1 x 1; a 1-lane `lod` port.
+#[allow(clippy::too_many_arguments)]
+pub fn mip_unit(
+    name: &'static str,
+    n: usize,
+    materials: Vec<(std::ops::Range<usize>, LightingFn)>,
+    (w, h): (u32, u32),
+    lod: Encoding,
+    mem_latency: u32,
+) -> Case {
+    let b = PaletteBuilder::new(normals(n), materials, formats(uu(8)), 1).unwrap();
+    let uv = fixed(false, 16, 12);
+    let base: Vec<u32> = (0..w * h).map(|k| k % n as u32).collect();
+    let mut levels = Vec::new();
+    let (mut pw, mut ph, mut prev) = (w, h, base.clone());
+    while pw > 1 || ph > 1 {
+        let (nw, nh) = ((pw / 2).max(1), (ph / 2).max(1));
+        let next: Vec<u32> = (0..nw * nh)
+            .map(|k| {
+                let (i, j) = (k % nw, k / nw);
+                let (si, sj) = ((2 * i).min(pw - 1), (2 * j).min(ph - 1));
+                (prev[(sj * pw + si) as usize] + 3 * levels.len() as u32 + 1) % n as u32
+            })
+            .collect();
+        levels.push((nw, nh, next.clone()));
+        (pw, ph, prev) = (nw, nh, next);
+    }
+    let u = QuantizedFetch::new("indices", uv, w, h, &base, 8, b, 1, mem_latency)
+        .unwrap()
+        .with_mipmaps(lod, levels)
+        .unwrap();
+    let rtl = rtl::quantized::rtl(&u, name).unwrap();
+    Case::new(name, u, rtl)
+}
+
 /// Indices `0..n` in turn, so that every entry of the table is under some texel.
 fn every(size: u32, n: usize) -> Vec<u32> {
     (0..size * size).map(|k| k % n as u32).collect()
 }
 
 /// The bundled configs' builder: Blinn-Phong with one light on 256 entries
-/// (`quantized-sphere`), Lambert on 16 (`quantized-sn16`, `quantized-vase-sn*`).
+/// (`quantized-sphere`), Lambert on 16 (`quantized-sn16`, `quantized-vase-sn*`), the
+/// 256-entry cartoon (4 bands), doubled-angle Phong and chrome tables (`quantized-cartoon`,
+/// `-doubled-angle`, `-chrome`), and index mipmaps at `quantized-plane-mipmap`'s words.
 pub fn bundled() -> Vec<Case> {
     let light = ([0.577, 0.577, 0.577], [1.0; 3]);
+    let turned = ([0.577, 0.804, -0.141], [1.0; 3]);
     vec![
         unit(
             "quantized_sphere",
@@ -112,6 +209,46 @@ pub fn bundled() -> Vec<Case> {
             8,
             3,
         ),
+        unit(
+            "quantized_cartoon",
+            256,
+            vec![(0..256, cartoon(4, vec![light]))],
+            uu(8),
+            64,
+            every(64, 256),
+            8,
+            3,
+        ),
+        unit(
+            "quantized_doubled_angle",
+            256,
+            vec![(0..256, doubled(24.0, turned))],
+            uu(8),
+            64,
+            every(64, 256),
+            8,
+            3,
+        ),
+        unit(
+            "quantized_chrome",
+            256,
+            vec![(0..256, chrome([0.0, 0.819, 0.574], [0.0, 0.574, -0.819]))],
+            uu(8),
+            64,
+            every(64, 256),
+            8,
+            3,
+        ),
+        // quantized-plane-mipmap's words (a u8.4 LOD, Lambert on 256 entries, u8 entries) on
+        // a 64 x 64 index texture: 7 levels
+        mip_unit(
+            "quantized_mipmap",
+            256,
+            vec![(0..256, lambert(vec![light]))],
+            (64, 64),
+            fixed(false, 8, 4),
+            3,
+        ),
     ]
 }
 
@@ -131,6 +268,26 @@ pub fn variants() -> Vec<Case> {
     };
     // a 200-entry table behind an 8-bit index, read in a scattered order
     let scattered: Vec<u32> = (0..32 * 32u32).map(|k| (k * 7) % 200).collect();
+    let l3 = ([0.5, -0.4, 0.6], [0.9, 0.7, 1.0]);
+    // factor-carrying words: UnitSymmetric normals and vectors (read (2c + 1)(2^n + 1))
+    let sym = Encoding::texel(bumpsim_hw::Codec::UnitSymmetric, true, 10);
+    let reflect_sym = BuilderFormats {
+        normal: sym,
+        vector: sym,
+        ..formats(uu(6))
+    };
+    // UnitSigned normals and vectors, 12-bit intensities into the 10-bit power index
+    let doubled_signed = BuilderFormats {
+        normal: Encoding::texel(bumpsim_hw::Codec::UnitSigned, true, 10),
+        vector: Encoding::texel(bumpsim_hw::Codec::UnitSigned, true, 9),
+        intensity: uu(12),
+        ..formats(uu(8))
+    };
+    // an intensity word that holds 1.0 (the cartoon band reaches `bands`, clamped)
+    let cartoon_fixed = BuilderFormats {
+        intensity: fixed(false, 11, 10),
+        ..formats(Encoding::fixed(Format::u(9, 8)))
+    };
     vec![
         unit(
             "quantized_materials",
@@ -176,6 +333,75 @@ pub fn variants() -> Vec<Case> {
             32,
             every(32, 300),
             9,
+            2,
+        ),
+        // every function with a generator in one table: two cartoon materials (5 bands with
+        // two lights, 3 bands with none), chrome, doubled-angle Phong, Lambert
+        unit(
+            "quantized_functions",
+            230,
+            vec![
+                (0..40, cartoon(5, vec![l1, l2])),
+                (40..90, chrome([0.1, 0.3, 0.95], [0.0, 1.0, 0.2])),
+                (90..150, doubled(12.0, l3)),
+                (150..200, lambert(vec![l2])),
+                (200..230, cartoon(3, vec![])),
+            ],
+            uu(8),
+            32,
+            every(32, 230),
+            8,
+            1,
+        ),
+        unit_with(
+            "quantized_reflect_sym",
+            160,
+            vec![
+                (0..100, lambert(vec![l1, l3])),
+                (100..160, chrome([0.3, -0.2, 0.9], [0.0, 0.0, 1.0])),
+            ],
+            reflect_sym,
+            16,
+            every(16, 160),
+            8,
+            2,
+        ),
+        unit_with(
+            "quantized_doubled_signed",
+            128,
+            vec![(0..128, doubled(40.0, l1))],
+            doubled_signed,
+            16,
+            every(16, 128),
+            8,
+            3,
+        ),
+        // a 32 x 8 index texture (levels down to 1 x 1, one axis first), a signed LOD
+        mip_unit(
+            "quantized_mipmap_rect",
+            64,
+            vec![(0..64, specular(16.0, vec![l1]))],
+            (32, 8),
+            fixed(true, 8, 2),
+            1,
+        ),
+        // an integer LOD beyond the levels (clamped)
+        mip_unit(
+            "quantized_mipmap_int",
+            100,
+            vec![(0..100, cartoon(3, vec![l2]))],
+            (16, 16),
+            fixed(false, 3, 0),
+            2,
+        ),
+        unit_with(
+            "quantized_cartoon_fixed",
+            100,
+            vec![(0..100, cartoon(4, vec![l1, l3]))],
+            cartoon_fixed,
+            16,
+            every(16, 100),
+            8,
             2,
         ),
     ]
