@@ -8,35 +8,9 @@ mod common;
 
 use common::*;
 
-fn skip_iverilog() -> bool {
-    std::env::var_os("BUMPSIM_SKIP_IVERILOG").is_some_and(|v| !v.is_empty() && v != "0")
-}
-
-/// `bumpsim rtl` on a bundled config with `--cosim n`, into a scratch directory kept alive by
-/// the returned `Scratch`; `None` when iverilog is skipped explicitly.
-fn rtl_cosim(name: &str, n: &str) -> Option<(Scratch, std::path::PathBuf, Out)> {
-    if skip_iverilog() {
-        println!("rtl: skipped (BUMPSIM_SKIP_IVERILOG is set)");
-        return None;
-    }
-    let s = Scratch::new(&format!("rtl-{name}"));
-    let out = s.join("rtl");
-    let cfg = config(name);
-    let o = bumpsim(&[
-        "rtl",
-        cfg.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--cosim",
-        n,
-    ]);
-    o.expect_code(0, "rtl --cosim");
-    Some((s, out, o))
-}
-
 #[test]
 fn the_quantized_unit_cosimulates_from_the_engines_own_unit() {
-    let Some((_s, out, o)) = rtl_cosim("quantized-sn16", "400") else {
+    let Some((_s, out, o)) = rtl_cosim("quantized-sn16", "400", "cmd") else {
         return;
     };
     // Lambert, one light: 16 slots and the 4-clock pipeline; the model adds the LUT load
@@ -85,7 +59,7 @@ fn a_function_without_a_generator_is_named() {
 
 #[test]
 fn the_register_combiners_cosimulate_with_the_program_in_host_registers() {
-    let Some((_s, out, o)) = rtl_cosim("nv20-combiner-bump", "300") else {
+    let Some((_s, out, o)) = rtl_cosim("nv20-combiner-bump", "300", "cmd") else {
         return;
     };
     // eight general stages and the two-stage final combiner
@@ -113,7 +87,7 @@ fn the_register_combiners_cosimulate_with_the_program_in_host_registers() {
 
 #[test]
 fn the_emboss_filter_cosimulates_rebuilt_from_its_config() {
-    let Some((_s, out, o)) = rtl_cosim("emboss", "300") else {
+    let Some((_s, out, o)) = rtl_cosim("emboss", "300", "cmd") else {
         return;
     };
     // the unit rebuilt with the bricks' default bevel; 3 ports behind a 4-clock memory

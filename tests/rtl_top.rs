@@ -9,32 +9,6 @@ mod common;
 use common::*;
 use std::process::Command;
 
-fn skip_iverilog() -> bool {
-    std::env::var_os("BUMPSIM_SKIP_IVERILOG").is_some_and(|v| !v.is_empty() && v != "0")
-}
-
-/// `bumpsim rtl NAME --cosim n` into a scratch directory of its own (`tag`: tests run in
-/// parallel); its stdout and the output directory.
-fn rtl(name: &str, n: &str, tag: &str) -> Option<(Scratch, std::path::PathBuf, String)> {
-    if skip_iverilog() {
-        println!("rtl_top: skipped (BUMPSIM_SKIP_IVERILOG is set)");
-        return None;
-    }
-    let s = Scratch::new(&format!("rtl-top-{tag}-{name}"));
-    let out = s.join("rtl");
-    let cfg = config(name);
-    let o = bumpsim(&[
-        "rtl",
-        cfg.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--cosim",
-        n,
-    ]);
-    o.expect_code(0, "rtl --cosim");
-    Some((s, out, o.stdout))
-}
-
 fn engine_line(stdout: &str) -> &str {
     stdout
         .lines()
@@ -53,10 +27,10 @@ fn the_engine_top_replays_the_frames_own_fragments() {
         ("nv20-combiner-bump", 15, 107),
         ("quantized-sn16", 7, 9),
     ] {
-        let Some((_s, out, stdout)) = rtl(name, "150", "replay") else {
+        let Some((_s, out, o)) = rtl_cosim(name, "150", "top-replay") else {
             return;
         };
-        let line = engine_line(&stdout);
+        let line = engine_line(&o.stdout);
         assert!(
             line.contains(&format!("latency {latency}  registers {regs}"))
                 && line.contains("cosim 150 fragments of the frame, 0 mismatches"),
@@ -75,7 +49,7 @@ fn the_engine_top_replays_the_frames_own_fragments() {
 
 #[test]
 fn the_top_is_wired_as_the_config_wires_it() {
-    let Some((_s, out, _)) = rtl("dependent-dot-lookup", "20", "wiring") else {
+    let Some((_s, out, _)) = rtl_cosim("dependent-dot-lookup", "20", "top-wiring") else {
         return;
     };
     let v = std::fs::read_to_string(out.join("engine.v")).unwrap();
@@ -89,7 +63,7 @@ fn the_top_is_wired_as_the_config_wires_it() {
 #[test]
 fn a_wrong_expected_word_is_a_mismatch() {
     // the comparison is live: one flipped bit in the model's words is one mismatch
-    let Some((_s, out, _)) = rtl("sgi-teapot", "40", "flip") else {
+    let Some((_s, out, _)) = rtl_cosim("sgi-teapot", "40", "top-flip") else {
         return;
     };
     let dir = out.join("cosim").join("engine");

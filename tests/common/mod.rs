@@ -199,3 +199,32 @@ pub fn config_error(stem: &str, sets: &[&str]) -> String {
 
 /// `--set` overrides for a 128 x 128 image (fast end-to-end runs).
 pub const SMALL: [&str; 2] = ["scene.width=128", "scene.height=128"];
+
+/// Whether the iverilog co-simulations are skipped explicitly (`BUMPSIM_SKIP_IVERILOG=1`);
+/// otherwise a test that needs iverilog fails without it.
+pub fn skip_iverilog() -> bool {
+    std::env::var_os("BUMPSIM_SKIP_IVERILOG").is_some_and(|v| !v.is_empty() && v != "0")
+}
+
+/// `bumpsim rtl NAME --out DIR --cosim n` on a bundled config, into a scratch directory of its
+/// own (`tag`: tests run in parallel) kept alive by the returned `Scratch`; `None` when
+/// iverilog is skipped explicitly. The command must exit 0.
+pub fn rtl_cosim(name: &str, n: &str, tag: &str) -> Option<(Scratch, PathBuf, Out)> {
+    if skip_iverilog() {
+        println!("rtl: skipped (BUMPSIM_SKIP_IVERILOG is set)");
+        return None;
+    }
+    let s = Scratch::new(&format!("rtl-{tag}-{name}"));
+    let out = s.join("rtl");
+    let cfg = config(name);
+    let o = bumpsim(&[
+        "rtl",
+        cfg.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--cosim",
+        n,
+    ]);
+    o.expect_code(0, "rtl --cosim");
+    Some((s, out, o))
+}
