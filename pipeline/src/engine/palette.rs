@@ -25,6 +25,30 @@ pub fn hemisphere(n: usize) -> Vec<[f64; 4]> {
     v
 }
 
+/// At most `n` unit entries fitted to the map's texels by Heckbert's median cut (the
+/// quantized-normal engine's quantizer, [`crate::quantize::median_cut::median_cut`]): entries where the
+/// map's normals are, none where it has none. Errors name a texel that is not a finite,
+/// non-zero normal.
+pub fn median_cut(texels: &[[f64; 4]], n: usize) -> Result<Vec<[f64; 4]>, String> {
+    let normals: Vec<DVec3> = texels
+        .iter()
+        .map(|t| DVec3::new(t[0], t[1], t[2]))
+        .collect();
+    if let Some(i) = normals
+        .iter()
+        .position(|v| !v.is_finite() || v.length_squared() == 0.0)
+    {
+        return Err(format!(
+            "palette_table MedianCut: texel {i} is not a finite, non-zero normal"
+        ));
+    }
+    let unit: Vec<DVec3> = normals.iter().map(|v| v.normalize()).collect();
+    Ok(crate::quantize::median_cut::median_cut(&unit, n)
+        .into_iter()
+        .map(|e| [e.x, e.y, e.z, 0.0])
+        .collect())
+}
+
 /// Replace every texel by the palette entry with the largest dot product (the nearest
 /// direction); ties go to the lower index. The search is the exact k-d tree of the quantized
 /// normal maps ([`NearestIndex`]: the brute-force answer bit for bit), texels in parallel.
@@ -122,5 +146,41 @@ mod tests {
         ];
         quantize(&mut t, &p);
         assert_eq!(t, vec![p[0], p[1], p[2]]);
+    }
+
+    #[test]
+    fn a_fitted_palette_holds_a_map_of_few_normals_exactly() {
+        // three distinct normals, in unequal numbers: median cut with room for them keeps each
+        // one (a box per normal), so every texel reads its own normal back; the fixed
+        // hemisphere of the same size does not
+        let n = [
+            [0.0, 0.0, 1.0, 0.0],
+            [0.6, 0.0, 0.8, 0.0],
+            [0.0, -0.28, 0.96, 0.0],
+        ];
+        let map: Vec<[f64; 4]> = (0..60).map(|i| n[(i * i) % 7 % 3]).collect();
+        let fitted = median_cut(&map, 4).unwrap();
+        assert!(fitted.len() <= 4);
+        let mut t = map.clone();
+        quantize(&mut t, &fitted);
+        for (q, want) in t.iter().zip(&map) {
+            for c in 0..3 {
+                assert!((q[c] - want[c]).abs() < 1e-12, "{q:?} for {want:?}");
+            }
+        }
+        let mut h = map.clone();
+        quantize(&mut h, &hemisphere(4));
+        let off =
+            |q: &[f64; 4], w: &[f64; 4]| (0..3).map(|c| (q[c] - w[c]).abs()).fold(0.0, f64::max);
+        assert!(h.iter().zip(&map).any(|(q, w)| off(q, w) > 0.05));
+        // a zero or non-finite texel is an error naming it
+        let mut bad = map.clone();
+        bad[7] = [0.0; 4];
+        assert_eq!(
+            median_cut(&bad, 4).unwrap_err(),
+            "palette_table MedianCut: texel 7 is not a finite, non-zero normal"
+        );
+        bad[7] = [f64::NAN, 0.0, 1.0, 0.0];
+        assert!(median_cut(&bad, 4).unwrap_err().contains("texel 7"));
     }
 }

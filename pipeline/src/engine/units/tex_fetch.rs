@@ -33,11 +33,31 @@ pub struct TexFetchSpec {
     /// itself quantized to them; each texel takes the nearest entry.
     #[serde(default)]
     pub palette: Option<u32>,
+    /// How the palette's entries are chosen (default `Hemisphere`, left out of the canonical
+    /// config, and so of the config hash, when it is the default).
+    #[serde(default, skip_serializing_if = "is_hemisphere")]
+    pub palette_table: PaletteTable,
     /// Addressing outside [0, 1) on both axes (default wrap; left out of the canonical
     /// config, and so of the config hash, when it is the default).
     #[serde(default, skip_serializing_if = "is_wrap")]
     pub address: Address,
     pub out: Encoding,
+}
+
+/// The entries of a bump-normal palette (Ernst et al. §6 names no table).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum PaletteTable {
+    /// Fixed: directions spread evenly over the hemisphere, the same for every map
+    /// ([`palette::hemisphere`]); a chip could hold it in ROM.
+    #[default]
+    Hemisphere,
+    /// Fitted to the map: Heckbert's median cut of its normals, as the quantized-normal
+    /// engine builds its tables (`crate::quantize::median_cut::median_cut`); a loadable table.
+    MedianCut,
+}
+
+fn is_hemisphere(t: &PaletteTable) -> bool {
+    *t == PaletteTable::Hemisphere
 }
 
 fn weight_bits() -> u32 {
@@ -67,11 +87,18 @@ impl Spec for TexFetchSpec {
                 return Err("palette: expected source BumpNormals (palettes of other textures are not modelled yet)".into());
             }
         }
-        let key = key(&self.source, &self.texel, self.palette);
+        let mut key = key(&self.source, &self.texel, self.palette);
+        if self.palette.is_some() && self.palette_table != PaletteTable::Hemisphere {
+            key += &format!(" {:?}", self.palette_table);
+        }
         let tex = ctx.memory.get_or_build(&key, ctx.unit, |name| {
             let mut tex = texels(&self.source, ctx)?;
             if let Some(n) = self.palette {
-                palette::quantize(&mut tex.values, &palette::hemisphere(n as usize));
+                let table = match self.palette_table {
+                    PaletteTable::Hemisphere => palette::hemisphere(n as usize),
+                    PaletteTable::MedianCut => palette::median_cut(&tex.values, n as usize)?,
+                };
+                palette::quantize(&mut tex.values, &table);
             }
             let t = Texture::new(name, self.texel, tex)?;
             Ok(match self.palette {
