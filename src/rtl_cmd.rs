@@ -1,7 +1,7 @@
 //! `bumpsim rtl CONFIG --out DIR [--cosim N] [--synth]`: Verilog of the engine's units
 //! (`bumpsim_hw::rtl`, `docs/rtl.md`).
 //!
-//! For every unit with a generator (Dot3, PowerTable, Shade, BumpBlend, Modulate, Normalize, Perturb,
+//! For every unit with a generator (Dot3, PowerTable, Shade, BumpBlend, Modulate, Normalize, Perturb, Turbulence,
 //! TexFetch, EmbossFilter, CullFragment, FbBlend, QuantizedNormals, TexramFrame, QuatFrame)
 //! the unit's parameters are taken from its config spec, the encodings of the signals wired to
 //! it (the built engine's unit) and the scene (material, bump lights, the emboss filter's
@@ -256,6 +256,25 @@ pub(crate) fn generate(
             let u = BumpBlend::new(blend_params(s, scene), |n| enc_of(ins, n))?;
             Generated {
                 rtl: rtl::blend::rtl(&u, top)?,
+                model: Some(Box::new(u)),
+            }
+        }
+        UnitSpec::Turbulence(s) => {
+            // as TurbulenceSpec::build: the scene's NDF surface (octaves, frequency, seed, spread)
+            let n = bumpsim_pipeline::ndf::sources::surface(scene, "Turbulence")?;
+            let t = bumpsim_hw::units::ndf_noise::Turbulence::new(n.spec.frequency, n.spec.seed);
+            let enc = |p: &str| enc_of(ins, p).ok_or(format!("no {p}"));
+            let u = bumpsim_hw::units::TurbulenceIndex::new(
+                t,
+                n.spec.octaves,
+                1.0 / (2.0 * n.spread),
+                s.frac,
+                enc("uv")?,
+                enc("lod")?,
+                s.out,
+            )?;
+            Generated {
+                rtl: rtl::ndf_turbulence::rtl(&u, top),
                 model: Some(Box::new(u)),
             }
         }

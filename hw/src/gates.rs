@@ -28,7 +28,9 @@ pub struct CostTable {
     pub dff: f64,
     /// Register bit with load enable (a D flip-flop and a 2:1 mux).
     pub reg_bit: f64,
-    /// Mask ROM / hard-wired table, per bit (from yosys: 256x8 ROM ~ 820 GE).
+    /// Mask ROM / hard-wired table of unknown (random) contents, per bit (from yosys: 256x8
+    /// random ROM ~ 820 GE); [`CostTable::rom_of`], which prices known contents, scales with
+    /// it (`rom_bit / 0.4`).
     pub rom_bit: f64,
     /// Loadable SRAM table (colour-LUT style), per bit.
     pub sram_bit: f64,
@@ -39,8 +41,8 @@ pub struct CostTable {
     /// multiplexer tree (2.33); the write decoder is not counted.
     pub flop_ram_bit: f64,
     /// What every loadable table of the engine is built as (docs/gates.md, "Memory"): the
-    /// table's bits priced at `sram_bit`, `latch_ram_bit`, `flop_ram_bit`, or `rom_bit` for a
-    /// table fixed at design time (its contents known: `bumpsim gates --synth` synthesises it).
+    /// table's bits priced at `sram_bit`, `latch_ram_bit` or `flop_ram_bit`, or, for a table
+    /// fixed at design time, its contents ([`CostTable::table_of`]).
     pub tables: MemoryKind,
 }
 
@@ -56,8 +58,10 @@ pub enum MemoryKind {
     /// Flip-flops with load enables and a read mux tree (`flop_ram_bit`): what synthesis
     /// builds from a plain Verilog memory.
     FlopRam,
-    /// Hard-wired contents (`rom_bit`, random contents; smooth tables synthesise smaller):
-    /// not loadable, so the table cannot follow a material change at run time.
+    /// Hard-wired contents, the table the unit holds now, priced by them
+    /// ([`CostTable::table_of`], [`CostTable::rom_of`]; `rom_bit` a bit, the random-contents
+    /// bound, where the unit does not hold the words): not loadable, so the table cannot
+    /// follow a material change at run time.
     Rom,
 }
 
@@ -234,9 +238,44 @@ impl CostTable {
         let bits = (32 - steps.leading_zeros()).max(1) as f64;
         (self.reg_bit + self.half_adder) * bits
     }
-    /// Hard-wired table of `entries` words of `bits` bits.
+    /// Hard-wired table of `entries` words of `bits` bits, priced by its bit count at
+    /// `rom_bit`: the bound for **random** contents (a 256 x 8 table of random words
+    /// synthesises to 0.32-0.45 GE/bit from 16 to 1024 entries). For callers that do not know
+    /// the contents; a table whose contents are known is priced by [`CostTable::rom_of`].
     pub fn rom(&self, entries: u64, bits: u32) -> f64 {
         self.rom_bit * entries as f64 * bits as f64
+    }
+    /// Hard-wired table of the given contents (`words[i]` the word at address `i`, its low
+    /// `bits` bits; a length that is not a power of two reads 0 beyond the end, as
+    /// `rtl::verilog::rom`'s default), priced by what synthesis builds from it:
+    /// the nodes of the table's shared reduced ordered BDD ([`rom_bdd`]), a mux node
+    /// [`ROM_MUX_GE`] and an AND/OR node [`ROM_GATE_GE`] ([`RomBdd::ge`]), in the cheaper of
+    /// the two address orders (most or least significant bit at the root), times `rom_bit /
+    /// 0.4`. A constant table is free, a table whose outputs are address bits too, a random
+    /// one costs 0.35-0.45 GE a bit as `rom(e, b)`; yosys over 28 tables: 0.88-1.45
+    /// (docs/gates.md, "Tables"). Time and memory are linear in
+    /// `words.len() * bits` (2^16 x 16 in a few tens of ms); tables above 2^20 words fall back
+    /// to [`CostTable::rom`].
+    pub fn rom_of(&self, words: &[i64], bits: u32) -> f64 {
+        if words.len() > ROM_OF_MAX_WORDS {
+            return self.rom(words.len() as u64, bits);
+        }
+        // the cheaper of the two address orders (abc finds either); `rom_bit` is the price of
+        // the random-contents bound, and an override scales this estimate with it
+        let ge = rom_bdd(words, bits, true)
+            .ge()
+            .min(rom_bdd(words, bits, false).ge());
+        self.rom_bit / DEFAULT_ROM_BIT * ge
+    }
+    /// A table of the given contents as the engine builds its tables (`self.tables`): a
+    /// loadable memory priced by its bits ([`CostTable::table`]), or, for
+    /// [`MemoryKind::Rom`], a hard-wired table of these contents ([`CostTable::rom_of`]):
+    /// the contents the unit holds now.
+    pub fn table_of(&self, words: &[i64], bits: u32) -> f64 {
+        match self.tables {
+            MemoryKind::Rom => self.rom_of(words, bits),
+            _ => self.table(words.len() as u64, bits),
+        }
     }
     /// Loadable table of `entries` words of `bits` bits, built as `self.tables` says.
     pub fn table(&self, entries: u64, bits: u32) -> f64 {
@@ -264,8 +303,9 @@ pub struct GateItem {
     /// A table's storage (priced by [`CostTable::table`]), reported apart from the logic.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub memory: bool,
-    /// A table of fixed contents ([`CostTable::rom`]): logic in the total, but compared with
-    /// synthesis apart (yosys prices each ROM module by its contents).
+    /// A table of fixed contents ([`CostTable::rom_of`], or [`CostTable::rom`] when its
+    /// contents are unknown): logic in the total, but compared with synthesis apart (yosys
+    /// prices each ROM module by its contents).
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub rom: bool,
 }
@@ -284,7 +324,8 @@ impl GateBudget {
     pub fn add(&mut self, what: impl Into<String>, count: u32, ge: f64) -> &mut Self {
         self.push(what.into(), count, ge, Store::Logic)
     }
-    /// Add `count` copies of a table of fixed contents costing `ge` each ([`CostTable::rom`]).
+    /// Add `count` copies of a table of fixed contents costing `ge` each
+    /// ([`CostTable::rom_of`], [`CostTable::rom`]).
     pub fn add_rom(&mut self, what: impl Into<String>, count: u32, ge: f64) -> &mut Self {
         self.push(what.into(), count, ge, Store::Rom)
     }
@@ -348,6 +389,150 @@ enum Store {
     Logic,
     Memory,
     Rom,
+}
+
+/// The words of a table of several lanes per entry (colours, normals), each lane's code
+/// masked to `width` bits and packed from bit 0, as one `lanes * width`-bit word an entry (at
+/// most 64 bits: the lanes beyond are dropped): what [`CostTable::table_of`] prices. The order
+/// of the lanes does not change the price (the BDD is shared between output bits).
+pub fn packed_words<const L: usize>(entries: &[[i64; L]], width: u32) -> Vec<i64> {
+    let mask = if width >= 64 {
+        u64::MAX
+    } else {
+        (1u64 << width) - 1
+    };
+    entries
+        .iter()
+        .map(|e| {
+            e.iter()
+                .enumerate()
+                .filter(|(k, _)| (*k as u32 + 1) * width <= 64)
+                .fold(0u64, |w, (k, &c)| {
+                    w | (c as u64 & mask) << (k as u32 * width)
+                }) as i64
+        })
+        .collect()
+}
+
+/// `rom_bit`'s default: [`CostTable::rom_of`] scales with an overridden `rom_bit`.
+const DEFAULT_ROM_BIT: f64 = 0.4;
+/// GE of a mux node of a table's BDD ([`RomBdd`]), fitted on yosys with [`ROM_GATE_GE`]
+/// (docs/gates.md, "Tables"; `rom_calibration` in `hw/tests/gates_yosys.rs`): close to the
+/// library's MUX2, 2.33.
+pub const ROM_MUX_GE: f64 = 2.13;
+/// GE of an AND/OR node (one child a constant) of a table's BDD, fitted with [`ROM_MUX_GE`].
+pub const ROM_GATE_GE: f64 = 0.61;
+/// The largest table [`CostTable::rom_of`] reads word by word (2^20 words).
+pub const ROM_OF_MAX_WORDS: usize = 1 << 20;
+
+/// The nodes of a table's shared reduced ordered binary decision diagram ([`rom_bdd`]): every
+/// output bit a function of the address bits, one node per distinct sub-function that depends
+/// on its level's address bit (shared between the output bits), the constants 0 and 1 the
+/// leaves (not counted). Each node is a 2:1 mux on its address bit; by its children it is one
+/// of four kinds.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct RomBdd {
+    /// Children (0, 1): the address bit itself, a wire.
+    pub wires: u64,
+    /// Children (1, 0): the address bit inverted.
+    pub inverters: u64,
+    /// One child a constant, the other not: an AND or OR with the address bit.
+    pub gates: u64,
+    /// Neither child a constant: a 2:1 mux.
+    pub muxes: u64,
+}
+
+impl RomBdd {
+    /// All nodes.
+    pub fn nodes(&self) -> u64 {
+        self.wires + self.inverters + self.gates + self.muxes
+    }
+    /// The diagram's price at the default `rom_bit`: [`ROM_MUX_GE`] a mux, [`ROM_GATE_GE`] an
+    /// AND/OR, wires and inverters nothing (synthesis absorbs the inverters; a fitted price
+    /// for them came out negative).
+    pub fn ge(&self) -> f64 {
+        ROM_MUX_GE * self.muxes as f64 + ROM_GATE_GE * self.gates as f64
+    }
+}
+
+/// The shared ROBDD of a table (see [`RomBdd`]): `words[i]`'s low `bits` bits (at most 64) at
+/// address `i`, the address `ceil(log2(len))` bits wide, 0 beyond the end; `msb_root` puts
+/// the most significant address bit at the root (the least significant next to the leaves),
+/// else the reverse. Built bottom-up, a level per address bit, each sub-function an id from
+/// its two halves' ids: time and memory linear in `len * bits`.
+pub fn rom_bdd(words: &[i64], bits: u32, msb_root: bool) -> RomBdd {
+    let bits = bits.min(64) as usize;
+    let abits = usize::BITS - words.len().saturating_sub(1).leading_zeros();
+    let size = 1usize << abits;
+    let mut level: Vec<u32> = Vec::with_capacity(bits * size);
+    for b in 0..bits {
+        level.extend((0..size).map(|i| words.get(i).map_or(0, |&w| ((w as u64 >> b) & 1) as u32)));
+    }
+    let mut bdd = RomBdd::default();
+    let mut next = 2u32;
+    let mut block = size;
+    let mut ids: std::collections::HashMap<u64, u32, NodeHash> = Default::default();
+    while block > 1 {
+        let half = block / 2;
+        ids.clear();
+        let mut up = Vec::with_capacity(level.len() / 2);
+        for f in level.chunks_exact(block) {
+            for i in 0..half {
+                let (lo, hi) = if msb_root {
+                    (f[2 * i], f[2 * i + 1])
+                } else {
+                    (f[i], f[i + half])
+                };
+                if lo == hi {
+                    up.push(lo);
+                    continue;
+                }
+                let id = *ids
+                    .entry(u64::from(lo) << 32 | u64::from(hi))
+                    .or_insert_with(|| {
+                        match (lo, hi) {
+                            (0, 1) => bdd.wires += 1,
+                            (1, 0) => bdd.inverters += 1,
+                            (0 | 1, _) | (_, 0 | 1) => bdd.gates += 1,
+                            _ => bdd.muxes += 1,
+                        }
+                        next += 1;
+                        next - 1
+                    });
+                up.push(id);
+            }
+        }
+        level = up;
+        block = half;
+    }
+    bdd
+}
+
+/// A multiplicative hash of the BDD's `(lo, hi)` keys (the std hasher is 3x slower here).
+#[derive(Default, Clone, Copy)]
+struct NodeHash;
+
+impl std::hash::BuildHasher for NodeHash {
+    type Hasher = NodeHasher;
+    fn build_hasher(&self) -> NodeHasher {
+        NodeHasher(0)
+    }
+}
+
+struct NodeHasher(u64);
+
+impl std::hash::Hasher for NodeHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 = (self.0.rotate_left(8) ^ u64::from(b)).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+        }
+    }
+    fn write_u64(&mut self, k: u64) {
+        self.0 = (k ^ (k >> 29)).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+    }
 }
 
 #[cfg(test)]
@@ -452,6 +637,91 @@ mod tests {
         for g in [&b, &c] {
             assert_eq!((g.rom(), g.memory(), g.total()), (20.0, 3.0, 24.0));
         }
+    }
+
+    #[test]
+    fn rom_contents_are_counted_as_a_shared_bdd() {
+        let t = CostTable::default();
+        let both = |w: &[i64], b: u32| (rom_bdd(w, b, true), rom_bdd(w, b, false));
+        // a constant table: no node, free (its bit count would price it 819.2 GE)
+        let (m, l) = both(&[0xa5; 256], 8);
+        assert_eq!((m, l), (RomBdd::default(), RomBdd::default()));
+        assert_eq!(t.rom_of(&[0xa5; 256], 8), 0.0);
+        // the identity: each output bit is its address bit, one wire node each, free
+        let id: Vec<i64> = (0..256).collect();
+        let want = RomBdd {
+            wires: 8,
+            ..RomBdd::default()
+        };
+        assert_eq!(both(&id, 8), (want, want));
+        assert_eq!(t.rom_of(&id, 8), 0.0);
+        // one bit varying, y0 = a1 & a0: a wire (a0) under an AND node (a1) in either order
+        let and = RomBdd {
+            wires: 1,
+            gates: 1,
+            ..RomBdd::default()
+        };
+        assert_eq!(both(&[0, 0, 0, 1], 1), (and, and));
+        assert!((t.rom_of(&[0, 0, 0, 1], 1) - 0.61).abs() < 1e-12);
+        // y0 = y1 = a1 ^ a0: a wire and an inverter (a0) under one mux (a1), shared by both
+        // output bits
+        let xor = RomBdd {
+            wires: 1,
+            inverters: 1,
+            muxes: 1,
+            ..RomBdd::default()
+        };
+        assert_eq!(both(&[0, 3, 3, 0], 2), (xor, xor));
+        assert!((t.rom_of(&[0, 3, 3, 0], 2) - 2.13).abs() < 1e-12);
+        // three words: the fourth reads 0 (y = a1 & !a0 | !a1 & a0 ... = a0 ^ a1 with [3] = 0)
+        assert_eq!(both(&[0, 1, 1], 1), both(&[0, 1, 1, 0], 1));
+        // bits above `bits` are not read; the order matters: y0 = a0 of a 4-entry table
+        // is a wire below a1 with the msb at the root, and a wire at the root the other way
+        assert_eq!(
+            both(&[0, 1 | 6, 0, 1], 1).0,
+            RomBdd {
+                wires: 1,
+                ..RomBdd::default()
+            }
+        );
+        // x^2 of 256 x 8 (the power table's contents): cheaper in one order
+        let sq: Vec<i64> = (0..256).map(|i| (i * i) >> 8).collect();
+        let (m, l) = both(&sq, 8);
+        assert!((t.rom_of(&sq, 8) - m.ge().min(l.ge())).abs() < 1e-9);
+        assert!(t.rom_of(&sq, 8) < t.rom(256, 8));
+        // an overridden `rom_bit` scales the estimate; a loadable table ignores the contents
+        let half = CostTable { rom_bit: 0.2, ..t };
+        assert!((half.rom_of(&sq, 8) - 0.5 * t.rom_of(&sq, 8)).abs() < 1e-9);
+        assert_eq!(t.table_of(&sq, 8), t.table(256, 8));
+        let rom = CostTable {
+            tables: MemoryKind::Rom,
+            ..t
+        };
+        assert_eq!(rom.table_of(&sq, 8), t.rom_of(&sq, 8));
+    }
+
+    #[test]
+    fn random_contents_cost_about_rom_bit() {
+        // random words: about the bit-count bound (yosys 0.35-0.45 GE a bit)
+        let mut s = 1u32;
+        let words: Vec<i64> = (0..1024)
+            .map(|_| {
+                s = s.wrapping_mul(1103515245).wrapping_add(12345) & 0x7fff_ffff;
+                i64::from(s >> 16 & 0xff)
+            })
+            .collect();
+        let t = CostTable::default();
+        let r = t.rom_of(&words, 8) / t.rom(1024, 8);
+        assert!((0.6..1.0).contains(&r), "{r}");
+        // a 2^16-entry, 16-bit table is read in bounded time (two diagrams of 2^20 leaves)
+        let big: Vec<i64> = (0..1i64 << 16).map(|i| (i * i) >> 16).collect();
+        let t0 = std::time::Instant::now();
+        let ge = t.rom_of(&big, 16);
+        println!(
+            "2^16 x 16 ramp of squares: {ge:.1} GE in {:?}",
+            t0.elapsed()
+        );
+        assert!(ge > 0.0 && ge < t.rom(1 << 16, 16));
     }
 
     #[test]

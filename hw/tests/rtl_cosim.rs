@@ -255,3 +255,129 @@ fn quantized_builder_writes_every_entry_as_the_model() {
         cosim_on(&c, ins, &format!("every_entry_{}", c.name));
     }
 }
+
+/// The NDF turbulence of the software path (`rtl::ndf_turbulence`): `octaves` octaves of two
+/// improved-noise sums at `frequency` cells (permutations `seed`, `seed + 1`), index scale
+/// `scale`, `frac` fraction bits.
+#[allow(clippy::too_many_arguments)]
+fn turbulence(
+    name: &'static str,
+    frequency: u32,
+    seed: u64,
+    octaves: u32,
+    scale: f64,
+    frac: u32,
+    (uv, lod, out): (
+        bumpsim_hw::Encoding,
+        bumpsim_hw::Encoding,
+        bumpsim_hw::Encoding,
+    ),
+) -> Case {
+    use bumpsim_hw::units::{ndf_noise::Turbulence, TurbulenceIndex};
+    let t = Turbulence::new(frequency, seed);
+    let u = TurbulenceIndex::new(t, octaves, scale, frac, uv, lod, out).unwrap();
+    let rtl = bumpsim_hw::rtl::ndf_turbulence::rtl(&u, name);
+    Case::new(name, u, rtl)
+}
+
+/// `configs/ndf-teapot-aniso-sw.ron`'s noise: 4 octaves from 8 cells, seed 1, u16.16
+/// coordinates, a u8.4 LOD, 16 fraction bits, the Ward NDF's index scale (code 0x6b15), u16.16
+/// indices.
+fn turbulence_bundled() -> Case {
+    let fx = |w, f| bumpsim_hw::Encoding::fixed(bumpsim_hw::Format::u(w, f));
+    turbulence(
+        "ndf_turbulence",
+        8,
+        1,
+        4,
+        f64::from(0x6b15) / 65536.0,
+        16,
+        (fx(16, 16), fx(8, 4), fx(16, 16)),
+    )
+}
+
+/// Other widths and lattices: fewer datapath bits than coordinate bits (the position
+/// truncated), a LOD with fewer than 8 fraction bits; a period of 3 (not a power of two:
+/// the constant multiply, the modular neighbour) with a signed LOD (negative: every octave)
+/// and a scale above 1; a one-cell octave (no cell bits, the hash of cell 0) under a
+/// `UnitUnsigned` LOD; periods of 200 and 400 (above the permutation: `i & 255`).
+fn turbulence_variants() -> Vec<Case> {
+    use bumpsim_hw::{Codec, Encoding, Format};
+    let u = |w, f| Encoding::fixed(Format::u(w, f));
+    vec![
+        turbulence(
+            "turb_f8_oct2",
+            4,
+            5,
+            2,
+            0.9,
+            8,
+            (
+                u(12, 12),
+                u(4, 2),
+                Encoding::texel(Codec::UnitUnsigned, false, 8),
+            ),
+        ),
+        turbulence(
+            "turb_period3",
+            3,
+            9,
+            3,
+            2.5,
+            12,
+            (u(10, 10), Encoding::fixed(Format::s(6, 3)), u(10, 9)),
+        ),
+        turbulence(
+            "turb_one_cell",
+            1,
+            0,
+            2,
+            0.3,
+            6,
+            (
+                u(16, 16),
+                Encoding::texel(Codec::UnitUnsigned, false, 8),
+                u(16, 16),
+            ),
+        ),
+        turbulence(
+            "turb_period400",
+            200,
+            2,
+            2,
+            0.45,
+            10,
+            (u(16, 16), u(8, 4), u(12, 12)),
+        ),
+    ]
+}
+
+#[test]
+fn ndf_turbulence_matches_the_model_word_for_word() {
+    cosim(vec![turbulence_bundled()], BUNDLED_VECTORS, 0x13_2001);
+    cosim(turbulence_variants(), VARIANT_VECTORS, 0x13_2101);
+}
+
+/// The bundled turbulence on uniform coordinates with LODs spread over every octave count
+/// (0 to 4 octaves and the blends between; the generic vectors' uniform u8.4 LOD is mostly
+/// above 4, which leaves no octave).
+#[test]
+fn ndf_turbulence_matches_the_model_over_every_octave_count() {
+    if skip_requested() {
+        return;
+    }
+    assert!(iverilog_available(), "rtl_cosim: iverilog not found");
+    let c = turbulence_bundled();
+    let (uv, lod) = (c.unit.inputs()[0].enc, c.unit.inputs()[1].enc);
+    let mut r = vectors::SplitMix(0x13_2201);
+    let ins = (0..3000)
+        .map(|_| {
+            let (a, b) = (r.range(0, 65535), r.range(0, 65535));
+            vec![
+                Word::from_raw(&uv, &[a, b]),
+                Word::from_raw(&lod, &[r.range(0, 4 * 16 + 1)]),
+            ]
+        })
+        .collect();
+    cosim_on(&c, ins, "ndf_turbulence_octaves");
+}

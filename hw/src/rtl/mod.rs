@@ -34,6 +34,7 @@ pub mod fb_blend;
 pub mod fetch;
 pub mod fixed;
 pub mod modulate;
+pub mod ndf_turbulence;
 pub mod normalize;
 pub mod palette_builder;
 pub mod perturb;

@@ -223,7 +223,7 @@ pub(crate) fn pipelined(b: &PaletteBuilder, t: &CostTable) -> Option<GateBudget>
     g.add_memory(
         format!("normal table {n}x{} (loadable)", 3 * wn),
         1,
-        t.table(n, 3 * wn),
+        t.table_of(&b.normal_words(), 3 * wn),
     );
     g.add(
         format!("slot vector registers 3x{wv}"),
@@ -435,7 +435,7 @@ pub(crate) fn pipelined(b: &PaletteBuilder, t: &CostTable) -> Option<GateBudget>
             g.add_memory(
                 format!("power table {k} {}x{value_bits} (loadable)", tab.len()),
                 1,
-                t.table(tab.len() as u64, value_bits),
+                t.table_of(tab, value_bits),
             );
         }
         if tables.len() > 1 {

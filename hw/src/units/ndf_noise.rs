@@ -66,8 +66,9 @@ pub fn permutation(seed: u64) -> [u8; 256] {
     p
 }
 
-/// Perlin's 2002 `grad(hash, x, y, 0)` as `(gx, gy)`, each 0 or ±1.
-fn grad(hash: u8) -> (i64, i64) {
+/// Perlin's 2002 `grad(hash, x, y, 0)` as `(gx, gy)`, each 0 or ±1 (only `hash & 15`
+/// matters).
+pub fn grad(hash: u8) -> (i64, i64) {
     let h = hash & 15;
     let u = if h & 1 == 0 { 1 } else { -1 };
     let v = if h & 2 == 0 { 1 } else { -1 };
@@ -119,6 +120,11 @@ impl Noise {
         Noise {
             perm: permutation(seed),
         }
+    }
+
+    /// The permutation.
+    pub fn perm(&self) -> &[u8; 256] {
+        &self.perm
     }
 
     /// Perlin's `p[p[p[X] + Y] + Z]` at `Z = 0`.
@@ -191,6 +197,11 @@ impl Turbulence {
             frequency,
             noise: [Noise::new(seed), Noise::new(seed.wrapping_add(1))],
         }
+    }
+
+    /// The noise of random number `which` (0: r1, 1: r2).
+    pub fn noise(&self, which: usize) -> &Noise {
+        &self.noise[which]
     }
 
     /// Octave `k` of random number `which` (0: r1, 1: r2) at `(u, v)`, exact.

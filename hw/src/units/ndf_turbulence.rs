@@ -19,10 +19,37 @@ use super::ndf_noise::{Turbulence, MAX_OCTAVES};
 use crate::arith::Acc;
 use crate::format::Encoding;
 use crate::gates::{CostTable, GateBudget};
+use crate::rtl::ndf_turbulence::LATENCY;
+use crate::rtl::verilog::{signed_bits, unsigned_bits};
 use crate::unit::{Mode, PortSpec, Unit, Word};
 
 /// Fraction bits of the index scale.
-const SCALE_FRAC: u32 = 16;
+pub const SCALE_FRAC: u32 = 16;
+
+/// Where octave `k`'s lattice position comes from in the coordinate word (one axis): the
+/// low `ubits` bits `r` of the raw word (the coordinate wrapped to `[0, 1)`) times the
+/// period, `P = r period`; the cell index is `P >> uv_frac` (in `[0, period)`) and the
+/// position in the cell, at the datapath's `frac` bits, is `P[uv_frac - 1 : low] 2^(frac -
+/// fb)`: `fb = uv_frac - low` bits that are not always zero (the coordinate's bits below
+/// the period's trailing zeros, or below the datapath's fraction bits, are not in it).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Lattice {
+    pub period: u64,
+    pub ubits: u32,
+    pub low: u32,
+    pub fb: u32,
+}
+
+impl Lattice {
+    /// Bits of the cell index (0 for a one-cell period).
+    pub fn index_bits(&self) -> u32 {
+        if self.period <= 1 {
+            0
+        } else {
+            64 - (self.period - 1).leading_zeros()
+        }
+    }
+}
 
 /// See the module documentation.
 pub struct TurbulenceIndex {
@@ -75,6 +102,40 @@ impl TurbulenceIndex {
         })
     }
 
+    pub fn turbulence(&self) -> &Turbulence {
+        &self.turbulence
+    }
+    pub fn octaves(&self) -> u32 {
+        self.octaves
+    }
+    /// Fraction bits of the noise datapath.
+    pub fn frac(&self) -> u32 {
+        self.frac
+    }
+    /// The index scale as a code with [`SCALE_FRAC`] fraction bits.
+    pub fn scale_raw(&self) -> i64 {
+        self.scale_raw
+    }
+    /// Bits of the index scale's register: [`SCALE_FRAC`], more for a scale of 1 or more.
+    pub fn scale_bits(&self) -> u32 {
+        (64 - (self.scale_raw as u64).leading_zeros()).max(SCALE_FRAC)
+    }
+
+    /// Octave `k`'s lattice geometry on one axis (both axes have the same).
+    pub fn lattice(&self, k: u32) -> Lattice {
+        let uv = self.inputs[0].enc.format;
+        let uf = uv.frac as u32;
+        let period = u64::from(self.turbulence.frequency) << k;
+        let s = period.trailing_zeros();
+        let low = s.max(uf.saturating_sub(self.frac)).min(uf);
+        Lattice {
+            period,
+            ubits: (uv.width as u32).min(uf),
+            low,
+            fb: uf - low,
+        }
+    }
+
     /// The octave count at level of detail `lod`, exact.
     fn octaves_at(&self, lod: f64) -> f64 {
         (f64::from(self.octaves) - lod).clamp(0.0, f64::from(self.octaves))
@@ -100,46 +161,232 @@ impl Unit for TurbulenceIndex {
         1
     }
     fn gates(&self, t: &CostTable) -> GateBudget {
+        // the netlist of `rtl::ndf_turbulence` (docs/units/ndf.md, "Gates"), its widths
+        // from the same exact ranges
         let f = self.frac;
-        let n = 2 * self.octaves; // two random numbers, one datapath per octave each
+        let o = self.octaves;
         let mut g = GateBudget::new();
-        g.add_rom(
-            "permutation ROM 256 x 8 (4 corners x 3 lookups)",
-            n * 12,
-            t.rom(256, 8),
-        );
+        let sbits = |lo: i128, hi: i128| signed_bits(lo, hi);
+        let (fade_hi, mut nsum) = (1i128 << f, (0i128, 0i128));
+        let lod = self.inputs[1].enc;
+        let wb = Acc::from_code(0, &lod).frac.min(8);
+        for k in 0..o {
+            let l = self.lattice(k);
+            let (fb, xb) = (l.fb, l.index_bits());
+            if xb > 0 {
+                if l.period.is_power_of_two() {
+                    g.add(
+                        format!("octave {k}: neighbour cell incrementer {xb}"),
+                        2,
+                        t.half_adder * f64::from(xb),
+                    );
+                } else {
+                    g.add(
+                        format!(
+                            "octave {k}: coordinate x {} ({} bits), cell wrap",
+                            l.period, l.ubits
+                        ),
+                        2,
+                        t.constant_multiplier(l.ubits, u128::from(l.period))
+                            + t.constant_add(xb)
+                            + t.comparator(xb)
+                            + t.mux(xb, 2),
+                    );
+                }
+            }
+            // the position's two corner offsets fx and fx - 1 (a sign bit), on fb bits
+            let p = (1i128 << fb) - 1;
+            let (d0, d1) = ((0, p), (-(1i128 << fb), -1));
+            if fb > 0 {
+                // the fade, per axis (shared by the two noises)
+                let q = 2 * fb + 4;
+                g.add(format!("octave {k}: fade squarer {fb}"), 2, t.squarer(fb));
+                g.add(
+                    format!("octave {k}: fade t^2 t {}x{fb}", 2 * fb),
+                    2,
+                    t.multiplier(2 * fb, fb),
+                );
+                g.add(
+                    format!("octave {k}: fade 6 t^2 - 15 t + 10 ({q} bits)"),
+                    2,
+                    t.shift_add(2 * fb, 6) + t.shift_add(fb, 15) + t.adder(q) + t.constant_add(4),
+                );
+                g.add(
+                    format!("octave {k}: fade t^3 q {}x{q}", 3 * fb),
+                    2,
+                    t.multiplier(3 * fb, q),
+                );
+                if 5 * fb > f {
+                    g.add(
+                        format!("octave {k}: fade rounding {}", f + 1),
+                        2,
+                        t.constant_add(f + 1),
+                    );
+                }
+                g.add(
+                    format!(
+                        "octave {k}: fade and position stage registers {}",
+                        f + 2 + fb
+                    ),
+                    2,
+                    t.dff * f64::from(f + 2 + fb),
+                );
+            }
+            // per noise: the hash, the corner dots, the lerps, the weighted term
+            if xb > 0 {
+                let yb = xb.min(8);
+                g.add(
+                    format!("octave {k}: hash adder P[i] + j (8 bits, j {yb})"),
+                    2 * 4,
+                    t.adder(yb) + t.half_adder * f64::from(8 - yb),
+                );
+            }
+            g.add(
+                format!("octave {k}: gradient index stage register 4"),
+                2 * 4,
+                t.dff * 4.0,
+            );
+            // g . (dx, dy): per term a conditional negation of dx (an incrementer) and a
+            // select, and the sum
+            let term = |d: (i128, i128)| {
+                let mag = d.0.unsigned_abs().max(d.1.unsigned_abs()) as i128;
+                (-mag, mag)
+            };
+            let dot = |a: (i128, i128), b: (i128, i128)| {
+                let (ta, tb) = (term(a), term(b));
+                (ta.0 + tb.0, ta.1 + tb.1)
+            };
+            let dots = [dot(d0, d0), dot(d1, d0), dot(d0, d1), dot(d1, d1)];
+            for (c, d) in dots.iter().enumerate() {
+                let (wx, wy) = (
+                    sbits(term([d0, d1][c % 2]).0, term([d0, d1][c % 2]).1),
+                    sbits(term([d0, d1][c / 2]).0, term([d0, d1][c / 2]).1),
+                );
+                g.add(
+                    format!(
+                        "octave {k}: corner {c} dot ({wx} + {wy} -> {})",
+                        sbits(d.0, d.1)
+                    ),
+                    2,
+                    (t.constant_add(wx) + t.inv * f64::from(wx) + t.mux(wx, 3))
+                        + (t.constant_add(wy) + t.inv * f64::from(wy) + t.mux(wy, 3))
+                        + t.adder(sbits(d.0, d.1)),
+                );
+            }
+            // lerp p + round(t (q - p)) at f bits, t in [0, 2^f]; the result between p and q
+            let tw = unsigned_bits(fade_hi as u128);
+            let mut lerp = |what: &str, p: (i128, i128), q: (i128, i128), sh: u32| {
+                let d = (q.0 - p.1, q.1 - p.0);
+                let dw = sbits(d.0, d.1);
+                let (plo, phi) = (p.0 << sh, p.1 << sh);
+                g.add(
+                    format!(
+                        "octave {k}: {what} lerp: q - p {dw}, t (q - p) {tw}x{}, round, p + r",
+                        dw - 1
+                    ),
+                    2,
+                    t.adder(dw)
+                        + t.multiplier(tw, dw - 1)
+                        + t.adder(tw)
+                        + t.constant_add(f.min(tw))
+                        + t.adder(sbits(plo.min(q.0 << sh), phi.max(q.1 << sh))),
+                );
+                (plo.min(q.0 << sh), phi.max(q.1 << sh))
+            };
+            let sh = f - fb;
+            let r0 = lerp("x", dots[0], dots[1], sh);
+            let r1 = lerp("x", dots[2], dots[3], sh);
+            let n = lerp("y", r0, r1, 0);
+            let nw = sbits(n.0, n.1);
+            // w_k's low bits are zero below the LOD's fraction bits (a multiple of 2^(8 - F)):
+            // its non-zero bits and the 256 flag are the array's rows, the sign row an adder
+            g.add(
+                format!("octave {k}: weighted term n x w {nw}x{}", wb + 1),
+                2,
+                t.multiplier(nw, wb + 1) + t.adder(nw),
+            );
+            let s = o - 1 - k;
+            nsum = (nsum.0 + ((n.0 * 256) << s), nsum.1 + ((n.1 * 256) << s));
+            g.add(
+                format!("octave {k}: weight clamp(256 (octaves - k) - lod, 0, 256)"),
+                1,
+                t.adder(12) + t.clamp(9),
+            );
+        }
+        // the octave sum, rounded to f bits
+        let sw = sbits(nsum.0, nsum.1);
+        g.add(format!("octave sum adder {sw}"), 2 * (o - 1), t.adder(sw));
+        let by = 8 + o - 1;
+        let n = (nsum.0 >> by, (nsum.1 >> by) + 1);
+        let nw = sbits(n.0, n.1);
+        g.add(format!("octave sum rounding {nw}"), 2, t.constant_add(nw));
         g.add(
-            format!("fade polynomial multipliers {f}x{f}"),
-            n * 2 * 4,
-            t.multiplier(f, f),
-        );
-        g.add(
-            format!("lerp multipliers {f}x{f}"),
-            n * 3,
-            t.multiplier(f, f),
-        );
-        g.add(
-            format!("corner dot adders {}", f + 2),
-            n * 4,
-            t.adder(f + 2),
-        );
-        g.add(
-            format!("octave weight multiplier {f}x9"),
-            n,
-            t.multiplier(f, 9),
-        );
-        g.add(format!("octave sum adder {}", f + 12), n, t.adder(f + 12));
-        g.add(
-            format!("index scale multiplier {}x{SCALE_FRAC}", f + 2),
+            format!("noise stage register {nw}"),
             2,
-            t.multiplier(f + 2, SCALE_FRAC),
+            t.dff * f64::from(nw),
         );
-        g.add(format!("clamp {}", f + 2), 2, t.clamp(f + 2));
+        let lw = self.inputs[1].enc.width();
+        g.add(format!("LOD stage register {lw}"), 1, t.dff * f64::from(lw));
+        // the index
+        let sb = self.scale_bits();
         g.add(
-            format!("pipeline registers {}", 4 * f),
-            n,
-            t.register(4 * f),
+            format!("index scale multiplier {}x{sb}", nw - 1),
+            2,
+            t.multiplier(nw - 1, sb) + t.adder(sb),
         );
+        let wo = self.outputs[0].enc.width();
+        g.add(
+            format!("1/2 + n scale, clamp to [0, 1] and cast into {wo} bits"),
+            2,
+            t.constant_add(wo + 2) + t.clamp(wo),
+        );
+        g.add(format!("index output register {wo}"), 2, t.register(wo));
+        g.add(format!("index scale register {sb}"), 1, t.register(sb));
+        g.add("sequencer", 1, t.sequencer(LATENCY + 1));
+        // the tables, one set per random number (r1, r2), each priced by its noise's own
+        // permutation (`CostTable::rom_of`)
+        for which in 0..2 {
+            let perm: Vec<i64> = self
+                .turbulence
+                .noise(which)
+                .perm()
+                .iter()
+                .map(|&p| i64::from(p))
+                .collect();
+            let r = ["r1", "r2"][which];
+            for k in 0..o {
+                let l = self.lattice(k);
+                let n = l.period.min(256);
+                if l.index_bits() > 0 && n < 256 {
+                    g.add_rom(
+                        format!("{r} octave {k}: permutation ROM {n} x 8 (P[i], i < {n})"),
+                        2,
+                        t.rom_of(&perm[..n as usize], 8),
+                    );
+                }
+            }
+            let full = (0..o)
+                .map(|k| {
+                    let l = self.lattice(k);
+                    if l.index_bits() == 0 || l.period < 256 {
+                        4
+                    } else {
+                        6
+                    }
+                })
+                .sum::<u32>();
+            g.add_rom(
+                format!("{r} permutation ROM 256 x 8"),
+                full,
+                t.rom_of(&perm, 8),
+            );
+            let grad: Vec<i64> = perm.iter().map(|p| p & 15).collect();
+            g.add_rom(
+                format!("{r} gradient index ROM 256 x 4 (P[b] & 15)"),
+                4 * o,
+                t.rom_of(&grad, 4),
+            );
+        }
         g
     }
     fn eval(&self, mode: Mode, ins: &[Word], outs: &mut [Word]) {

@@ -101,10 +101,11 @@ impl Rsqrt {
             t.mux(width, 2) * levels as f64,
         );
         let (entries, vb) = (self.entries(), self.value_bits());
+        // priced by its contents: a smooth table, 2.5x smaller than random words
         g.add_rom(
             format!("{label}rsqrt table {entries}x{vb}"),
             1,
-            t.rom(entries, vb),
+            t.rom_of(self.table(), vb),
         );
     }
 
@@ -170,6 +171,11 @@ impl Normalize {
     /// The reciprocal-square-root table (for the generated Verilog, `rtl::normalize`).
     pub(crate) fn rsqrt(&self) -> &Rsqrt {
         &self.rsqrt
+    }
+    /// The reciprocal-square-root table's words (u2.(value_bits-2) codes, `2^table_bits` of
+    /// them), as its ROM holds them.
+    pub fn rsqrt_table(&self) -> &[i64] {
+        self.rsqrt.table()
     }
 }
 

@@ -464,6 +464,18 @@ impl PaletteBuilder {
     pub fn normals(&self) -> &[[f64; 3]] {
         &self.normals
     }
+    /// The table `N` as the words its memory holds: each component's `normal` code, packed
+    /// from bit 0 (x, y, z), `3 x normal` bits an entry; what a ROM of it (`cost.tables =
+    /// Rom`) is priced by.
+    pub fn normal_words(&self) -> Vec<i64> {
+        let e = &self.f.normal;
+        let codes: Vec<[i64; 3]> = self
+            .normals
+            .iter()
+            .map(|n| n.map(|x| e.encode(x)))
+            .collect();
+        crate::gates::packed_words(&codes, e.width())
+    }
     /// The material intervals and their functions.
     pub fn materials(&self) -> &[(Range<usize>, LightingFn)] {
         &self.materials
@@ -553,7 +565,7 @@ impl PaletteBuilder {
         g.add_memory(
             format!("normal table {n}x{} (loadable)", 3 * wn),
             1,
-            t.table(n, 3 * wn),
+            t.table_of(&self.normal_words(), 3 * wn),
         );
         // host-loaded registers: every vector and colour of every material
         let (mut vecs, mut cols) = (0u32, 0u32);
@@ -651,8 +663,13 @@ impl PaletteBuilder {
             g.add(format!("gradient adder {we}"), 3 * p, t.adder(we + 1));
         }
         if env_bits > 0 {
-            // sphere-map address: 1/m from a 1024 x 12 ROM and two multipliers
-            g.add_rom("sphere-map 1/m table 1024x12", p, t.rom(1024, 12));
+            // sphere-map address: 1/m from a 1024 x 12 ROM (priced by its contents) and two
+            // multipliers
+            g.add_rom(
+                "sphere-map 1/m table 1024x12",
+                p,
+                t.rom_of(sphere_map_recip_table(), SPHERE_RECIP_BITS),
+            );
             g.add(
                 format!("sphere-map address multiplier {wd}x12"),
                 2 * p,
@@ -678,6 +695,32 @@ impl PaletteBuilder {
         g.add(format!("entry register {}", 4 * we), p, t.register(4 * we));
         g
     }
+}
+
+/// Address bits of the sphere map's 1/m table ([`sphere_map_recip_table`]).
+pub const SPHERE_RECIP_INDEX_BITS: u32 = 10;
+/// Word width of the sphere map's 1/m table: u1.11.
+pub const SPHERE_RECIP_BITS: u32 = 12;
+
+/// The sphere map's 1/m table as a ROM would hold it (the model computes the address in f64,
+/// so this table prices the hardware and is not read): for a unit reflection `R`, `m = 2
+/// sqrt(R_x^2 + R_y^2 + (R_z + 1)^2) = 4 sqrt(u)` with `u = (1 + R_z) / 2` in [0, 1]; entry
+/// `i` is `1 / m` at the bin centre `u = (i + 1/2) / 1024`, in u1.11, saturated (`m <= 1/2`,
+/// the reflections within 15 degrees of straight down).
+pub fn sphere_map_recip_table() -> &'static [i64] {
+    static TABLE: std::sync::OnceLock<Vec<i64>> = std::sync::OnceLock::new();
+    TABLE.get_or_init(|| {
+        let n = 1u32 << SPHERE_RECIP_INDEX_BITS;
+        let frac = SPHERE_RECIP_BITS - 1;
+        let max = (1i64 << SPHERE_RECIP_BITS) - 1;
+        (0..n)
+            .map(|i| {
+                let u = (f64::from(i) + 0.5) / f64::from(n);
+                let r = 1.0 / (4.0 * u.sqrt());
+                ((r * f64::from(1u32 << frac)).round() as i64).min(max)
+            })
+            .collect()
+    })
 }
 
 /// `sum_l color_l max(0, N.L_l)` per channel.

@@ -192,7 +192,8 @@ impl Unit for PaletteLut {
         g.add_memory(
             format!("colour table {n}x{} (loadable)", 4 * w),
             1,
-            t.table(n, 4 * w),
+            // as a ROM (`cost.tables = Rom`), the colours it holds now
+            t.table_of(&crate::gates::packed_words(&self.table.codes, w), 4 * w),
         );
         g.add(
             format!("index register {}", self.index_bits),

@@ -91,7 +91,7 @@ impl Unit for PowerTable {
         g.add_memory(
             format!("power table {}x{vb} (loadable)", self.table.len()),
             self.parallel,
-            t.table(self.table.len() as u64, vb),
+            t.table_of(&self.table, vb),
         );
         // the index: `(x << n) - x` of the input word rounded to n bits (`rtl::power`): a
         // subtractor where the two copies overlap (the input bits beyond n), a borrow and

@@ -327,7 +327,7 @@ impl SpecularGenerator {
                 g.add_memory(
                     format!("power table {}x{value_bits} (loadable)", self.table.len()),
                     1,
-                    t.table(self.table.len() as u64, value_bits),
+                    t.table_of(&self.table, value_bits),
                 );
                 g.add(
                     format!("index rounding {wi}"),
@@ -347,7 +347,7 @@ impl SpecularGenerator {
                         self.table.len()
                     ),
                     1,
-                    t.table(self.table.len() as u64, v),
+                    t.table_of(&self.table, v),
                 );
                 g.add(
                     format!("index scaling x(2^{b}-1) {}", wi + b),
