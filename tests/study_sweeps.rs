@@ -7,10 +7,50 @@ mod common;
 use common::*;
 
 /// Each study sweep, the directory its generator runs it into, and the page quoting it.
-const STUDY_SWEEPS: [(&str, &str, &str); 7] = [
+const STUDY_SWEEPS: &[(&str, &str, &str)] = &[
     (
         "tarini-quantization",
         "quantized/sweep",
+        "quantized-normals.md",
+    ),
+    ("tarini-error", "quantized/error", "quantized-normals.md"),
+    (
+        "tarini-neuquant",
+        "quantized/neuquant",
+        "quantized-normals.md",
+    ),
+    (
+        "tarini-builder",
+        "quantized/builder",
+        "quantized-normals.md",
+    ),
+    (
+        "tarini-texture-size",
+        "quantized/texture-size",
+        "quantized-normals.md",
+    ),
+    ("tarini-bits", "quantized/bits", "quantized-normals.md"),
+    ("tarini-blend", "quantized/blend", "quantized-normals.md"),
+    ("tarini-floor", "quantized/floor", "quantized-normals.md"),
+    (
+        "tarini-floor-unmipmapped",
+        "quantized/floor-unmipmapped",
+        "quantized-normals.md",
+    ),
+    ("tarini-vase", "quantized/vase", "quantized-normals.md"),
+    (
+        "tarini-fig5-envmap",
+        "quantized/fig5-envmap",
+        "quantized-normals.md",
+    ),
+    (
+        "tarini-fig8-materials",
+        "quantized/fig8-materials",
+        "quantized-normals.md",
+    ),
+    (
+        "tarini-fig10-colors",
+        "quantized/fig10-colors",
         "quantized-normals.md",
     ),
     (
@@ -22,6 +62,48 @@ const STUDY_SWEEPS: [(&str, &str, &str); 7] = [
     (
         "ernst-torus-faceting",
         "gouraud/faceting",
+        "gouraud-bump.md",
+    ),
+    (
+        "ernst-gates-bump-width",
+        "gouraud/gates-bump-width",
+        "gouraud-bump.md",
+    ),
+    (
+        "ernst-gates-lh-width",
+        "gouraud/gates-lh-width",
+        "gouraud-bump.md",
+    ),
+    (
+        "ernst-gates-colour-width",
+        "gouraud/gates-colour-width",
+        "gouraud-bump.md",
+    ),
+    (
+        "ernst-power-table",
+        "gouraud/power-table",
+        "gouraud-bump.md",
+    ),
+    ("ernst-bandwidth", "gouraud/bandwidth", "gouraud-bump.md"),
+    (
+        "ernst-bandwidth-l-port",
+        "gouraud/bandwidth-l-port",
+        "gouraud-bump.md",
+    ),
+    ("ernst-lights", "gouraud/lights", "gouraud-bump.md"),
+    (
+        "ernst-lights-parallel",
+        "gouraud/lights-parallel",
+        "gouraud-bump.md",
+    ),
+    (
+        "ernst-specular-generator",
+        "gouraud/specular-generator",
+        "gouraud-bump.md",
+    ),
+    (
+        "ernst-flat-shading",
+        "gouraud/flat-shading",
         "gouraud-bump.md",
     ),
     ("embm-resolution", "embm/resolution", "embm-limits.md"),

@@ -5,6 +5,7 @@
 //! The definitions and formulas are in `docs/metrics.md`:
 //!
 //! * `banding`: false-contour length, contour edges per covered pixel;
+//! * `blockiness`: steps between plateaus per covered pixel, specks included;
 //! * `faceting_lsb`: RMS difference of the discrete Laplacians of the two images after a
 //!   3x3 box blur (gradient discontinuities such as triangle edges of Gouraud shading);
 //! * `ringing_lsb`: mean overshoot beyond the reference's local range near strong edges;
@@ -22,6 +23,9 @@ pub const SMOOTH_LSB: f64 = 1.0;
 pub const FALSE_STEP_LSB: f64 = 1.0;
 /// Neighbouring values closer than this (LSB) are equal (a plateau).
 pub const FLAT_LSB: f64 = 0.5;
+/// The smallest group of 8-connected pixels with a step that [`banding`] counts as a contour
+/// (shorter groups are specks: the resolved steps of dither noise).
+pub const MIN_CONTOUR_PX: usize = 8;
 /// A reference step of at least this many LSBs between neighbours is a strong edge.
 pub const STRONG_EDGE_LSB: f64 = 32.0;
 /// Pixels within this Chebyshev distance of a strong edge are "near" it (ringing).
@@ -37,6 +41,12 @@ pub struct ArtifactStats {
     pub banding: f64,
     /// False-contour edges (pixel pairs).
     pub banding_edges: u64,
+    /// Steps between plateaus per covered pixel, specks included: blocks of any size (the
+    /// contour edges are those of them in groups of [`MIN_CONTOUR_PX`] or more).
+    #[serde(serialize_with = "ser_finite")]
+    pub blockiness: f64,
+    /// Steps between plateaus (pixel pairs), specks included.
+    pub blockiness_edges: u64,
     /// RMS Laplacian difference after a 3x3 box blur, in LSB.
     #[serde(serialize_with = "ser_finite")]
     pub faceting_lsb: f64,
@@ -129,11 +139,26 @@ impl<'a> Pair<'a> {
 /// Measure `a` against the reference `r` (see the module documentation).
 pub fn measure(a: &Rgb64, a_mask: &[bool], r: &Rgb64, r_mask: &[bool]) -> ArtifactStats {
     let p = Pair::new(a, a_mask, r, r_mask);
-    let (banding_edges, banding) = banding(&p);
+    let mut steps = plateau_steps(&p);
+    let per_px = |n: u64| {
+        let cov = p.covered();
+        if cov == 0 {
+            0.0
+        } else {
+            n as f64 / cov as f64
+        }
+    };
+    let blockiness_edges = steps
+        .iter()
+        .map(|&s| u64::from(s & 1) + u64::from((s >> 1) & 1))
+        .sum::<u64>();
+    let banding_edges = contour_steps(&mut steps, p.w, p.h);
     let (ringing_lsb, ringing_pixels) = ringing(&p);
     ArtifactStats {
-        banding,
+        banding: per_px(banding_edges),
         banding_edges,
+        blockiness: per_px(blockiness_edges),
+        blockiness_edges,
         faceting_lsb: faceting(&p),
         ringing_lsb,
         ringing_pixels,
@@ -146,10 +171,14 @@ pub fn measure(a: &Rgb64, a_mask: &[bool], r: &Rgb64, r_mask: &[bool]) -> Artifa
 /// the reference is smooth (`|r_q - r_p| <= SMOOTH_LSB`), the error steps by more than
 /// rounding explains (`|(a_q - a_p) - (r_q - r_p)| > FALSE_STEP_LSB`), and the test image is
 /// flat on both sides (`|a_p - a_{p-d}| < FLAT_LSB` and `|a_{q+d} - a_q| < FLAT_LSB`): a step
-/// between two plateaus. Returns the count and the count per covered pixel.
-fn banding(p: &Pair) -> (u64, f64) {
-    let mut edges = 0u64;
-    for (dx, dy) in [(1i64, 0i64), (0, 1)] {
+/// between two plateaus, marked at `p` (bit 0: to the right, bit 1: down), on a `w x h` grid.
+/// All of them are `blockiness`; those whose pixel lies in an 8-connected group of at least
+/// [`MIN_CONTOUR_PX`] pixels with a step are `banding`'s contour edges ([`contour_steps`]: a
+/// band's boundary is a line across the image, the steps of a dither pattern resolved on
+/// screen are specks).
+fn plateau_steps(p: &Pair) -> Vec<u8> {
+    let mut steps = vec![0u8; p.w * p.h];
+    for (bit, (dx, dy)) in [(1u8, (1i64, 0i64)), (2, (0, 1))] {
         for y in 0..p.h as i64 {
             for x in 0..p.w as i64 {
                 let (Some(i0), Some(i1), Some(i2), Some(i3)) = (
@@ -170,20 +199,63 @@ fn banding(p: &Pair) -> (u64, f64) {
                         && (a1[c] - a0[c]).abs() < FLAT_LSB
                         && (a3[c] - a2[c]).abs() < FLAT_LSB
                 });
-                edges += u64::from(hit);
+                if hit {
+                    steps[i1] |= bit;
+                }
             }
         }
     }
-    let cov = p.covered();
-    (
-        edges,
-        if cov == 0 {
-            0.0
-        } else {
-            edges as f64 / cov as f64
-        },
-    )
+    steps
 }
+
+/// The steps (bits 0 and 1 of `steps`, a `w x h` grid) whose pixel lies in an 8-connected
+/// group of at least [`MIN_CONTOUR_PX`] pixels with a step. Groups are found in row-major
+/// order of their first pixel with an explicit stack (bounded memory, any image size).
+fn contour_steps(steps: &mut [u8], w: usize, h: usize) -> u64 {
+    const VISITED: u8 = 4;
+    let count = |s: u8| u64::from(s & 1) + u64::from((s >> 1) & 1);
+    let mut total = 0u64;
+    let mut stack = Vec::new();
+    for start in 0..steps.len() {
+        if steps[start] & 3 == 0 || steps[start] & VISITED != 0 {
+            continue;
+        }
+        steps[start] |= VISITED;
+        stack.push(start);
+        let (mut pixels, mut edges) = (0usize, 0u64);
+        while let Some(i) = stack.pop() {
+            pixels += 1;
+            edges += count(steps[i]);
+            let (x, y) = ((i % w) as i64, (i / w) as i64);
+            for (dx, dy) in NEIGHBOURS_8 {
+                let (nx, ny) = (x + dx, y + dy);
+                if nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64 {
+                    continue;
+                }
+                let j = ny as usize * w + nx as usize;
+                if steps[j] & 3 != 0 && steps[j] & VISITED == 0 {
+                    steps[j] |= VISITED;
+                    stack.push(j);
+                }
+            }
+        }
+        if pixels >= MIN_CONTOUR_PX {
+            total += edges;
+        }
+    }
+    total
+}
+
+const NEIGHBOURS_8: [(i64, i64); 8] = [
+    (-1, -1),
+    (0, -1),
+    (1, -1),
+    (-1, 0),
+    (1, 0),
+    (-1, 1),
+    (0, 1),
+    (1, 1),
+];
 
 /// The values of both sides of a [`Pair`] in LSBs for a band of consecutive rows (row `y` in
 /// slot `y mod rows`), each pixel converted once for all the taps that read it.
@@ -583,6 +655,59 @@ mod tests {
         // a real edge of the reference is not a false contour
         let step = img(|x, _| if x < 32 { 50.0 } else { 60.0 });
         assert_eq!(m(&step, &step).banding_edges, 0);
+    }
+
+    #[test]
+    fn contours_are_groups_of_at_least_eight_pixels() {
+        let (w, h) = (16usize, 12usize);
+        let grid = |cells: &[(usize, usize, u8)]| {
+            let mut g = vec![0u8; w * h];
+            for &(x, y, b) in cells {
+                g[y * w + x] |= b;
+            }
+            g
+        };
+        let line = |n: usize, b: u8| (0..n).map(|i| (3, i, b)).collect::<Vec<_>>();
+        assert_eq!(contour_steps(&mut grid(&line(8, 1)), w, h), 8);
+        assert_eq!(contour_steps(&mut grid(&line(7, 1)), w, h), 0);
+        // both steps of a pixel count; the group is its pixels
+        assert_eq!(contour_steps(&mut grid(&line(8, 3)), w, h), 16);
+        assert_eq!(contour_steps(&mut grid(&line(7, 3)), w, h), 0);
+        // a diagonal is connected
+        let diag: Vec<_> = (0..8).map(|i| (i, i, 2)).collect();
+        assert_eq!(contour_steps(&mut grid(&diag), w, h), 8);
+        // two groups of 4 apart are two specks
+        let mut two: Vec<_> = (0..4).map(|i| (1, i, 1)).collect();
+        two.extend((0..4).map(|i| (9, i + 6, 1)));
+        assert_eq!(contour_steps(&mut grid(&two), w, h), 0);
+        // a group touching the image's last column and row
+        let corner: Vec<_> = (0..8).map(|i| (w - 1, h - 1 - i, 1)).collect();
+        assert_eq!(contour_steps(&mut grid(&corner), w, h), 8);
+    }
+
+    #[test]
+    fn specks_of_a_resolved_dither_are_not_contours() {
+        let r = img(ramp);
+        // 2 x 2 pixel blocks raised by 4 LSB, 6 pixels apart, on the rounded ramp: each block
+        // is a step between plateaus on its four sides (7 pixels, 8 steps), a speck
+        let specks = img(|x, y| {
+            let raised = x % 6 >= 2 && x % 6 < 4 && y % 6 >= 2 && y % 6 < 4;
+            ramp(x, y).round() + if raised { 4.0 } else { 0.0 }
+        });
+        assert_eq!(m(&specks, &r).banding_edges, 0);
+        // every block's steps are blockiness: 8 a block, 11 x 5 blocks (x = 2, 8, .., 62;
+        // y = 2, 8, .., 26), less the 10 steps at the image's right border (no x + 2 there)
+        assert_eq!(m(&specks, &r).blockiness_edges, 430);
+        // the same blocks joined into bars 20 pixels long are contours
+        let bars = img(|x, y| {
+            let raised = (4..24).contains(&x) && y % 6 >= 2 && y % 6 < 4;
+            ramp(x, y).round() + if raised { 4.0 } else { 0.0 }
+        });
+        assert!(
+            m(&bars, &r).banding_edges >= 5 * 40,
+            "{}",
+            m(&bars, &r).banding_edges
+        );
     }
 
     /// 4x4 Bayer thresholds in [0, 1).

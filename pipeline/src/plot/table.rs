@@ -51,7 +51,7 @@ impl Default for TableSpec {
 impl TableSpec {
     /// Check the spec against the CSV's header (`name`: the CSV in messages, `field`: where
     /// the spec is, e.g. `tables[0]` or `--columns`).
-    fn check(&self, csv: &Csv, name: &str, field: &str) -> Result<Vec<usize>, InputError> {
+    fn check(&self, csv: &Csv, name: &str, field: &str) -> Result<Vec<Vec<usize>>, InputError> {
         // a sweep file's `tables[k].columns`, or the command's `--columns` (field "")
         let e = |f: &str, m: String| match field {
             "" => InputError::new(name, format!("--{}", &f[1..]), m),
@@ -80,7 +80,7 @@ impl TableSpec {
         }
         self.columns
             .iter()
-            .map(|c| known(csv, c).map_err(|m| e(".columns", m)))
+            .map(|c| terms(csv, c).map_err(|m| e(".columns", m)))
             .collect()
     }
 
@@ -104,7 +104,13 @@ impl TableSpec {
             if conds.iter().any(|(c, v)| r[*c] != *v) {
                 continue;
             }
-            let cells: Vec<String> = cols.iter().map(|&c| number(&r[c], digits)).collect();
+            let cells: Vec<String> = cols
+                .iter()
+                .map(|c| match c[..] {
+                    [one] => number(&r[one], digits),
+                    _ => number(&sum(c.iter().map(|&k| r[k].as_str())), digits),
+                })
+                .collect();
             s += &format!("| {} |\n", cells.join(" | "));
         }
         Ok(s)
@@ -170,6 +176,39 @@ fn known(csv: &Csv, c: &str) -> Result<usize, String> {
     })
 }
 
+/// The CSV columns of table column `c`: the column of that name, or for `A+B+...` (no column
+/// of that name) the columns summed.
+fn terms(csv: &Csv, c: &str) -> Result<Vec<usize>, String> {
+    match (csv.column(c), c.contains('+')) {
+        (Some(k), _) => Ok(vec![k]),
+        (None, true) => c.split('+').map(|t| known(csv, t.trim())).collect(),
+        (None, false) => known(csv, c).map(|k| vec![k]),
+    }
+}
+
+/// The sum of the cells (as CSV text: an integer if all are, empty if any is not a number).
+fn sum<'a>(cells: impl Iterator<Item = &'a str>) -> String {
+    let (mut int, mut x, mut all_int) = (0i64, 0.0f64, true);
+    for c in cells {
+        if let Ok(i) = c.parse::<i64>() {
+            int = int.saturating_add(i);
+            x += i as f64;
+            continue;
+        }
+        match c.parse::<f64>() {
+            Ok(v) if v.is_finite() && !c.eq_ignore_ascii_case("nan") => {
+                x += v;
+                all_int = false;
+            }
+            _ => return String::new(),
+        }
+    }
+    match all_int {
+        true => int.to_string(),
+        false => format!("{x:?}"),
+    }
+}
+
 /// A cell as written: integers and text unchanged, other numbers with `digits` decimals;
 /// `|` escaped for Markdown.
 fn number(cell: &str, digits: usize) -> String {
@@ -204,6 +243,27 @@ mod tests {
             t.markdown(&csv(), "c.csv", "tables[0]").unwrap(),
             "| s_N | PSNR dB |\n|---|---|\n| 16 | 12.3 |\n| 64 | x\\|y |\n"
         );
+    }
+
+    #[test]
+    fn a_column_of_several_names_joined_by_plus_is_their_sum() {
+        let c = Csv::parse("index,a,b,c\n0,1.25,2,3\n1,4,5,x\n2,6,7,8\n").unwrap();
+        let t = TableSpec {
+            name: "t".into(),
+            columns: vec!["a+b".into(), "b + c".into(), "a+b+c".into()],
+            digits: 1,
+            ..Default::default()
+        };
+        assert_eq!(
+            t.markdown(&c, "c.csv", "tables[0]").unwrap(),
+            "| a+b | b + c | a+b+c |\n|---|---|---|\n| 3.2 | 5 | 6.2 |\n| 9 |  |  |\n| 13 | 15 | 21 |\n"
+        );
+        let bad = TableSpec {
+            columns: vec!["a+nope".into()],
+            ..Default::default()
+        };
+        let e = bad.markdown(&c, "c.csv", "tables[0]").unwrap_err();
+        assert_eq!(e.field, "tables[0].columns", "{e}");
     }
 
     #[test]

@@ -50,6 +50,40 @@ pub struct SweepFile {
     /// (`DIR/NAME.md`, [`crate::plot::table`]).
     #[serde(default)]
     pub tables: Vec<crate::plot::table::TableSpec>,
+    /// More report fields as columns: each a dot path into the report's JSON (`bumpsim report
+    /// --json`), e.g. `cycles.frame`, written as column `report.PATH` after the baseline's
+    /// ([`report_cell`]).
+    #[serde(default)]
+    pub report: Vec<String>,
+}
+
+/// The cell of report field `path` (dot-separated object keys and list indices) in `report`'s
+/// JSON: a number, text or boolean as it is, a list its length, anything else (an object,
+/// null, a path the report does not have) empty.
+pub fn report_cell(report: &serde_json::Value, path: &str) -> table::Cell {
+    use table::Cell;
+    let mut v = report;
+    for key in path.split('.') {
+        let next = match v {
+            serde_json::Value::Object(m) => m.get(key),
+            serde_json::Value::Array(a) => key.parse::<usize>().ok().and_then(|i| a.get(i)),
+            _ => None,
+        };
+        match next {
+            Some(n) => v = n,
+            None => return Cell::Empty,
+        }
+    }
+    match v {
+        serde_json::Value::Bool(b) => Cell::Bool(*b),
+        serde_json::Value::Number(n) => match n.as_i64() {
+            Some(i) => Cell::Int(i),
+            None => n.as_f64().map_or(Cell::Empty, Cell::Float),
+        },
+        serde_json::Value::String(t) => Cell::Text(t.clone()),
+        serde_json::Value::Array(a) => Cell::Int(a.len() as i64),
+        _ => Cell::Empty,
+    }
 }
 
 /// One axis: a `--set` path and its values.
@@ -429,7 +463,11 @@ impl Sweep {
             })?;
             let l = config::load_with(&self.base, &sets, LoadOptions { force })?;
             let r = crate::run::run(&l, None)?;
-            let extra = base.map(|b| b.cells(&r)).unwrap_or_default();
+            let mut extra = base.map(|b| b.cells(&r)).unwrap_or_default();
+            if !self.file.report.is_empty() {
+                let json = serde_json::to_value(&r.report).unwrap_or_default();
+                extra.extend(self.file.report.iter().map(|p| report_cell(&json, p)));
+            }
             Ok::<_, InputError>(Row::ok(p, &r.report, extra, &self.units))
         }));
         let after = self.extra_columns().len() + self.units.len();
@@ -440,12 +478,15 @@ impl Sweep {
         }
     }
 
-    /// The columns after the report columns: the baseline's, if the file has one.
+    /// The columns after the report columns: the baseline's, if the file has one, then
+    /// `report.PATH` per field of the file's `report`.
     fn extra_columns(&self) -> Vec<String> {
-        match self.file.baseline.is_empty() {
+        let mut c = match self.file.baseline.is_empty() {
             false => baseline::columns(),
             true => Vec::new(),
-        }
+        };
+        c.extend(self.file.report.iter().map(|p| format!("report.{p}")));
+        c
     }
 
     /// The plots name columns of the output and objectives with a direction.

@@ -61,8 +61,9 @@ impl Cell {
 /// The error figures of one comparison, in column order ([`errors`]).
 pub(crate) const ERRORS: [&str; 3] = ["psnr_db", "max_lsb", "mean_lsb"];
 /// The artifact figures of one comparison, in column order ([`artifacts`]).
-pub(crate) const ARTIFACTS: [&str; 5] = [
+pub(crate) const ARTIFACTS: [&str; 6] = [
     "banding",
+    "blockiness",
     "faceting_lsb",
     "ringing_lsb",
     "lowpass_psnr_db",
@@ -120,9 +121,10 @@ pub(crate) fn errors(e: &ErrorStats) -> [Cell; 3] {
     ]
 }
 
-pub(crate) fn artifacts(a: &ArtifactStats) -> [Cell; 5] {
+pub(crate) fn artifacts(a: &ArtifactStats) -> [Cell; 6] {
     [
         Cell::Float(a.banding),
+        Cell::Float(a.blockiness),
         Cell::Float(a.faceting_lsb),
         Cell::Float(a.ringing_lsb),
         Cell::Float(a.lowpass_psnr_db),
@@ -279,7 +281,8 @@ fn exact_number(line: &str, key: &str) -> Option<f64> {
 pub struct Table {
     /// The axes' column names.
     pub axes: Vec<String>,
-    /// Columns after the report columns: the baseline's (`baseline.rs`), or none.
+    /// Columns after the report columns: the baseline's (`baseline.rs`), if any, then the
+    /// sweep file's `report` fields (`report.PATH`).
     pub extra: Vec<String>,
     /// The base config's unit names: a `gates.<unit>` column each, after the report and
     /// extra columns.
