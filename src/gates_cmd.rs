@@ -39,7 +39,7 @@ fn synthesise(l: &Loaded) -> Result<Vec<Row>, Failure> {
     let mut units = Vec::new();
     for uc in &l.config.engine.units {
         let unit = engine_unit(&eng, &uc.name)?;
-        let budget = unit.gates(table);
+        let budget = unit.gates(&uc.cost(table));
         let generated = match generate(&uc.unit, unit, &scene, &module_name(&uc.name)) {
             Ok(Some(g)) => Ok(g.rtl),
             Ok(None) => Err("no Verilog generator for this kind".to_string()),
@@ -116,11 +116,15 @@ fn text(l: &Loaded, g: &Gates, rows: Option<&[Row]>) -> String {
     let mut s = format!(
         "bumpsim {VERSION}  config {}  hash {}\n\
          gates: the model's estimate (docs/gates.md), no render; tables {:.1} GE of it, \
-         built as {} (cost.tables)\n",
+         built as {} (cost.tables){}\n",
         l.config.name,
         &l.hash[..16.min(l.hash.len())],
         g.memory,
-        g.tables
+        g.tables,
+        g.per_unit
+            .iter()
+            .filter_map(|(name, u)| u.tables.map(|t| format!(", {name}'s as {t}")))
+            .collect::<String>()
     );
     if rows.is_some() {
         s.push_str(

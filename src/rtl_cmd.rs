@@ -395,9 +395,10 @@ pub fn execute(l: &Loaded, out: &Path, cosim: usize, synth_on: bool) -> Result<(
                 continue;
             }
         };
-        let model_ge = unit.gates(table).total();
+        let cost = uc.cost(table);
+        let model_ge = unit.gates(&cost).total();
         let model: &dyn Unit = g.model.as_deref().unwrap_or(unit);
-        if model.gates(table) != unit.gates(table) {
+        if model.gates(&cost) != unit.gates(&cost) {
             failures.push(format!(
                 "{}: the unit rebuilt for the RTL has another gate budget than the engine's",
                 uc.name
@@ -458,7 +459,7 @@ pub fn execute(l: &Loaded, out: &Path, cosim: usize, synth_on: bool) -> Result<(
         if synth_on {
             match synth::synthesise(&g.rtl, &out.join("synth").join(&uc.name)) {
                 Ok(s) => {
-                    let tables = unit.gates(table).tables();
+                    let tables = unit.gates(&cost).tables();
                     let _ = write!(
                         line,
                         "  yosys {:.1} GE; logic model {:.1} / yosys {:.1} = {:.3}",

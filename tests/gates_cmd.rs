@@ -66,6 +66,55 @@ fn gates_are_the_reports_figures_without_a_render() {
     assert!(o.stderr.contains("no-such-config.ron"), "{}", o.stderr);
 }
 
+/// A unit's own `tables` builds its tables as it says, the other units' as `cost.tables`
+/// does (docs/gates.md, "Memory"): sgi-teapot's 256 x 8 power table (2,048 bits) as flip-flop
+/// RAM (10.33 GE a bit) against SRAM (1.5), the texel fetch unchanged.
+#[test]
+fn a_units_tables_kind_overrides_the_configs() {
+    let base = gates_json("sgi-teapot", &[]);
+    let flop = gates_json(
+        "sgi-teapot",
+        &["--set", "engine.units.spec.tables=Some(FlopRam)"],
+    );
+    let mem = |g: &Value, u: &str| num(g, &format!("gates.per_unit.{u}.memory"));
+    assert!(
+        (mem(&base, "spec") - 2048.0 * 1.5).abs() < 0.01,
+        "{}",
+        mem(&base, "spec")
+    );
+    assert!(
+        (mem(&flop, "spec") - 2048.0 * 10.33).abs() < 0.01,
+        "{}",
+        mem(&flop, "spec")
+    );
+    assert_eq!(
+        at(&flop, "gates.per_unit.spec.tables").as_str(),
+        Some("flip-flop RAM")
+    );
+    assert!(at(&base, "gates.per_unit.spec").get("tables").is_none());
+    assert_eq!(at(&flop, "gates.tables").as_str(), Some("SRAM"));
+    assert_eq!(
+        at(&flop, "gates.per_unit.fetch"),
+        at(&base, "gates.per_unit.fetch")
+    );
+    // the override is part of the config, so of its hash
+    assert_ne!(at(&flop, "config_hash"), at(&base, "config_hash"));
+    // a kind that does not exist is an error naming the field
+    let path = config("sgi-teapot");
+    let o = bumpsim(&[
+        "gates",
+        path.to_str().unwrap(),
+        "--set",
+        "engine.units.spec.tables=Some(Disk)",
+    ]);
+    o.expect_code(2, "an unknown memory kind");
+    assert!(
+        o.stderr.contains("tables") && o.stderr.contains("FlopRam"),
+        "{}",
+        o.stderr
+    );
+}
+
 #[test]
 fn synth_puts_yosys_beside_the_model_for_every_generated_unit() {
     if skip_yosys() {

@@ -76,6 +76,10 @@ pub struct UnitGates {
     /// The tables' storage in `total` (items marked `memory`; `cost.tables` says how they
     /// are built).
     pub memory: f64,
+    /// What this unit's loadable tables are built as, when the unit's config says so apart
+    /// from `cost.tables` (the unit's `tables`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tables: Option<&'static str>,
     pub items: Vec<bumpsim_hw::gates::GateItem>,
 }
 
@@ -112,6 +116,7 @@ impl Gates {
                         kind: kind.clone(),
                         total: round2(b.total()),
                         memory: round2(b.memory()),
+                        tables: None,
                         items: b.items.clone(),
                     },
                 )
@@ -127,6 +132,7 @@ impl Gates {
                 kind: "rop".into(),
                 total: round2(rop.total()),
                 memory: round2(rop.memory()),
+                tables: None,
                 items: rop.items.clone(),
             },
         }

@@ -424,7 +424,13 @@ fn engine_gates(cfg: &crate::config::Config, engine: &Engine) -> Gates {
         let g = attributes::interpolator_gates(&engine.attributes, weight_bits, &cfg.cost);
         units.push(("attribute interpolator".into(), "interpolator".into(), g));
     }
-    Gates::new(&units, &engine.rop.gates(&cfg.cost), cfg.cost.tables)
+    let mut g = Gates::new(&units, &engine.rop.gates(&cfg.cost), cfg.cost.tables);
+    for uc in &cfg.engine.units {
+        if let (Some(k), Some(u)) = (uc.tables, g.per_unit.get_mut(&uc.name)) {
+            u.tables = Some(k.name());
+        }
+    }
+    g
 }
 
 /// The report's `gates` of config `l` without rendering: the scene and the engine are built

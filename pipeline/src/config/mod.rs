@@ -412,6 +412,22 @@ pub struct UnitConfig {
     /// Optional declared bits per lane of inputs; a mismatch with the wired signal is an error.
     #[serde(default)]
     pub expect: BTreeMap<String, u32>,
+    /// What this unit's loadable tables are built as (SRAM, latch RAM, flip-flop RAM or ROM),
+    /// when not as the config's `cost.tables` says (docs/gates.md, "Memory"). Left out of the
+    /// canonical config, and so of the config hash, when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tables: Option<bumpsim_hw::gates::MemoryKind>,
+}
+
+impl UnitConfig {
+    /// The cost table this unit is priced with: the config's, its tables built as the unit's
+    /// `tables` says when it says.
+    pub fn cost(&self, config: &CostTable) -> CostTable {
+        match self.tables {
+            Some(tables) => CostTable { tables, ..*config },
+            None => *config,
+        }
+    }
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -251,7 +251,7 @@ pub fn build(l: &Loaded, scene: &Scene) -> Result<Engine, InputError> {
         if let Some(r) = unit.textures().first() {
             texels.push((u.name.clone(), r.texture.bits_per_texel()));
         }
-        gates.push((u.name.clone(), unit.gates(&l.config.cost)));
+        gates.push((u.name.clone(), unit.gates(&u.cost(&l.config.cost))));
         stages.push(Stage::new(u.name.clone(), unit, in_wires, out_slots));
     }
     let output = wire::resolve(&cfg.output, &signals)
