@@ -106,6 +106,7 @@ const STUDY_SWEEPS: &[(&str, &str, &str)] = &[
         "gouraud/flat-shading",
         "gouraud-bump.md",
     ),
+    ("ernst-order", "gouraud/order", "gouraud-bump.md"),
     ("embm-resolution", "embm/resolution", "embm-limits.md"),
     ("embm-stale", "embm/stale", "embm-limits.md"),
     ("embm-point", "embm/point", "embm-limits.md"),

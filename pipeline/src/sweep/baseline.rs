@@ -14,7 +14,7 @@ use crate::metrics::{self, Rgb64};
 use crate::run::RunResult;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// The baseline's columns, after the report columns: its error and artifact figures and the
 /// hash of its config (a resumed row is kept only with the same baseline).
@@ -78,24 +78,28 @@ impl Baselines {
         if sweep.file.baseline.is_empty() {
             return Baselines::default();
         }
-        let hashed: Vec<(usize, Vec<String>, Result<String, String>)> = points
+        type Hashed = (usize, (PathBuf, Vec<String>), Result<String, String>);
+        let hashed: Vec<Hashed> = points
             .par_iter()
             .map(|p| {
-                let sets = sweep.baseline_sets(p).unwrap_or_default();
-                let h = config::hash_with(&sweep.base, &sets)
+                let (config, sets) = (
+                    sweep.config_of(p),
+                    sweep.baseline_sets(p).unwrap_or_default(),
+                );
+                let h = config::hash_with(&config, &sets)
                     .map_err(|e| format!("the baseline does not load: {e}"));
-                (p.index, sets, h)
+                (p.index, (config, sets), h)
             })
             .collect();
-        let mut distinct: BTreeMap<&str, &[String]> = BTreeMap::new();
-        for (_, sets, h) in &hashed {
+        let mut distinct: BTreeMap<&str, &(PathBuf, Vec<String>)> = BTreeMap::new();
+        for (_, what, h) in &hashed {
             if let Ok(h) = h {
-                distinct.entry(h).or_insert(sets);
+                distinct.entry(h).or_insert(what);
             }
         }
         let renders = distinct
             .into_par_iter()
-            .map(|(h, sets)| (h.to_string(), Baseline::render(&sweep.base, sets, force)))
+            .map(|(h, (config, sets))| (h.to_string(), Baseline::render(config, sets, force)))
             .collect();
         Baselines {
             of_point: hashed.into_iter().map(|(i, _, h)| (i, h)).collect(),

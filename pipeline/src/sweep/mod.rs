@@ -11,6 +11,7 @@
 pub mod baseline;
 pub mod journal;
 pub mod resume;
+pub mod share;
 pub mod table;
 
 use crate::config::{self, InputError, LoadOptions};
@@ -55,7 +56,16 @@ pub struct SweepFile {
     /// ([`report_cell`]).
     #[serde(default)]
     pub report: Vec<String>,
+    /// Light kept on a class of pixels, as a share of the reference's light there: one
+    /// `share.NAME` column each, after the report's ([`share`]).
+    #[serde(default)]
+    pub shares: Vec<share::Share>,
 }
+
+/// The path of an axis whose values are config files (relative to the sweep file): each
+/// point runs its value's config instead of `base` (engines that differ in their units, not
+/// in a field; `docs/sweep.md`).
+pub const CONFIG_AXIS: &str = "@config";
 
 /// The cell of report field `path` (dot-separated object keys and list indices) in `report`'s
 /// JSON: a number, text or boolean as it is, a list its length, anything else (an object,
@@ -100,6 +110,10 @@ pub struct Axis {
     /// attributes), set after `path`.
     #[serde(default)]
     pub also: Vec<String>,
+    /// Labels of a `List`'s values, one per value: the axis' column holds the label instead
+    /// of the value (e.g. `"2 lights"` for a list of lights). Empty (the default): the value.
+    #[serde(default)]
+    pub labels: Vec<String>,
 }
 
 impl Axis {
@@ -110,6 +124,18 @@ impl Axis {
         } else {
             self.name.clone()
         }
+    }
+
+    /// The axis' cell for value `v`: its label if it has labels, else the value.
+    pub fn cell(&self, v: &Scalar) -> table::Cell {
+        let label = match &self.values {
+            Values::List(vals) if !self.labels.is_empty() => vals
+                .iter()
+                .position(|x| x == v)
+                .and_then(|k| self.labels.get(k)),
+            _ => None,
+        };
+        label.map_or_else(|| table::Cell::of(v), |l| table::Cell::Text(l.clone()))
     }
 }
 
@@ -236,16 +262,23 @@ pub fn load(path: &Path) -> Result<Sweep, InputError> {
     let points = points(&file).map_err(|(field, m)| InputError::new(&name, field, m))?;
     let dir = path.parent().unwrap_or(Path::new("."));
     let base = dir.join(&file.base);
-    let units = config::load(&base, &file.sets)
-        .map(|l| {
-            l.config
-                .engine
-                .units
-                .iter()
-                .map(|u| u.name.clone())
-                .collect()
-        })
-        .unwrap_or_default();
+    // the units of the base config and of every config of a config axis, in first-seen order
+    let mut configs = vec![base.clone()];
+    for a in file.axes.iter().filter(|a| a.path == CONFIG_AXIS) {
+        if let Values::List(v) = &a.values {
+            configs.extend(v.iter().map(|c| dir.join(c.to_ron())));
+        }
+    }
+    let mut units: Vec<String> = Vec::new();
+    for c in &configs {
+        if let Ok(l) = config::load(c, &file.sets) {
+            for u in &l.config.engine.units {
+                if !units.contains(&u.name) {
+                    units.push(u.name.clone());
+                }
+            }
+        }
+    }
     let sweep = Sweep {
         base,
         path: path.to_path_buf(),
@@ -254,6 +287,7 @@ pub fn load(path: &Path) -> Result<Sweep, InputError> {
         units,
     };
     sweep.check_plots()?;
+    share::check(&sweep.file.shares, &name)?;
     crate::plot::table::check_specs(&sweep.file.tables, &sweep.columns(), &name)?;
     Ok(sweep)
 }
@@ -344,6 +378,49 @@ pub fn points(file: &SweepFile) -> Result<Vec<Point>, (String, String)> {
         if a.also.iter().any(|p| p.trim().is_empty()) {
             return Err((format!("axes[{k}].also"), "expected --set paths".into()));
         }
+        if !a.labels.is_empty() {
+            let n = match &a.values {
+                Values::List(v) => v.len(),
+                Values::Grid(..) => 0,
+            };
+            if n != a.labels.len() {
+                return Err((
+                    format!("axes[{k}].labels"),
+                    format!(
+                        "{} labels: expected one per value of a List ({n} values)",
+                        a.labels.len()
+                    ),
+                ));
+            }
+        }
+        if a.path == CONFIG_AXIS {
+            if file.axes[..k].iter().any(|b| b.path == CONFIG_AXIS) {
+                return Err((
+                    format!("axes[{k}].path"),
+                    format!("a second {CONFIG_AXIS} axis: expected at most one"),
+                ));
+            }
+            if !a.also.is_empty() {
+                return Err((
+                    format!("axes[{k}].also"),
+                    format!("expected none on the {CONFIG_AXIS} axis (its values are files)"),
+                ));
+            }
+            let files = match &a.values {
+                Values::List(v) => v
+                    .iter()
+                    .all(|x| matches!(x, Scalar::Text(t) if !t.trim().is_empty())),
+                Values::Grid(..) => false,
+            };
+            if !files {
+                return Err((
+                    format!("axes[{k}].values"),
+                    "expected List([\"config.ron\", ...]): config files, relative to the sweep \
+                     file"
+                        .into(),
+                ));
+            }
+        }
         per_axis.push(axis_values(&a.values, &format!("axes[{k}].values"))?);
     }
     let points: Vec<Vec<Scalar>> = match file.sampling {
@@ -433,11 +510,36 @@ impl Sweep {
     pub fn sets(&self, p: &Point) -> Vec<String> {
         let mut sets = self.file.sets.clone();
         for (a, v) in self.file.axes.iter().zip(&p.values) {
+            if a.path == CONFIG_AXIS {
+                continue;
+            }
             for path in std::iter::once(&a.path).chain(&a.also) {
                 sets.push(format!("{path}={}", v.to_ron()));
             }
         }
         sets
+    }
+
+    /// The config point `p` runs: its value of the config axis (relative to the sweep
+    /// file), or the base config.
+    pub fn config_of(&self, p: &Point) -> PathBuf {
+        let dir = self.path.parent().unwrap_or(Path::new("."));
+        self.file
+            .axes
+            .iter()
+            .zip(&p.values)
+            .find(|(a, _)| a.path == CONFIG_AXIS)
+            .map_or_else(|| self.base.clone(), |(_, v)| dir.join(v.to_ron()))
+    }
+
+    /// Point `p`'s axis cells (each value, or its label).
+    pub fn cells(&self, p: &Point) -> Vec<table::Cell> {
+        self.file
+            .axes
+            .iter()
+            .zip(&p.values)
+            .map(|(a, v)| a.cell(v))
+            .collect()
     }
 
     /// The `--set` list of point `p`'s baseline, if the file has one: the point's sets,
@@ -461,20 +563,29 @@ impl Sweep {
             let base = base.transpose().map_err(|e| {
                 InputError::new(self.path.display().to_string(), "baseline", e.to_string())
             })?;
-            let l = config::load_with(&self.base, &sets, LoadOptions { force })?;
+            let config = self.config_of(p);
+            let l = config::load_with(&config, &sets, LoadOptions { force })?;
             let r = crate::run::run(&l, None)?;
             let mut extra = base.map(|b| b.cells(&r)).unwrap_or_default();
             if !self.file.report.is_empty() {
                 let json = serde_json::to_value(&r.report).unwrap_or_default();
                 extra.extend(self.file.report.iter().map(|p| report_cell(&json, p)));
             }
-            Ok::<_, InputError>(Row::ok(p, &r.report, extra, &self.units))
+            extra.extend(share::cells(&self.file.shares, &config, &sets, force, &r)?);
+            Ok::<_, InputError>(Row::ok(
+                p.index,
+                self.cells(p),
+                &r.report,
+                extra,
+                &self.units,
+            ))
         }));
         let after = self.extra_columns().len() + self.units.len();
+        let error = |m: &str| Row::error(p.index, self.cells(p), m, after);
         match outcome {
             Ok(Ok(row)) => row,
-            Ok(Err(e)) => Row::error(p, &e.to_string(), after),
-            Err(_) => Row::error(p, "internal error: the run panicked (a bug)", after),
+            Ok(Err(e)) => error(&e.to_string()),
+            Err(_) => error("internal error: the run panicked (a bug)"),
         }
     }
 
@@ -486,6 +597,7 @@ impl Sweep {
             true => Vec::new(),
         };
         c.extend(self.file.report.iter().map(|p| format!("report.{p}")));
+        c.extend(self.file.shares.iter().map(|s| format!("share.{}", s.name)));
         c
     }
 

@@ -122,7 +122,7 @@ fn earlier_rows(
             continue;
         }
         seen.insert(p.index);
-        let values: Vec<super::table::Cell> = p.values.iter().map(super::table::Cell::of).collect();
+        let values = sweep.cells(p);
         if row.is_ok() && row.values == values && row.config_hash().is_some() {
             candidates.entry(p.index).or_insert(row);
         }
@@ -132,7 +132,7 @@ fn earlier_rows(
     let at = columns.iter().position(|c| c == "baseline_hash");
     let same_baseline = |r: &super::Row, p: &super::Point| match (sweep.baseline_sets(p), at) {
         (None, _) => true,
-        (Some(sets), Some(at)) => config::hash_with(&sweep.base, &sets)
+        (Some(sets), Some(at)) => config::hash_with(&sweep.config_of(p), &sets)
             .is_ok_and(|h| r.report.get(at - 1 - axes) == Some(&super::table::Cell::Text(h))),
         _ => false,
     };
@@ -141,7 +141,7 @@ fn earlier_rows(
             .map(|r| {
                 let p = &sweep.points[r.index];
                 same_baseline(r, p)
-                    && config::hash_with(&sweep.base, &sweep.sets(p))
+                    && config::hash_with(&sweep.config_of(p), &sweep.sets(p))
                         .is_ok_and(|h| Some(h.as_str()) == r.config_hash())
             })
             .collect()

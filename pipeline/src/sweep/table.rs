@@ -2,7 +2,7 @@
 //! `sweep.jsonl` (one JSON object per row, keys in column order), `sweep.json` (the number of
 //! points and the rows' indices), and the merge of shards.
 
-use super::{Point, Scalar};
+use super::Scalar;
 use crate::artifacts::ArtifactStats;
 use crate::metrics::ErrorStats;
 use crate::report::Report;
@@ -136,7 +136,13 @@ impl Row {
     /// The row of a run with report `r`; `extra`: the cells of the table's [`Table::extra`]
     /// columns; `units`: the table's [`Table::units`] (a unit the point's engine lacks is an
     /// empty cell).
-    pub fn ok(p: &Point, r: &Report, extra: Vec<Cell>, units: &[String]) -> Row {
+    pub fn ok(
+        index: usize,
+        values: Vec<Cell>,
+        r: &Report,
+        extra: Vec<Cell>,
+        units: &[String],
+    ) -> Row {
         let mut c = vec![
             Cell::Text("ok".into()),
             Cell::Empty,
@@ -171,21 +177,21 @@ impl Row {
             );
         }
         Row {
-            index: p.index,
-            values: p.values.iter().map(Cell::of).collect(),
+            index,
+            values,
             report: c,
         }
     }
 
     /// The row of a point that failed with `message`, in a table of `after` columns after
     /// the report columns (extra and unit columns).
-    pub fn error(p: &Point, message: &str, after: usize) -> Row {
+    pub fn error(index: usize, values: Vec<Cell>, message: &str, after: usize) -> Row {
         let one_line = message.split_whitespace().collect::<Vec<_>>().join(" ");
         let mut c = vec![Cell::Text("error".into()), Cell::Text(one_line)];
         c.resize(report_columns().len() + after, Cell::Empty);
         Row {
-            index: p.index,
-            values: p.values.iter().map(Cell::of).collect(),
+            index,
+            values,
             report: c,
         }
     }
@@ -485,6 +491,7 @@ pub fn merge(dirs: &[&Path]) -> Result<Vec<(&'static str, Vec<u8>)>, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sweep::Point;
 
     #[test]
     fn a_json_line_reads_back_to_the_same_cells() {
@@ -496,7 +503,12 @@ mod tests {
                 Scalar::Text("a,\"b\"".into()),
             ],
         };
-        let mut row = Row::error(&p, "bad\n  \"thing\"", 2);
+        let mut row = Row::error(
+            p.index,
+            p.values.iter().map(Cell::of).collect(),
+            "bad\n  \"thing\"",
+            2,
+        );
         row.report[0] = Cell::Text("ok".into());
         row.report[2] = Cell::Text("ab12".into());
         row.report[3] = Cell::Float(19533.0);
