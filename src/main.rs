@@ -146,6 +146,10 @@ enum Command {
         /// Decimals of a non-integer number.
         #[arg(long, default_value_t = 2)]
         digits: u32,
+        /// A cross table: one column per distinct value of OVER holding VALUE, the rows one
+        /// per distinct combination of --columns.
+        #[arg(long, value_name = "OVER=VALUE")]
+        pivot: Option<String>,
     },
     /// Validate a config (parse, scene, wiring) without rendering.
     Check {
@@ -430,14 +434,32 @@ fn execute(cmd: Command) -> Result<(), Failure> {
             headings,
             filter,
             digits,
+            pivot,
         } => {
             let list = |s: &str| s.split(',').map(|c| c.trim().to_string()).collect();
+            let pivot = match pivot.as_deref().map(|p| p.split_once('=')) {
+                None => None,
+                Some(Some((over, value))) => Some(plot::table::Pivot {
+                    over: over.trim().into(),
+                    value: value.trim().into(),
+                    headings: Vec::new(),
+                }),
+                Some(None) => {
+                    return Err(InputError::new(
+                        "--pivot",
+                        "",
+                        "expected OVER=VALUE: the column to spread and the cell to show",
+                    )
+                    .into())
+                }
+            };
             let spec = plot::table::TableSpec {
                 name: String::new(),
                 columns: list(&columns),
                 headings: headings.as_deref().map(list).unwrap_or_default(),
                 filter,
                 digits,
+                pivot,
             };
             let table = plot::read_csv(&csv)?;
             print!("{}", spec.markdown(&table, &csv.display().to_string(), "")?);

@@ -118,6 +118,36 @@ fn a_config_axis_runs_each_engine_labels_its_rows_and_measures_light_shares() {
     let said = format!("{}{}", o.stdout, o.stderr);
     assert!(said.contains("3 points kept"), "{said}");
     assert!(said.contains("0 of 3 points run"), "{said}");
+    // the rows as a cross table: the engines across
+    let csv = out.join("sweep.csv");
+    let o = bumpsim(&[
+        "table",
+        csv.to_str().unwrap(),
+        "--columns",
+        "status",
+        "--pivot",
+        "order=share.black",
+        "--digits",
+        "1",
+    ]);
+    o.expect_code(0, "table --pivot");
+    let lines: Vec<&str> = o.stdout.lines().collect();
+    assert_eq!(lines[0], "| status | split | additive | multiplying |");
+    assert!(
+        lines[2].starts_with("| ok | 0.") && lines[2].ends_with(" | 0.0 |"),
+        "{}",
+        o.stdout
+    );
+    let o = bumpsim(&[
+        "table",
+        csv.to_str().unwrap(),
+        "--columns",
+        "status",
+        "--pivot",
+        "order",
+    ]);
+    o.expect_code(2, "--pivot without a value");
+    assert!(o.stderr.contains("--pivot"), "{}", o.stderr);
 }
 
 #[test]

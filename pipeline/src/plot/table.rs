@@ -34,6 +34,24 @@ pub struct TableSpec {
     /// Decimals of a non-integer number (default 2).
     #[serde(default = "two")]
     pub digits: u32,
+    /// A cross table: one row per distinct combination of `columns` (in first-seen order),
+    /// then one column per distinct value of `pivot.over`, holding `pivot.value` of the row
+    /// with both (empty where there is none). E.g. engines as columns, angles as rows.
+    #[serde(default)]
+    pub pivot: Option<Pivot>,
+}
+
+/// A cross table's spread column and cell ([`TableSpec::pivot`]).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Pivot {
+    /// The column whose distinct values (the CSV text, in first-seen order) become columns.
+    pub over: String,
+    /// The cell shown (a column, or `A+B` as in `columns`).
+    pub value: String,
+    /// One heading per distinct value of `over`, in order (default: the values).
+    #[serde(default)]
+    pub headings: Vec<String>,
 }
 
 impl Default for TableSpec {
@@ -44,6 +62,7 @@ impl Default for TableSpec {
             headings: Vec::new(),
             filter: Vec::new(),
             digits: two(),
+            pivot: None,
         }
     }
 }
@@ -78,21 +97,100 @@ impl TableSpec {
                 .ok_or_else(|| e(".filter", format!("{f:?}: expected COLUMN=VALUE")))?;
             known(csv, c).map_err(|m| e(".filter", m))?;
         }
+        if let Some(p) = &self.pivot {
+            known(csv, &p.over).map_err(|m| e(".pivot.over", m))?;
+            terms(csv, &p.value).map_err(|m| e(".pivot.value", m))?;
+        }
         self.columns
             .iter()
             .map(|c| terms(csv, c).map_err(|m| e(".columns", m)))
             .collect()
     }
 
-    /// The Markdown table of `csv`'s rows that meet the filters.
-    pub fn markdown(&self, csv: &Csv, name: &str, field: &str) -> Result<String, InputError> {
-        let cols = self.check(csv, name, field)?;
-        let conds: Vec<(usize, &str)> = self
+    /// The rows of `csv` that meet the filters.
+    fn kept<'a>(&self, csv: &'a Csv) -> impl Iterator<Item = &'a Vec<String>> {
+        let conds: Vec<(usize, String)> = self
             .filter
             .iter()
             .filter_map(|f| f.split_once('='))
-            .filter_map(|(c, v)| Some((csv.column(c)?, v)))
+            .filter_map(|(c, v)| Some((csv.column(c)?, v.to_string())))
             .collect();
+        csv.rows
+            .iter()
+            .filter(move |r| conds.iter().all(|(c, v)| r[*c] == *v))
+    }
+
+    /// The cross table of [`TableSpec::pivot`] (checked: `cols` the key columns' terms).
+    fn cross(
+        &self,
+        csv: &Csv,
+        p: &Pivot,
+        cols: &[Vec<usize>],
+        name: &str,
+        field: &str,
+    ) -> Result<String, InputError> {
+        let over = csv.column(&p.over).unwrap_or(0);
+        let value = terms(csv, &p.value).unwrap_or_default();
+        let cell = |r: &Vec<String>, c: &[usize], digits: usize| match c {
+            [one] => number(&r[*one], digits),
+            _ => number(&sum(c.iter().map(|&k| r[k].as_str())), digits),
+        };
+        let digits = self.digits as usize;
+        let mut spread: Vec<&str> = Vec::new();
+        let mut keys: Vec<Vec<String>> = Vec::new();
+        let mut cells: std::collections::HashMap<(usize, usize), String> = Default::default();
+        for r in self.kept(csv) {
+            let key: Vec<String> = cols.iter().map(|c| cell(r, c, digits)).collect();
+            let ki = keys.iter().position(|k| *k == key).unwrap_or_else(|| {
+                keys.push(key);
+                keys.len() - 1
+            });
+            let si = spread
+                .iter()
+                .position(|v| *v == r[over])
+                .unwrap_or_else(|| {
+                    spread.push(&r[over]);
+                    spread.len() - 1
+                });
+            cells
+                .entry((ki, si))
+                .or_insert_with(|| cell(r, &value, digits));
+        }
+        if !p.headings.is_empty() && p.headings.len() != spread.len() {
+            let m = format!(
+                "{} headings for {} values of {:?} ({}): expected one per value",
+                p.headings.len(),
+                spread.len(),
+                p.over,
+                spread.join(", ")
+            );
+            return Err(InputError::new(name, format!("{field}.pivot.headings"), m));
+        }
+        let mut heads: Vec<String> = match self.headings.is_empty() {
+            true => self.columns.clone(),
+            false => self.headings.clone(),
+        };
+        match p.headings.is_empty() {
+            true => heads.extend(spread.iter().map(|v| v.replace('|', "\\|"))),
+            false => heads.extend(p.headings.iter().cloned()),
+        }
+        let mut s = format!("| {} |\n", heads.join(" | "));
+        s += &format!("|{}\n", "---|".repeat(heads.len()));
+        for (ki, key) in keys.iter().enumerate() {
+            let row: Vec<String> = (0..spread.len())
+                .map(|si| cells.get(&(ki, si)).cloned().unwrap_or_default())
+                .collect();
+            s += &format!("| {} | {} |\n", key.join(" | "), row.join(" | "));
+        }
+        Ok(s)
+    }
+
+    /// The Markdown table of `csv`'s rows that meet the filters.
+    pub fn markdown(&self, csv: &Csv, name: &str, field: &str) -> Result<String, InputError> {
+        let cols = self.check(csv, name, field)?;
+        if let Some(p) = &self.pivot {
+            return self.cross(csv, p, &cols, name, field);
+        }
         let heads = match self.headings.is_empty() {
             true => &self.columns,
             false => &self.headings,
@@ -100,10 +198,7 @@ impl TableSpec {
         let digits = self.digits as usize;
         let mut s = format!("| {} |\n", heads.join(" | "));
         s += &format!("|{}\n", "---|".repeat(cols.len()));
-        for r in &csv.rows {
-            if conds.iter().any(|(c, v)| r[*c] != *v) {
-                continue;
-            }
+        for r in self.kept(csv) {
             let cells: Vec<String> = cols
                 .iter()
                 .map(|c| match c[..] {
@@ -238,6 +333,7 @@ mod tests {
             headings: vec!["s_N".into(), "PSNR dB".into()],
             filter: vec!["dither=false".into()],
             digits: 1,
+            pivot: None,
         };
         assert_eq!(
             t.markdown(&csv(), "c.csv", "tables[0]").unwrap(),
@@ -264,6 +360,38 @@ mod tests {
         };
         let e = bad.markdown(&c, "c.csv", "tables[0]").unwrap_err();
         assert_eq!(e.field, "tables[0].columns", "{e}");
+    }
+
+    #[test]
+    fn a_pivot_spreads_one_column_into_columns() {
+        let c = Csv::parse(
+            "index,angle,engine,seam\n0,15,visa,1.5\n1,15,sgi,0.25\n2,30,visa,3\n3,30,sgi,0.5\n4,45,visa,7\n",
+        )
+        .unwrap();
+        let t = TableSpec {
+            name: "t".into(),
+            columns: vec!["angle".into()],
+            headings: vec!["angle".into()],
+            digits: 1,
+            pivot: Some(Pivot {
+                over: "engine".into(),
+                value: "seam".into(),
+                headings: vec!["VISA+".into(), "SGI".into()],
+            }),
+            ..Default::default()
+        };
+        assert_eq!(
+            t.markdown(&c, "c.csv", "tables[0]").unwrap(),
+            "| angle | VISA+ | SGI |\n|---|---|---|\n| 15 | 1.5 | 0.2 |\n| 30 | 3 | 0.5 |\n| 45 | 7 |  |\n"
+        );
+        let mut bad = t.clone();
+        bad.pivot.as_mut().unwrap().headings.pop();
+        let e = bad.markdown(&c, "c.csv", "tables[0]").unwrap_err();
+        assert_eq!(e.field, "tables[0].pivot.headings", "{e}");
+        let mut bad = t;
+        bad.pivot.as_mut().unwrap().over = "nope".into();
+        let e = bad.markdown(&c, "c.csv", "tables[0]").unwrap_err();
+        assert_eq!(e.field, "tables[0].pivot.over", "{e}");
     }
 
     #[test]
