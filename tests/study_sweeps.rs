@@ -107,6 +107,11 @@ const STUDY_SWEEPS: &[(&str, &str, &str)] = &[
         "gouraud-bump.md",
     ),
     ("ernst-order", "gouraud/order", "gouraud-bump.md"),
+    (
+        "tarini-index-mipmap",
+        "quantized/index-mipmap",
+        "quantized-normals.md",
+    ),
     ("embm-resolution", "embm/resolution", "embm-limits.md"),
     ("embm-stale", "embm/stale", "embm-limits.md"),
     ("embm-point", "embm/point", "embm-limits.md"),

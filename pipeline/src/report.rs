@@ -34,6 +34,11 @@ pub struct Report {
     pub artifacts: Artifacts,
     /// The edge-discontinuity measure (`pipeline/src/edges.rs`, docs/metrics.md).
     pub edges: Edges,
+    /// Each quantized normal map of the engine (`QuantizedNormals` units, config order) and
+    /// its index mipmaps against the true normals, in texel space (docs/metrics.md,
+    /// `normal_maps`); left out when the engine has none.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub normal_maps: Vec<crate::quantize::NormalMapError>,
     /// A config with `frames`: every frame's cycles, per-frame work, traffic, error and
     /// flicker (`crate::animation`); left out for a single frame. The rest of the report is
     /// frame 0's.

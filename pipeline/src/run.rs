@@ -568,6 +568,7 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
         error: measured.errors,
         artifacts: measured.artifacts,
         edges: measured.edges,
+        normal_maps: bit.normal_maps.clone(),
         animation: None,
     };
     let trace = trace.map(|t| {

@@ -50,6 +50,9 @@ pub struct Engine {
     /// Bits per texel of each texture the units hold (unit name, bits).
     pub texels: Vec<(String, u32)>,
     pub gates: Vec<(String, GateBudget)>,
+    /// The error of each quantized normal map (`QuantizedNormals` units, config order) and
+    /// of its mip levels, in texel space: the report's `normal_maps`.
+    pub normal_maps: Vec<crate::quantize::NormalMapError>,
     /// The raster operations writing the output to the framebuffer.
     pub rop: Rop,
 }
@@ -172,6 +175,7 @@ pub fn build(l: &Loaded, scene: &Scene) -> Result<Engine, InputError> {
     let mut stages = Vec::new();
     let mut texels = Vec::new();
     let mut gates = Vec::new();
+    let mut normal_maps = Vec::new();
     for i in order {
         let u = &cfg.units[i];
         let field = format!("engine.units[{i}]");
@@ -216,7 +220,14 @@ pub fn build(l: &Loaded, scene: &Scene) -> Result<Engine, InputError> {
             ins.insert(port.clone(), r.spec.clone());
             wires.insert(port.clone(), r);
         }
-        let unit = u.unit.build(&ins, &ctx).map_err(|m| err("unit", m))?;
+        let unit = match &u.unit {
+            units::UnitSpec::QuantizedNormals(q) => {
+                let (unit, m) = q.build_measured(&ins, &ctx).map_err(|m| err("unit", m))?;
+                normal_maps.push((i, m));
+                unit
+            }
+            spec => spec.build(&ins, &ctx).map_err(|m| err("unit", m))?,
+        };
         let mut in_wires = Vec::new();
         for p in unit.inputs() {
             let src = &u.inputs[&p.name];
@@ -280,6 +291,7 @@ pub fn build(l: &Loaded, scene: &Scene) -> Result<Engine, InputError> {
         l.config.raster.depth_bits,
     )
     .map_err(|m| l.error("engine.rop", "rop", m))?;
+    normal_maps.sort_by_key(|m| m.0);
     Ok(Engine {
         rop,
         stages,
@@ -288,6 +300,7 @@ pub fn build(l: &Loaded, scene: &Scene) -> Result<Engine, InputError> {
         output,
         texels,
         gates,
+        normal_maps: normal_maps.into_iter().map(|m| m.1).collect(),
     })
 }
 

@@ -17,7 +17,8 @@
 //! * [`materials`]: several lighting models in one table, one contiguous interval of
 //!   entries per material (§6).
 //! * [`mipmap`]: index mipmaps (§5.2), where indices cannot be averaged.
-//! * [`angular_error_deg`]: the error measure of all of the above.
+//! * [`angular_error_deg`]: the error measure of all of the above; [`map_error`]: a map's
+//!   and its index mipmaps' errors against the true (box-filtered) normals.
 //!
 //! Measured (`tests::mexican_hat_128_errors`, `BumpSpec::MexicanHat { cells: 4, sigma: 0.18,
 //! depth: 0.02 }` baked analytically at 128x128, which holds 1024 distinct normals; mean /
@@ -45,6 +46,7 @@
 
 pub mod dither;
 pub mod kmeans;
+pub mod map_error;
 pub mod materials;
 pub mod median_cut;
 mod memo;
@@ -55,6 +57,7 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 pub use dither::{dither, Scan};
+pub use map_error::{level_errors, LevelError, NormalMapError};
 pub use materials::{
     quantize_with_materials, quantize_with_materials_dithered, MaterialPalette, MAX_MATERIALS,
 };

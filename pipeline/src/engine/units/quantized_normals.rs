@@ -5,7 +5,7 @@ use super::defaults::{mem_latency, one};
 use super::palette_lighting::lighting_fn;
 use super::ports::input;
 use super::{BuildCtx, Spec};
-use crate::quantize::{self, MipMode, Quantizer, Scan};
+use crate::quantize::{self, MipMode, NormalMapError, Quantizer, Scan};
 use bumpsim_hw::units::{BuilderFormats, PaletteBuilder, QuantizedFetch, SpecGen};
 use bumpsim_hw::{Codec, Encoding, Format, PortSpec, Unit};
 use serde::{Deserialize, Serialize};
@@ -94,17 +94,30 @@ impl Spec for QuantizedNormalsSpec {
         ins: &BTreeMap<String, PortSpec>,
         ctx: &BuildCtx,
     ) -> Result<Box<dyn Unit>, String> {
-        Ok(Box::new(self.quantized_fetch(ins, ctx)?))
+        Ok(Box::new(self.quantized_fetch(ins, ctx, false)?.0))
     }
 }
 
 impl QuantizedNormalsSpec {
-    /// Bake, quantize, build the colour table and the unit (Tarini et al. §3–6).
+    /// [`Spec::build`], and how far the map's normals and its mip levels stray from the true
+    /// ones (the report's `normal_maps`, `quantize::map_error`).
+    pub(crate) fn build_measured(
+        &self,
+        ins: &BTreeMap<String, PortSpec>,
+        ctx: &BuildCtx,
+    ) -> Result<(Box<dyn Unit>, NormalMapError), String> {
+        let (unit, err) = self.quantized_fetch(ins, ctx, true)?;
+        Ok((Box::new(unit), err.expect("measured when asked")))
+    }
+
+    /// Bake, quantize, build the colour table and the unit (Tarini et al. §3–6); with
+    /// `measure`, also the map's error.
     fn quantized_fetch(
         &self,
         ins: &BTreeMap<String, PortSpec>,
         ctx: &BuildCtx,
-    ) -> Result<QuantizedFetch, String> {
+        measure: bool,
+    ) -> Result<(QuantizedFetch, Option<NormalMapError>), String> {
         let (size, s_n, index_bits) = (self.size, self.s_n, self.index_bits);
         check_size(size)?;
         let max_bits = bumpsim_hw::units::MAX_INDEX_BITS;
@@ -190,18 +203,39 @@ impl QuantizedNormalsSpec {
             self.load_width,
             mem_latency(),
         )?;
-        let Some(mode) = self.mipmap else {
-            return Ok(unit);
-        };
         // Tarini §5.2: every coarser level from the one below, down to 1 x 1
         let mut levels = Vec::new();
-        let (mut idx, mut w) = (pal.indices, size as usize);
-        while w > 1 {
-            let (next, w2, _) =
-                quantize::mip_indices(&idx, w, w, &pal.entries, mode).map_err(|e| e.to_string())?;
-            levels.push((w2 as u32, w2 as u32, next.clone()));
-            (idx, w) = (next, w2);
+        if let Some(mode) = self.mipmap {
+            let mut w = size as usize;
+            while w > 1 {
+                let below = levels
+                    .last()
+                    .map_or(&pal.indices[..], |l: &(_, _, Vec<u32>)| &l.2);
+                let (next, w2, _) = quantize::mip_indices(below, w, w, &pal.entries, mode)
+                    .map_err(|e| e.to_string())?;
+                levels.push((w2 as u32, w2 as u32, next));
+                w = w2;
+            }
         }
-        unit.with_mipmaps(input(ins, LOD)?.enc, levels)
+        let measured = measure.then(|| {
+            let mips: Vec<&[u32]> = levels.iter().map(|l| &l.2[..]).collect();
+            NormalMapError {
+                unit: ctx.unit.to_string(),
+                entries: pal.entries.len() as u32,
+                size,
+                levels: quantize::level_errors(
+                    normals,
+                    size as usize,
+                    &pal.entries,
+                    &pal.indices,
+                    &mips,
+                ),
+            }
+        });
+        let unit = match self.mipmap {
+            Some(_) => unit.with_mipmaps(input(ins, LOD)?.enc, levels)?,
+            None => unit,
+        };
+        Ok((unit, measured))
     }
 }
