@@ -608,11 +608,13 @@ impl PaletteBuilder {
         }
         g.add(format!("vector registers 3x{wv}"), vecs, t.register(3 * wv));
         g.add(format!("colour registers 3x{we}"), cols, t.register(3 * we));
+        // the environment images are loadable tables like the normal table: built as
+        // `cost.tables` (or the unit's `tables`) says, and counted as memory
         if env_bits > 0 {
-            g.add(
-                "environment map (loadable)",
+            g.add_memory(
+                format!("environment map {env_bits} bits (loadable)"),
                 1,
-                t.sram_bit * env_bits as f64,
+                t.table(env_bits, 1),
             );
         }
         let wd = wn + wv + 2; // exact dot-product width
