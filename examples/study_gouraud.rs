@@ -116,7 +116,6 @@ impl Swept {
     }
 }
 
-/// The width of an encoding axis value (`(format: (signed: true, width: 6, ...`).
 /// A width axis' label (the sweep labels each encoding with its bits).
 fn width_of(label: &str) -> u32 {
     label.parse().expect("a width label")
