@@ -1,301 +1,256 @@
 //! Study of the per-pixel perturbation engines of Ernst et al. 1998 §3 (Texram, VISA+, VISA+
 //! with quaternions, Harmony) against SGI's tangent-space engine and Gouraud bump mapping:
-//! regenerates `docs/studies/perturbation-engines.md` and the pictures in
+//! regenerates `docs/studies/perturbation-engines.md` and everything under
 //! `docs/studies/perturbation/` with one command:
 //!
 //! ```sh
 //! cargo run --release --example study_perturbation
 //! ```
 //!
-//! Every number comes from a run of the library (`config::load` + `run::run`) of a bundled
-//! config with `--set` overrides. The edge-discontinuity scene is the one of
-//! `configs/visa-fold.ron`, given to every engine as one `scene=...` override.
+//! The tables are those of the sweeps `docs/studies/sweeps/perturb-*.ron`, run into
+//! `docs/studies/perturbation/NAME/` exactly as `bumpsim sweep
+//! docs/studies/sweeps/perturb-NAME.ron --out docs/studies/perturbation/NAME` runs them, quoted
+//! as they are written; this program adds the prose, reading the sweeps' rows for the
+//! verdicts (the angle from which a seam is visible, interpolated between the rows), and the
+//! pictures (VISA+ and its quaternion variant on the fold at 45 degrees).
 
-use bumpsim_pipeline::config;
-use bumpsim_pipeline::edges::EdgeStats;
-use bumpsim_pipeline::report::Report;
-use bumpsim_pipeline::run::{run, RunResult};
-use rayon::prelude::*;
+use bumpsim_pipeline::sweep::table::{Cell, Row};
+use bumpsim_pipeline::sweep::{self, Table};
+use std::collections::BTreeMap;
 use std::fmt::Write;
-use std::path::PathBuf;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn go(name: &str, sets: &[String]) -> RunResult {
-    let path = root().join("configs").join(format!("{name}.ron"));
-    let l = config::load(&path, sets).unwrap_or_else(|e| panic!("{name} {sets:?}: {e}"));
-    run(&l, None).unwrap_or_else(|e| panic!("{name} {sets:?}: {e}"))
-}
-
-/// The teapot engines: config, label, what the row shows.
-const TEAPOT: [(&str, &str); 8] = [
-    ("phong-teapot", "Phong, no bumps (the shared datapath)"),
-    ("sgi-teapot", "SGI tangent space (§3.4)"),
-    ("gouraud-teapot", "Gouraud bump mapping (§4)"),
-    ("texram-teapot", "Texram (§3.1)"),
-    ("texram-teapot-scaled", "Texram, scaled form (§3.1)"),
-    ("visa-teapot", "VISA+ (§3.2)"),
-    ("visa-quat-teapot", "VISA+ with quaternions (§3.2)"),
-    ("harmony-teapot", "Harmony (§3.5)"),
-];
-
-/// The engines of the fold study (the SGI engine reads the same scene through its tangent
-/// frames).
-const FOLD: [(&str, &str); 6] = [
-    ("visa-teapot", "VISA+"),
-    ("visa-quat-teapot", "VISA+ quat."),
-    ("harmony-teapot", "Harmony"),
-    ("texram-teapot", "Texram"),
-    ("texram-teapot-scaled", "Texram scaled"),
-    ("sgi-teapot", "SGI"),
-];
+mod common;
 
 /// A seam is counted visible from this mean step (8-bit LSB) along one edge beyond the
 /// interior's: two codes along a long straight line of a highlight, about 1 % of the
 /// highlight's level (Weber's edge threshold).
 const VISIBLE_LSB: f64 = 2.0;
 
-fn fold_scene() -> String {
-    let l = config::load(&root().join("configs/visa-fold.ron"), &[]).expect("visa-fold loads");
-    format!(
-        "scene={}",
-        ron::to_string(&l.config.scene).expect("the scene serialises")
-    )
+/// One sweep of `docs/studies/sweeps/`, run: its rows and its tables' Markdown by name.
+struct Swept {
+    name: &'static str,
+    t: Table,
+    md: BTreeMap<String, String>,
 }
 
-fn fold_sets(scene: &str, extra: &[String]) -> Vec<String> {
-    let mut s = vec![scene.to_string()];
-    s.extend(extra.iter().cloned());
-    s
+impl Swept {
+    /// Run `docs/studies/sweeps/perturb-{name}.ron` into `docs/studies/perturbation/{name}/`.
+    fn run(name: &'static str) -> Swept {
+        let (t, md) =
+            common::study_sweep(&format!("perturb-{name}"), &format!("perturbation/{name}"));
+        Swept { name, t, md }
+    }
+
+    /// The sweep file and the command that writes its tables, for the prose.
+    fn cite(&self) -> String {
+        let n = self.name;
+        format!(
+            "`docs/studies/sweeps/perturb-{n}.ron` (`bumpsim sweep \
+             docs/studies/sweeps/perturb-{n}.ron --out docs/studies/perturbation/{n}`)"
+        )
+    }
+
+    /// Table `name`, as the sweep wrote it.
+    fn table(&self, name: &str) -> &str {
+        self.md
+            .get(name)
+            .unwrap_or_else(|| panic!("{}: no table {name}", self.name))
+    }
+
+    /// The cell as the CSV writes it.
+    fn text(&self, r: &Row, c: &str) -> String {
+        match self.t.cell(r, c) {
+            Some(Cell::Text(s)) => s,
+            Some(Cell::Int(i)) => i.to_string(),
+            Some(Cell::Bool(b)) => b.to_string(),
+            Some(Cell::Float(x)) => x.to_string(),
+            _ => String::new(),
+        }
+    }
+
+    /// Column `c` of the row whose column `k` reads `v` (a `v` starting with `*` matches
+    /// the end of the text: "*`visa-teapot`").
+    fn at(&self, k: &str, v: &str, c: &str) -> f64 {
+        let r = self
+            .t
+            .rows
+            .iter()
+            .find(|r| match v.strip_prefix('*') {
+                Some(end) => self.text(r, k).ends_with(end),
+                None => self.text(r, k) == v,
+            })
+            .unwrap_or_else(|| panic!("{}: no row {k}={v}", self.name));
+        self.t.number(r, c).unwrap_or(f64::NAN)
+    }
+
+    /// (angle, column `c`) of the rows whose column `k` reads `v`, in row order.
+    fn curve(&self, k: &str, v: &str, c: &str) -> Vec<(f64, f64)> {
+        self.t
+            .rows
+            .iter()
+            .filter(|r| self.text(r, k) == v)
+            .map(|r| {
+                (
+                    self.t.number(r, "angle").unwrap(),
+                    self.t.number(r, c).unwrap(),
+                )
+            })
+            .collect()
+    }
 }
 
-/// The first angle at which `seam(angle)` reaches [`VISIBLE_LSB`], linearly interpolated
-/// between grid points.
-fn threshold(curve: &[(f64, f64)]) -> Option<f64> {
-    curve.windows(2).find_map(|w| {
-        let ((a0, s0), (a1, s1)) = (w[0], w[1]);
-        (s0 < VISIBLE_LSB && s1 >= VISIBLE_LSB)
-            .then(|| a0 + (VISIBLE_LSB - s0) / (s1 - s0) * (a1 - a0))
-    })
+/// The first angle at which the seam reaches [`VISIBLE_LSB`], linearly interpolated between
+/// rows, as the prose writes it.
+fn visible_from(curve: &[(f64, f64)]) -> String {
+    curve
+        .windows(2)
+        .find_map(|w| {
+            let ((a0, s0), (a1, s1)) = (w[0], w[1]);
+            (s0 < VISIBLE_LSB && s1 >= VISIBLE_LSB)
+                .then(|| a0 + (VISIBLE_LSB - s0) / (s1 - s0) * (a1 - a0))
+        })
+        .map_or("not below 90°".into(), |t| format!("from {t:.0}°"))
 }
 
-fn fmt_threshold(t: Option<f64>, max: f64) -> String {
-    t.map_or(format!("> {max:.0}°"), |t| format!("{t:.0}°"))
-}
-
-fn cycles_per_fragment(r: &Report) -> f64 {
-    r.cycles.total as f64 / r.cycles.fragments.max(1) as f64
+/// Lowest and highest value of `curves` from angle `from` on.
+fn range(curves: &[Vec<(f64, f64)>], from: f64) -> (f64, f64) {
+    curves
+        .iter()
+        .flatten()
+        .filter(|(a, _)| *a >= from)
+        .fold((f64::INFINITY, 0.0), |(lo, hi), &(_, v)| {
+            (lo.min(v), hi.max(v))
+        })
 }
 
 fn main() {
-    let out = root().join("docs/studies");
-    let pics = out.join("perturbation");
+    let pics = common::root().join("docs/studies/perturbation");
     std::fs::create_dir_all(&pics).expect("create docs/studies/perturbation");
-    let scene = fold_scene();
+    let [teapot, fold, finer, shiny, prisms] =
+        ["teapot", "fold", "finer", "shininess", "prisms"].map(Swept::run);
 
-    // 1. the teapot table
-    let teapot: Vec<Report> = TEAPOT.par_iter().map(|(c, _)| go(c, &[]).report).collect();
-    let fold30: Vec<Option<EdgeStats>> = TEAPOT
-        .par_iter()
-        .map(|(c, _)| {
-            FOLD.iter()
-                .any(|(f, _)| f == c)
-                .then(|| go(c, &fold_sets(&scene, &[])).report.edges.algorithm)
-        })
-        .collect();
-
-    // 2. the fold: every engine at every angle (exact mode's seam), VISA+ at three shininesses
-    let angles: Vec<f64> = (0..=18).map(|k| f64::from(k) * 5.0).collect();
-    let jobs: Vec<(usize, f64)> = (0..FOLD.len())
-        .flat_map(|e| angles.iter().map(move |&a| (e, a)))
-        .collect();
-    let fold: Vec<(EdgeStats, EdgeStats)> = jobs
-        .par_iter()
-        .map(|&(e, a)| {
-            let r = go(
-                FOLD[e].0,
-                &fold_sets(&scene, &[format!("scene.mesh.angle_deg={a}")]),
-            )
-            .report;
-            (r.edges.algorithm, r.edges.total)
-        })
-        .collect();
-    // bit-accurate with a finer renormalisation (16k-entry rsqrt table, 14 fraction bits of
-    // N'), 12-bit dot products and a 12-bit power-table index
-    let wide = [
-        "engine.units.renorm.unit.table_bits=14",
-        "engine.units.renorm.unit.value_bits=18",
-        "engine.units.renorm.unit.out=(format: (signed: true, width: 16, frac: 14))",
-        "engine.units.dot.unit.out=(format: (signed: false, width: 13, frac: 12))",
-        "engine.units.spec.unit.index_bits=12",
-    ]
-    .map(String::from);
-    let wide_jobs: Vec<(usize, f64)> = (0..3)
-        .flat_map(|e| angles.iter().step_by(3).map(move |&a| (e, a)))
-        .collect();
-    let wide_seams: Vec<f64> = wide_jobs
-        .par_iter()
-        .map(|&(e, a)| {
-            let mut sets = wide.to_vec();
-            sets.push(format!("scene.mesh.angle_deg={a}"));
-            go(FOLD[e].0, &fold_sets(&scene, &sets))
-                .report
-                .edges
-                .total
-                .worst_seam_lsb
-        })
-        .collect();
-    let curve = |e: usize| -> Vec<(f64, f64)> {
-        angles
-            .iter()
-            .enumerate()
-            .map(|(k, &a)| (a, fold[e * angles.len() + k].0.worst_seam_lsb))
-            .collect()
-    };
-    let shininess = [32.0, 128.0, 512.0];
-    let shiny: Vec<Vec<(f64, f64)>> = shininess
-        .par_iter()
-        .map(|&n| {
-            angles
-                .iter()
-                .map(|&a| {
-                    let r = go(
-                        "visa-teapot",
-                        &fold_sets(
-                            &scene,
-                            &[
-                                format!("scene.mesh.angle_deg={a}"),
-                                format!("scene.material.shininess={n}"),
-                            ],
-                        ),
-                    );
-                    (a, r.report.edges.algorithm.worst_seam_lsb)
-                })
-                .collect()
-        })
-        .collect();
-
-    // 3. prisms: a cylinder of k slices has a dihedral angle of 360/k degrees between faces
-    let slices = [4u32, 8, 12, 16, 24];
-    // a vertex of the cylinder sits at s = i / k, at azimuth -360 s about y; with k a multiple
-    // of 4 one vertical edge faces the viewer (s = 3/4), where the highlight is
-    let prism = |c: &str, k: u32| {
-        go(
-            c,
-            &fold_sets(
-                &scene,
-                &[format!(
-                    "scene.mesh=Cylinder(radius: 1.0, height: 2.0, slices: {k}, stacks: 1, uv_repeat: (2.0, 1.0))"
-                )],
-            ),
-        )
-        .report
-        .edges
-        .algorithm
-    };
-    let prisms: Vec<(EdgeStats, EdgeStats, EdgeStats)> = slices
-        .par_iter()
-        .map(|&k| {
-            (
-                prism("visa-teapot", k),
-                prism("visa-quat-teapot", k),
-                prism("harmony-teapot", k),
-            )
-        })
-        .collect();
-
-    // pictures: VISA+ and its quaternion variant on the fold at 45 degrees
-    let mut fold45 = Vec::new();
-    for (c, tag) in [("visa-teapot", "visa"), ("visa-quat-teapot", "visa-quat")] {
-        let mut sets = wide.to_vec();
-        sets.push("scene.mesh.angle_deg=45".into());
-        let r = go(c, &fold_sets(&scene, &sets));
+    // pictures: VISA+ and its quaternion variant on the fold at 45 degrees, with the finer
+    // widths of perturb-finer.ron (its `sets`)
+    let mut sets = sweep::load(&common::root().join("docs/studies/sweeps/perturb-finer.ron"))
+        .unwrap_or_else(|e| panic!("{e}"))
+        .file
+        .sets;
+    sets.push("scene.mesh.angle_deg=45".into());
+    let jobs = [("visa-teapot", sets.clone()), ("visa-quat-teapot", sets)];
+    let runs = common::go_all(&jobs);
+    for (r, tag) in runs.iter().zip(["visa", "visa-quat"]) {
         r.image
             .save(pics.join(format!("fold45-{tag}.png")))
-            .expect("write picture");
+            .unwrap();
         r.error
             .save(pics.join(format!("fold45-{tag}-error.png")))
-            .expect("write picture");
-        fold45.push(r.image);
+            .unwrap();
     }
     // the two engines differ only in the frame: their signed difference (green channel), 32x,
     // red where VISA+ is brighter, blue where it is darker
-    let mut diff = fold45[0].clone();
-    for (d, q) in diff.pixels_mut().zip(fold45[1].pixels()) {
+    let mut diff = runs[0].image.clone();
+    for (d, q) in diff.pixels_mut().zip(runs[1].image.pixels()) {
         let g = (i32::from(d.0[1]) - i32::from(q.0[1])) * 32;
         d.0 = [g.clamp(0, 255) as u8, 0, (-g).clamp(0, 255) as u8];
     }
-    diff.save(pics.join("fold45-visa-minus-quat.png"))
-        .expect("write picture");
+    diff.save(pics.join("fold45-visa-minus-quat.png")).unwrap();
 
-    // the page
+    // the verdicts, from the rows
+    let tp = |cfg: &str, c: &str| teapot.at("engine", &format!("*`{cfg}`"), c);
+    let per_pixel = [
+        "texram-teapot",
+        "texram-teapot-scaled",
+        "visa-teapot",
+        "visa-quat-teapot",
+        "harmony-teapot",
+    ];
+    let spread = |c: &str| {
+        let v: Vec<f64> = per_pixel.iter().map(|e| tp(e, c)).collect();
+        let lo = v.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        (lo, hi)
+    };
+    let (alg_lo, alg_hi) = spread("algorithm_psnr_db");
+    let (q_lo, q_hi) = spread("quantization_psnr_db");
+    let q_sgi = tp("sgi-teapot", "quantization_psnr_db");
+    let q_off = (q_sgi - q_lo).abs().max((q_hi - q_sgi).abs());
+    let (tot_lo, _) = spread("total_psnr_db");
+    let beats = tot_lo > tp("sgi-teapot", "total_psnr_db")
+        && tot_lo > tp("gouraud-teapot", "total_psnr_db");
+    let cpf = |cfg: &str| tp(cfg, "cycles") / tp(cfg, "fragments");
+    let cpf_pp: Vec<f64> = per_pixel.iter().map(|e| cpf(e)).collect();
+    let cpf_lo = cpf_pp.iter().copied().fold(f64::INFINITY, f64::min);
+    let cpf_hi = cpf_pp.iter().copied().fold(0.0, f64::max);
+
+    let engines = [
+        "VISA+",
+        "VISA+ quat.",
+        "Harmony",
+        "Texram",
+        "Texram scaled",
+        "SGI",
+    ];
+    let alg = |e: &str| fold.curve("engine", e, "algorithm_worst_seam_lsb");
+    let total = |e: &str| fold.curve("engine", e, "total_worst_seam_lsb");
+    let seam = |e: &str, a: f64| alg(e).iter().find(|p| p.0 == a).unwrap().1;
+    let continuous: Vec<_> = engines[1..5].iter().map(|e| alg(e)).collect();
+    let (_, cont_max) = range(&continuous, 0.0);
+    let visible: Vec<String> = engines
+        .iter()
+        .map(|e| format!("{e} {}", visible_from(&alg(e))))
+        .collect();
+    let shiny_curve = |n: &str| shiny.curve("shininess", n, "algorithm_worst_seam_lsb");
+    let (visa_lo, visa_hi) = range(&[total("VISA+")], 15.0);
+    let (cont_lo, cont_hi) = range(&[total("VISA+ quat."), total("Harmony")], 15.0);
+    let (_, finer_visa) = range(
+        &[finer.curve("engine", "VISA+", "total_worst_seam_lsb")],
+        0.0,
+    );
+    let (_, alg_visa) = range(&[alg("VISA+")], 0.0);
+
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "# The per-pixel perturbation engines (Ernst et al. 1998 §3)\n"
-    );
-    let _ = writeln!(
-        s,
-        "Generated by `cargo run --release --example study_perturbation` \
-         (`examples/study_perturbation.rs`); every figure is a run of a bundled config. \
-         The engines, their units and their geometry attributes are described in \
+        "# The per-pixel perturbation engines (Ernst et al. 1998 §3)\n\n\
+         Generated by `cargo run --release --example study_perturbation` \
+         (`examples/study_perturbation.rs`; do not edit by hand). Every table is a table of a \
+         sweep, `docs/studies/sweeps/perturb-*.ron`, written into \
+         `docs/studies/perturbation/NAME/` (with the sweep's rows, `sweep.csv`) by the command \
+         each section names (`bumpsim sweep`, docs/sweep.md); each sweep file's header says \
+         what it varies, what it holds fixed and which claim of the paper it tests. The \
+         engines, their units and their geometry attributes are described in \
          `docs/units/perturb.md`, `docs/units/texram_frame.md`, `docs/units/quat_frame.md` and \
          `docs/configs.md`; the edge measure in `docs/metrics.md`.\n"
     );
-    let gates = |c: &str| {
-        TEAPOT
-            .iter()
-            .zip(&teapot)
-            .find(|((n, _), _)| *n == c)
-            .map_or(0.0, |(_, r)| r.gates.total)
-    };
-    let unit_gates = |c: &str, kind: &str| {
-        TEAPOT
-            .iter()
-            .zip(&teapot)
-            .find(|((n, _), _)| *n == c)
-            .map_or(0.0, |(_, r)| {
-                r.gates
-                    .per_unit
-                    .values()
-                    .filter(|u| u.kind == kind)
-                    .map(|u| u.total)
-                    .sum()
-            })
-    };
-    let thresholds: Vec<String> = (0..FOLD.len())
-        .map(|e| fmt_threshold(threshold(&curve(e)), 90.0))
-        .collect();
-    let max_continuous = (1..5)
-        .flat_map(|e| curve(e).into_iter().map(|(_, v)| v))
-        .fold(0.0, f64::max);
     let _ = writeln!(s, "## Findings\n");
     let _ = writeln!(
         s,
         "- **The 30-degree claim holds.** On the folded strip at shininess 128 with the light \
          mirrored towards the viewer, VISA+'s seam (its alignment matrix is held per triangle, \
-         so the perturbation turns by the dihedral angle at the crease) grows from 0.3 LSB at \
-         5 degrees to about {:.1} LSB at 30 and is visible (2 LSB) from {}; at shininess 512 \
-         from {}, at shininess 32 not below 90 degrees: a threshold \"around 30 degrees for \
-         extreme lighting situations\". Quaternions at the vertices remove it (at most {:.2} \
-         LSB at any angle up to 90 degrees, with Harmony and both forms of Texram, whose \
-         frames are continuous too).",
-        curve(0)[6].1,
-        thresholds[0],
-        fmt_threshold(threshold(&shiny[2]), 90.0),
-        max_continuous
+         so the perturbation turns by the dihedral angle at the crease) grows from {:.1} LSB \
+         at 5 degrees to about {:.1} LSB at 30 and is visible ({VISIBLE_LSB} LSB) {}; at \
+         shininess 512 {}, at shininess 32 {}: a threshold \"around 30 degrees for extreme \
+         lighting situations\". Quaternions at the vertices remove it (at most {:.2} LSB at \
+         any angle up to 90 degrees, with Harmony and both forms of Texram, whose frames are \
+         continuous too).",
+        seam("VISA+", 5.0),
+        seam("VISA+", 30.0),
+        visible_from(&alg("VISA+")),
+        visible_from(&shiny_curve("512")),
+        visible_from(&shiny_curve("32")),
+        cont_max
     );
     let _ = writeln!(
         s,
         "- **In hardware the seam is worse than the algorithm's.** At the bundled widths the \
          renormalisation of `N'` (a 256-entry rsqrt table, 8 fraction bits) and the 8-bit \
          power-table index quantise the highlight at shininess 128 into contours tens of LSB \
-         apart, and the contours break where VISA+'s frame turns: its bit-accurate seam is 15 \
-         to 20 LSB from 15 degrees on, against 0.2 to 7 for the continuous frames. A finer \
-         renormalisation and index bring it back to the algorithm's (table below): for \
-         highlights this sharp, the widths and the frame must be chosen together."
+         apart, and the contours break where VISA+'s frame turns: its bit-accurate seam is \
+         {visa_lo:.0} to {visa_hi:.0} LSB from 15 degrees on, against {cont_lo:.1} to \
+         {cont_hi:.0} for the continuous frames of VISA+ with quaternions and Harmony. A finer \
+         renormalisation and index bring it back near the algorithm's (at most {finer_visa:.1} \
+         LSB, against the algorithm's {alg_visa:.1}): for highlights this sharp, the widths \
+         and the frame must be chosen together."
     );
     let _ = writeln!(
         s,
@@ -309,185 +264,113 @@ fn main() {
          the normalisation of `N_i` but needs `|N_i|` (a second table read and three \
          multipliers) to scale `e1`; the paper's saving needs the widened formats it mentions \
          and a cheaper `|N_i|`, which it does not give.",
-        unit_gates("texram-teapot", "texram_frame"),
-        unit_gates("visa-quat-teapot", "quat_frame"),
-        gates("sgi-teapot"),
-        gates("harmony-teapot"),
-        gates("visa-teapot"),
-        gates("texram-teapot-scaled"),
-        gates("texram-teapot"),
+        tp("texram-teapot", "gates.frame"),
+        tp("visa-quat-teapot", "gates.qframe"),
+        tp("sgi-teapot", "gates_total"),
+        tp("harmony-teapot", "gates_total"),
+        tp("visa-teapot", "gates_total"),
+        tp("texram-teapot-scaled", "gates_total"),
+        tp("texram-teapot", "gates_total"),
     );
     let _ = writeln!(
         s,
-        "- **Error.** Every per-pixel engine follows the reference within a fraction of a dB \
-         of the others (algorithm PSNR in the table): the texture of offsets and the \
-         per-vertex light and half vectors are common to all of them and dominate; the frame \
-         construction differs only where the fold or a coarse mesh bends it. They beat the \
-         SGI engine (tangent-space light vectors interpolated) and Gouraud bump mapping \
-         (half vector per triangle, Gouraud colour) on the teapot.\n"
+        "- **Error.** Every per-pixel engine follows the reference within {:.2} dB of the \
+         others (algorithm PSNR {alg_lo:.2} to {alg_hi:.2} dB): the texture of offsets and \
+         the per-vertex light and half vectors are common to all of them and dominate; the \
+         frame construction differs only where the fold or a coarse mesh bends it. {}\n",
+        alg_hi - alg_lo,
+        if beats {
+            "They beat the SGI engine (tangent-space light vectors interpolated) and Gouraud \
+             bump mapping (half vector per triangle, Gouraud colour) on the teapot."
+        } else {
+            "Not all of them beat the SGI engine and Gouraud bump mapping on the teapot."
+        }
     );
     let _ = writeln!(
         s,
-        "## What each engine costs and gets wrong, on the teapot\n"
-    );
-    let _ = writeln!(
-        s,
-        "The teapot of `configs/sgi-teapot.ron` (256x256, mexican-hat bumps, two lights) through \
-         each engine's bundled config. The per-pixel engines share one set of widths (10-bit \
-         s2.8 vectors, two 8-bit offsets per texel, the SGI engine's dot products, power table \
-         and light combiner), so their quantization errors land within 0.5 dB of the SGI \
-         engine's; `gouraud-teapot` renders its own teapot scene (the same mesh and bumps, its \
-         own lights). Bits per triangle count the whole packet (the textured-Gouraud baseline \
-         is 1,056); the bump extras are what the engine adds to it. `seam` is the algorithm's \
-         worst single-edge step on the fold of `configs/visa-fold.ron` at 30 degrees (exact \
-         mode against the reference, LSB beyond the interior's).\n"
-    );
-    let _ = writeln!(
-        s,
-        "| engine | config | gates (GE) | bits/triangle | bump extras | bits/texel | cycles/fragment | PSNR total | algorithm | quantization | seam at 30° |"
-    );
-    let _ = writeln!(s, "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
-    for (((c, label), r), f) in TEAPOT.iter().zip(&teapot).zip(&fold30) {
-        let b = &r.bandwidth;
-        let e = &r.error;
-        let _ = writeln!(
-            s,
-            "| {label} | `{c}` | {:.0} | {} | {} | {} | {:.2} | {:.2} | {:.2} | {:.2} | {} |",
-            r.gates.total,
-            b.bits_per_triangle,
-            b.bump_extra_bits_per_triangle,
-            b.bits_per_texel,
-            cycles_per_fragment(r),
-            e.total.psnr_db,
-            e.algorithm.psnr_db,
-            e.quantization.psnr_db,
-            f.map_or("—".into(), |f| format!("{:.2}", f.worst_seam_lsb)),
-        );
-    }
-    let _ = writeln!(
-        s,
-        "\nThe reference itself (Blinn's perturbation per pixel in f64, `configs/reference.ron`) \
+        "## What each engine costs and gets wrong, on the teapot\n\n\
+         The teapot of `configs/sgi-teapot.ron` (256x256, mexican-hat bumps, two lights) through \
+         each engine's bundled config, {}. The per-pixel engines share one set of widths \
+         (10-bit s2.8 vectors, two 8-bit offsets per texel, the SGI engine's dot products, \
+         power table and light combiner), so their quantization errors land within {q_off:.1} \
+         dB of the SGI engine's; `gouraud-teapot` renders its own teapot scene (the same mesh \
+         and bumps, its own lights). Bits per triangle count the whole packet (the \
+         textured-Gouraud baseline is 1,056); the bump extras are what the engine adds to it. \
+         Cycles per fragment (cycles / fragments): {cpf_lo:.2} to {cpf_hi:.2} for the \
+         per-pixel engines, {:.2} for SGI's, {:.2} for Phong, {:.2} for Gouraud bump mapping. \
+         The seam of each engine on the fold of `configs/visa-fold.ron` is in the next \
+         section (its 30° row).\n\n{}\n\n\
+         The reference itself (Blinn's perturbation per pixel in f64, `configs/reference.ron`) \
          is the zero of every error column. Quantized normal maps (Tarini et al.) are not in the \
          table: they store object-space normals and need a unique parameterisation, and the \
          teapot's 32 patches share theirs (`docs/studies/quantized-normals.md` measures them on \
-         the sphere, the vase and the bunny).\n"
+         the sphere, the vase and the bunny).\n",
+        teapot.cite(),
+        cpf("sgi-teapot"),
+        cpf("phong-teapot"),
+        cpf("gouraud-teapot"),
+        teapot.table("engines"),
     );
-    let _ = writeln!(s, "## The 30-degree claim (§3.2)\n");
     let _ = writeln!(
         s,
-        "\"This leads to minor visible discontinuities at the edges of two adjacent triangles \
+        "## The 30-degree claim (§3.2)\n\n\
+         \"This leads to minor visible discontinuities at the edges of two adjacent triangles \
          if the angle between the spanned planes exceeds a certain threshold. This threshold is \
          around 30 degrees for extreme lighting situations (high material shininess and mirror \
          reflection of the light)\".\n\n\
-         The scene (`configs/visa-fold.ron`): a strip folded into a ridge whose two panels meet \
-         at a dihedral angle (the `Fold` mesh, one quad per panel), smooth vertex normals \
-         across the crease, a one-octave noise bump map whose slopes cross the crease, \
-         shininess 128, the light mirrored towards a nearly parallel viewer (so that no \
-         interpolated vector but the engine's own frame differs from the reference). The \
-         figure is the worst single edge's mean error step beyond the interior's \
-         (`edges.algorithm.worst_seam_lsb`, exact mode against the reference: the algorithm's \
-         own discontinuity, no rounding in it). A seam is counted visible from \
-         {VISIBLE_LSB} LSB (two codes along a straight line in a highlight, about Weber's 1 % \
-         edge threshold at the highlight's level).\n"
-    );
-    let _ = write!(s, "| angle |");
-    for (_, l) in FOLD {
-        let _ = write!(s, " {l} |");
-    }
-    let _ = write!(s, "\n|---:|");
-    for _ in FOLD {
-        let _ = write!(s, "---:|");
-    }
-    let _ = writeln!(s);
-    for (k, a) in angles.iter().enumerate() {
-        let _ = write!(s, "| {a:.0}° |");
-        for e in 0..FOLD.len() {
-            let _ = write!(s, " {:.2} |", fold[e * angles.len() + k].0.worst_seam_lsb);
-        }
-        let _ = writeln!(s);
-    }
-    let _ = write!(s, "| **visible from** |");
-    for e in 0..FOLD.len() {
-        let _ = write!(s, " {} |", fmt_threshold(threshold(&curve(e)), 90.0));
-    }
-    let _ = writeln!(s, "\n");
-    let _ = writeln!(
-        s,
-        "The same seam in the bit-accurate image (`edges.total.worst_seam_lsb`) at the bundled \
-         widths, and with a finer renormalisation and lighting (`renorm`: a 16,384-entry \
-         rsqrt table of 18-bit values, `N'` in s2.14; 12-bit dot products; a 12-bit \
-         power-table index). At shininess 128 the bundled 256-entry rsqrt table (up to 0.4 % \
-         off), 8 fraction bits of `N'` and an 8-bit index each move `x^128` near its peak by \
-         tens of LSB, in contours that follow `N'.H`; where VISA+'s frame turns at the crease \
-         the contours break, and the mean step along the crease is many LSB:\n"
+         The scene (`configs/visa-fold.ron`, given to every engine as one `scene=...` set): a \
+         strip folded into a ridge whose two panels meet at a dihedral angle (the `Fold` mesh, \
+         one quad per panel), smooth vertex normals across the crease, a one-octave noise bump \
+         map whose slopes cross the crease, shininess 128, the light mirrored towards a nearly \
+         parallel viewer (so that no interpolated vector but the engine's own frame differs \
+         from the reference). The figure is the worst single edge's mean error step beyond the \
+         interior's (`algorithm_worst_seam_lsb`, exact mode against the reference: the \
+         algorithm's own discontinuity, no rounding in it), {} (table `algorithm`). A seam is \
+         counted visible from {VISIBLE_LSB} LSB (two codes along a straight line in a \
+         highlight, about Weber's 1 % edge threshold at the highlight's level).\n\n{}\n\n\
+         Visible (the angle where the seam reaches {VISIBLE_LSB} LSB, interpolated between \
+         the rows): {}.\n",
+        fold.cite(),
+        fold.table("algorithm"),
+        visible.join("; "),
     );
     let _ = writeln!(
         s,
-        "| angle | VISA+ | VISA+ quat. | Harmony | VISA+, finer | VISA+ quat., finer | Harmony, finer |"
-    );
-    let _ = writeln!(s, "|---:|---:|---:|---:|---:|---:|---:|");
-    let per_engine = wide_seams.len() / 3;
-    for (j, (k, a)) in angles
-        .iter()
-        .enumerate()
-        .filter(|(k, _)| k % 3 == 0)
-        .enumerate()
-    {
-        let t = |e: usize| fold[e * angles.len() + k].1.worst_seam_lsb;
-        let w = |e: usize| wide_seams[e * per_engine + j];
-        let _ = writeln!(
-            s,
-            "| {a:.0}° | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} |",
-            t(0),
-            t(1),
-            t(2),
-            w(0),
-            w(1),
-            w(2)
-        );
-    }
-    let _ = writeln!(
-        s,
-        "\nVISA+ against the shininess (\"for extreme lighting situations\"): the angle from \
-         which its seam is visible.\n"
+        "The same seam in the bit-accurate image (`total_worst_seam_lsb`) at the bundled \
+         widths (the same sweep, table `total`). At shininess 128 the bundled 256-entry rsqrt \
+         table (up to 0.4 % off), 8 fraction bits of `N'` and an 8-bit index each move \
+         `x^128` near its peak by tens of LSB, in contours that follow `N'.H`; where VISA+'s \
+         frame turns at the crease the contours break, and the mean step along the crease is \
+         many LSB:\n\n{}\n\n\
+         With a finer renormalisation and lighting (`renorm`: a 16,384-entry rsqrt table of \
+         18-bit values, `N'` in s2.14; 12-bit dot products; a 12-bit power-table index), {}:\
+         \n\n{}\n",
+        fold.table("total"),
+        finer.cite(),
+        finer.table("total"),
     );
     let _ = writeln!(
         s,
-        "| shininess | visible from | seam at 30° | seam at 60° |"
-    );
-    let _ = writeln!(s, "|---:|---:|---:|---:|");
-    for (n, c) in shininess.iter().zip(&shiny) {
-        let _ = writeln!(
-            s,
-            "| {n:.0} | {} | {:.2} | {:.2} |",
-            fmt_threshold(threshold(c), 90.0),
-            c[6].1,
-            c[12].1
-        );
-    }
-    let _ = writeln!(
-        s,
-        "\nPrisms (a cylinder of k slices: faces meet at 360/k degrees, one stack), the fold's \
-         lights and bumps:\n"
+        "VISA+ against the shininess (\"for extreme lighting situations\"), {} (the \
+         shininess-128 column is the VISA+ column of the fold's table `algorithm`):\n\n{}\n\n\
+         Visible: at shininess 32 {}, at 128 {}, at 512 {}.\n",
+        shiny.cite(),
+        shiny.table("algorithm"),
+        visible_from(&shiny_curve("32")),
+        visible_from(&shiny_curve("128")),
+        visible_from(&shiny_curve("512")),
     );
     let _ = writeln!(
         s,
-        "| slices | dihedral angle | VISA+ | VISA+ quat. | Harmony |"
+        "Prisms (a cylinder of k slices and one stack: faces meet at 360/k degrees, so 4, 8, \
+         12, 16 and 24 slices are 90, 45, 30, 22.5 and 15 degrees), the fold's lights and \
+         bumps, exact mode, {}:\n\n{}\n",
+        prisms.cite(),
+        prisms.table("algorithm"),
     );
-    let _ = writeln!(s, "|---:|---:|---:|---:|---:|");
-    for (k, (v, q, h)) in slices.iter().zip(&prisms) {
-        let _ = writeln!(
-            s,
-            "| {k} | {:.1}° | {:.2} | {:.2} | {:.2} |",
-            360.0 / f64::from(*k),
-            v.worst_seam_lsb,
-            q.worst_seam_lsb,
-            h.worst_seam_lsb
-        );
-    }
     let _ = writeln!(
         s,
-        "\n| VISA+, 45° | VISA+ with quaternions, 45° |\n|---|---|\n\
+        "| VISA+, 45° | VISA+ with quaternions, 45° |\n|---|---|\n\
          | ![](perturbation/fold45-visa.png) | ![](perturbation/fold45-visa-quat.png) |\n\
          | ![](perturbation/fold45-visa-error.png) | ![](perturbation/fold45-visa-quat-error.png) |\n\n\
          ![](perturbation/fold45-visa-minus-quat.png)\n\n\
@@ -495,9 +378,11 @@ fn main() {
          blue where darker. The two share everything but the frame; VISA+'s is turned over \
          each whole triangle, one way left of the crease and the other way right of it, so the \
          difference changes sign at the crease, in the middle)\n\n\
-         (bit-accurate images with the finer renormalisation and lighting of the table above; \
-         below, the error against the reference, black 0, full scale 32 LSB)\n"
+         (bit-accurate images with the finer renormalisation and lighting of \
+         `perturb-finer.ron`, its `sets` at 45 degrees; below, the error against the \
+         reference, black 0, full scale 32 LSB)"
     );
-    std::fs::write(out.join("perturbation-engines.md"), s).expect("write the page");
+    let page = common::root().join("docs/studies/perturbation-engines.md");
+    std::fs::write(&page, s).expect("write the page");
     println!("wrote docs/studies/perturbation-engines.md and docs/studies/perturbation/");
 }

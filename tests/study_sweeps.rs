@@ -112,6 +112,31 @@ const STUDY_SWEEPS: &[(&str, &str, &str)] = &[
         "quantized/index-mipmap",
         "quantized-normals.md",
     ),
+    (
+        "perturb-teapot",
+        "perturbation/teapot",
+        "perturbation-engines.md",
+    ),
+    (
+        "perturb-fold",
+        "perturbation/fold",
+        "perturbation-engines.md",
+    ),
+    (
+        "perturb-finer",
+        "perturbation/finer",
+        "perturbation-engines.md",
+    ),
+    (
+        "perturb-shininess",
+        "perturbation/shininess",
+        "perturbation-engines.md",
+    ),
+    (
+        "perturb-prisms",
+        "perturbation/prisms",
+        "perturbation-engines.md",
+    ),
     ("embm-resolution", "embm/resolution", "embm-limits.md"),
     ("embm-stale", "embm/stale", "embm-limits.md"),
     ("embm-point", "embm/point", "embm-limits.md"),
@@ -181,5 +206,35 @@ fn every_study_sweep_writes_the_committed_tables() {
             }
         }
         assert!(tables > 0, "{name} writes no table");
+    }
+}
+
+/// The perturbation sweeps copy the scene of `configs/visa-fold.ron` into a `scene=` set
+/// (a sweep cannot take another config's scene): the copies must stay that scene (the prisms'
+/// mesh apart, their axis).
+#[test]
+fn the_fold_sweeps_render_the_fold_configs_scene() {
+    use bumpsim_pipeline::{config, sweep};
+    let fold = config::load(&config("visa-fold"), &[])
+        .unwrap()
+        .config
+        .scene;
+    for name in [
+        "perturb-fold",
+        "perturb-finer",
+        "perturb-shininess",
+        "perturb-prisms",
+    ] {
+        let s = sweep::load(&root().join(format!("docs/studies/sweeps/{name}.ron"))).unwrap();
+        for p in &s.points {
+            let mut scene = config::load(&s.config_of(p), &s.file.sets)
+                .unwrap_or_else(|e| panic!("{name}: {e}"))
+                .config
+                .scene;
+            if name == "perturb-prisms" {
+                scene.mesh = fold.mesh.clone();
+            }
+            assert_eq!(scene, fold, "{name}, point {}", p.index);
+        }
     }
 }
