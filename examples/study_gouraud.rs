@@ -14,8 +14,7 @@
 
 use bumpsim_pipeline::report::Gates;
 use bumpsim_pipeline::run::RunResult;
-use bumpsim_pipeline::sweep::table::{Cell, Row};
-use bumpsim_pipeline::sweep::Table;
+use bumpsim_pipeline::sweep::table::Row;
 use std::collections::BTreeMap;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
@@ -44,76 +43,16 @@ fn save(r: &RunResult, dir: &Path, name: &str, reference: bool) {
     }
 }
 
-/// One sweep of `docs/studies/sweeps/`, run: its rows and its tables' Markdown by name.
-struct Swept {
-    file: &'static str,
-    t: Table,
-    md: BTreeMap<String, String>,
+use common::Swept;
+
+/// Run `docs/studies/sweeps/ernst-{name}.ron` into `docs/studies/gouraud/{name}/`.
+fn ernst(name: &str) -> Swept {
+    Swept::run(&format!("ernst-{name}"), &format!("gouraud/{name}"))
 }
 
-impl Swept {
-    /// Run `docs/studies/sweeps/ernst-{name}.ron` into `docs/studies/gouraud/{name}/`.
-    fn run(name: &'static str) -> Swept {
-        let (t, md) = common::study_sweep(&format!("ernst-{name}"), &format!("gouraud/{name}"));
-        Swept { file: name, t, md }
-    }
-
-    /// The sweep file and the command that writes its tables, for the prose.
-    fn cite(&self) -> String {
-        let n = self.file;
-        format!(
-            "`docs/studies/sweeps/ernst-{n}.ron` (`bumpsim sweep docs/studies/sweeps/ernst-{n}.ron \
-             --out docs/studies/gouraud/{n}`)"
-        )
-    }
-
-    /// Table `name`, as the sweep wrote it.
-    fn table(&self, name: &str) -> &str {
-        self.md
-            .get(name)
-            .unwrap_or_else(|| panic!("{}: no table {name}", self.file))
-    }
-
-    /// The cell as the CSV writes it (text, numbers, booleans).
-    fn text(&self, r: &Row, c: &str) -> String {
-        match self.t.cell(r, c) {
-            Some(Cell::Text(s)) => s,
-            Some(Cell::Int(i)) => i.to_string(),
-            Some(Cell::Bool(b)) => b.to_string(),
-            Some(Cell::Float(x)) => x.to_string(),
-            _ => String::new(),
-        }
-    }
-
-    fn n(&self, r: &Row, c: &str) -> f64 {
-        self.t.number(r, c).unwrap_or(f64::NAN)
-    }
-
-    /// The diffuse + specular blend units' GE.
-    fn pair(&self, r: &Row) -> f64 {
-        self.n(r, "gates.diffuse") + self.n(r, "gates.specular")
-    }
-
-    /// The ok rows.
-    fn rows(&self) -> impl Iterator<Item = &Row> {
-        self.t.rows.iter().filter(|r| r.is_ok())
-    }
-
-    /// The ok row whose cells hold these texts (a value containing `*` matches by the text
-    /// before it: "SphereCaps*").
-    fn row(&self, conds: &[(&str, &str)]) -> &Row {
-        self.rows()
-            .find(|r| {
-                conds.iter().all(|(c, v)| {
-                    let t = self.text(r, c);
-                    match v.strip_suffix('*') {
-                        Some(p) => t.starts_with(p),
-                        None => t == *v,
-                    }
-                })
-            })
-            .unwrap_or_else(|| panic!("{}: no row {conds:?}", self.file))
-    }
+/// The diffuse + specular blend units' GE of a row.
+fn pair(s: &Swept, r: &Row) -> f64 {
+    s.n(r, "gates.diffuse") + s.n(r, "gates.specular")
 }
 
 /// A width axis' label (the sweep labels each encoding with its bits).
@@ -196,7 +135,7 @@ fn main() {
         let sweeps = sc.spawn(|| {
             let mut s = BTreeMap::new();
             for name in STUDY_SWEEPS {
-                s.insert(name, Swept::run(name));
+                s.insert(name, ernst(name));
             }
             let (mut a, mut b) = (String::new(), String::new());
             palette_section(&mut a);
@@ -284,17 +223,17 @@ fn gates_section(md: &mut String, sw: &BTreeMap<&str, Swept>, torus_ge: f64) {
     let mut points: Vec<(&str, u32, f64)> = Vec::new();
     for (what, s) in [("B", b), ("L/H", lh), ("colour", col)] {
         for r in s.rows() {
-            points.push((what, width_of(&s.text(r, "width")), s.pair(r)));
+            points.push((what, width_of(&s.text(r, "width")), pair(s, r)));
         }
     }
     for r in pt.rows().filter(|r| pt.text(r, "tables") == "Sram") {
         points.push((
             "power table index bits",
             pt.n(r, "index_bits") as u32,
-            pt.pair(r),
+            pair(pt, r),
         ));
     }
-    let teapot = b.pair(b.row(&[("width", "8")]));
+    let teapot = pair(b, b.row(&[("width", "8")]));
     // PSNR lost at 6 bits against 12
     let loss = |s: &Swept| {
         let at = |w: &str| s.n(s.row(&[("width", w)]), "total_psnr_db");
@@ -358,15 +297,15 @@ fn tables_section(md: &mut String, pt: &Swept) {
         .collect();
     let inside: Vec<String> = rows
         .iter()
-        .filter(|r| (10_000.0..=25_000.0).contains(&pt.pair(r)))
+        .filter(|r| (10_000.0..=25_000.0).contains(&pair(pt, r)))
         .map(|r| pt.text(r, "tables"))
         .collect();
     let outside: Vec<String> = rows
         .iter()
-        .filter(|r| !(10_000.0..=25_000.0).contains(&pt.pair(r)))
+        .filter(|r| !(10_000.0..=25_000.0).contains(&pair(pt, r)))
         .map(|r| pt.text(r, "tables"))
         .collect();
-    let kind = |k: &str| pt.pair(pt.row(&[("tables", k), ("index_bits", "8")]));
+    let kind = |k: &str| pair(pt, pt.row(&[("tables", k), ("index_bits", "8")]));
     let _ = writeln!(
         md,
         "Per bit of the 256 x 8 table: {} GE. The paper's range holds for {} of the four: {}. \
@@ -457,7 +396,7 @@ fn lights_section(md: &mut String, one: &Swept, two: &Swept) {
     let ge = |s: &Swept, n: usize| {
         s.rows()
             .find(|r| count(s, r) == n)
-            .map(|r| s.pair(r))
+            .map(|r| pair(s, r))
             .unwrap_or(f64::NAN)
     };
     let c1: Vec<f64> = (1..=4).map(|n| cyc(one, n)).collect();

@@ -14,9 +14,7 @@
 //! verdicts (the angle from which a seam is visible, interpolated between the rows), and the
 //! pictures (VISA+ and its quaternion variant on the fold at 45 degrees).
 
-use bumpsim_pipeline::sweep::table::{Cell, Row};
-use bumpsim_pipeline::sweep::{self, Table};
-use std::collections::BTreeMap;
+use bumpsim_pipeline::sweep;
 use std::fmt::Write;
 
 mod common;
@@ -26,77 +24,19 @@ mod common;
 /// highlight's level (Weber's edge threshold).
 const VISIBLE_LSB: f64 = 2.0;
 
-/// One sweep of `docs/studies/sweeps/`, run: its rows and its tables' Markdown by name.
-struct Swept {
-    name: &'static str,
-    t: Table,
-    md: BTreeMap<String, String>,
+use common::Swept;
+
+/// Run `docs/studies/sweeps/perturb-{name}.ron` into `docs/studies/perturbation/{name}/`.
+fn perturb(name: &str) -> Swept {
+    Swept::run(&format!("perturb-{name}"), &format!("perturbation/{name}"))
 }
 
-impl Swept {
-    /// Run `docs/studies/sweeps/perturb-{name}.ron` into `docs/studies/perturbation/{name}/`.
-    fn run(name: &'static str) -> Swept {
-        let (t, md) =
-            common::study_sweep(&format!("perturb-{name}"), &format!("perturbation/{name}"));
-        Swept { name, t, md }
-    }
-
-    /// The sweep file and the command that writes its tables, for the prose.
-    fn cite(&self) -> String {
-        let n = self.name;
-        format!(
-            "`docs/studies/sweeps/perturb-{n}.ron` (`bumpsim sweep \
-             docs/studies/sweeps/perturb-{n}.ron --out docs/studies/perturbation/{n}`)"
-        )
-    }
-
-    /// Table `name`, as the sweep wrote it.
-    fn table(&self, name: &str) -> &str {
-        self.md
-            .get(name)
-            .unwrap_or_else(|| panic!("{}: no table {name}", self.name))
-    }
-
-    /// The cell as the CSV writes it.
-    fn text(&self, r: &Row, c: &str) -> String {
-        match self.t.cell(r, c) {
-            Some(Cell::Text(s)) => s,
-            Some(Cell::Int(i)) => i.to_string(),
-            Some(Cell::Bool(b)) => b.to_string(),
-            Some(Cell::Float(x)) => x.to_string(),
-            _ => String::new(),
-        }
-    }
-
-    /// Column `c` of the row whose column `k` reads `v` (a `v` starting with `*` matches
-    /// the end of the text: "*`visa-teapot`").
-    fn at(&self, k: &str, v: &str, c: &str) -> f64 {
-        let r = self
-            .t
-            .rows
-            .iter()
-            .find(|r| match v.strip_prefix('*') {
-                Some(end) => self.text(r, k).ends_with(end),
-                None => self.text(r, k) == v,
-            })
-            .unwrap_or_else(|| panic!("{}: no row {k}={v}", self.name));
-        self.t.number(r, c).unwrap_or(f64::NAN)
-    }
-
-    /// (angle, column `c`) of the rows whose column `k` reads `v`, in row order.
-    fn curve(&self, k: &str, v: &str, c: &str) -> Vec<(f64, f64)> {
-        self.t
-            .rows
-            .iter()
-            .filter(|r| self.text(r, k) == v)
-            .map(|r| {
-                (
-                    self.t.number(r, "angle").unwrap(),
-                    self.t.number(r, c).unwrap(),
-                )
-            })
-            .collect()
-    }
+/// (angle, column `c`) of the rows of `s` whose column `k` reads `v`, in row order.
+fn curve(s: &Swept, k: &str, v: &str, c: &str) -> Vec<(f64, f64)> {
+    s.rows()
+        .filter(|r| s.text(r, k) == v)
+        .map(|r| (s.n(r, "angle"), s.n(r, c)))
+        .collect()
 }
 
 /// The first angle at which the seam reaches [`VISIBLE_LSB`], linearly interpolated between
@@ -127,7 +67,7 @@ fn main() {
     let pics = common::root().join("docs/studies/perturbation");
     std::fs::create_dir_all(&pics).expect("create docs/studies/perturbation");
     let [teapot, fold, finer, shiny, prisms] =
-        ["teapot", "fold", "finer", "shininess", "prisms"].map(Swept::run);
+        ["teapot", "fold", "finer", "shininess", "prisms"].map(perturb);
 
     // pictures: VISA+ and its quaternion variant on the fold at 45 degrees, with the finer
     // widths of perturb-finer.ron (its `sets`)
@@ -156,7 +96,7 @@ fn main() {
     diff.save(pics.join("fold45-visa-minus-quat.png")).unwrap();
 
     // the verdicts, from the rows
-    let tp = |cfg: &str, c: &str| teapot.at("engine", &format!("*`{cfg}`"), c);
+    let tp = |cfg: &str, c: &str| teapot.at(&[("engine", &format!("*`{cfg}`"))], c);
     let per_pixel = [
         "texram-teapot",
         "texram-teapot-scaled",
@@ -190,8 +130,8 @@ fn main() {
         "Texram scaled",
         "SGI",
     ];
-    let alg = |e: &str| fold.curve("engine", e, "algorithm_worst_seam_lsb");
-    let total = |e: &str| fold.curve("engine", e, "total_worst_seam_lsb");
+    let alg = |e: &str| curve(&fold, "engine", e, "algorithm_worst_seam_lsb");
+    let total = |e: &str| curve(&fold, "engine", e, "total_worst_seam_lsb");
     let seam = |e: &str, a: f64| alg(e).iter().find(|p| p.0 == a).unwrap().1;
     let continuous: Vec<_> = engines[1..5].iter().map(|e| alg(e)).collect();
     let (_, cont_max) = range(&continuous, 0.0);
@@ -199,11 +139,11 @@ fn main() {
         .iter()
         .map(|e| format!("{e} {}", visible_from(&alg(e))))
         .collect();
-    let shiny_curve = |n: &str| shiny.curve("shininess", n, "algorithm_worst_seam_lsb");
+    let shiny_curve = |n: &str| curve(&shiny, "shininess", n, "algorithm_worst_seam_lsb");
     let (visa_lo, visa_hi) = range(&[total("VISA+")], 15.0);
     let (cont_lo, cont_hi) = range(&[total("VISA+ quat."), total("Harmony")], 15.0);
     let (_, finer_visa) = range(
-        &[finer.curve("engine", "VISA+", "total_worst_seam_lsb")],
+        &[curve(&finer, "engine", "VISA+", "total_worst_seam_lsb")],
         0.0,
     );
     let (_, alg_visa) = range(&[alg("VISA+")], 0.0);

@@ -13,9 +13,6 @@
 //! configs (`config::load` + `run::run`).
 
 use bumpsim_pipeline::run::RunResult;
-use bumpsim_pipeline::sweep::table::Cell;
-use bumpsim_pipeline::sweep::{Row, Table};
-use std::collections::BTreeMap;
 use std::fmt::Write;
 use std::path::PathBuf;
 
@@ -52,66 +49,25 @@ fn root() -> PathBuf {
 /// A row of the paper's Table 1 (`PAPER_T1`).
 type PaperRow = (&'static str, &'static str, [f64; 3]);
 
-/// A sweep's rows and its tables' Markdown by name.
-struct Sweep {
-    t: Table,
-    tables: BTreeMap<String, String>,
+use common::Swept;
+
+/// Run `docs/studies/sweeps/tarini-{name}.ron` into `docs/studies/quantized/{name}/`.
+fn tarini(name: &str) -> Swept {
+    let t0 = std::time::Instant::now();
+    let s = Swept::run(&format!("tarini-{name}"), &format!("quantized/{name}"));
+    eprintln!("sweep tarini-{name}: {:.1} s", t0.elapsed().as_secs_f64());
+    s
 }
 
-impl Sweep {
-    /// Run `docs/studies/sweeps/tarini-{name}.ron` into `docs/studies/quantized/{name}/`.
-    fn run(name: &str) -> Sweep {
-        let t0 = std::time::Instant::now();
-        let (t, tables) =
-            common::study_sweep(&format!("tarini-{name}"), &format!("quantized/{name}"));
-        eprintln!("sweep tarini-{name}: {:.1} s", t0.elapsed().as_secs_f64());
-        Sweep { t, tables }
-    }
-
-    /// The table `name` as written.
-    fn table(&self, name: &str) -> &str {
-        &self.tables[name]
-    }
-
-    /// The one row whose cells hold `want` (column, text of the cell).
-    fn row(&self, want: &[(&str, &str)]) -> &Row {
-        self.t
-            .rows
-            .iter()
-            .find(|r| want.iter().all(|(c, v)| self.text(r, c) == *v))
-            .unwrap_or_else(|| panic!("no row {want:?}"))
-    }
-
-    fn text(&self, r: &Row, c: &str) -> String {
-        match self.t.cell(r, c) {
-            Some(Cell::Int(i)) => i.to_string(),
-            Some(Cell::Float(x)) => x.to_string(),
-            Some(Cell::Bool(b)) => b.to_string(),
-            Some(Cell::Text(s)) => s,
-            _ => String::new(),
-        }
-    }
-
-    /// Column `c` of every row, in order.
-    fn col(&self, c: &str) -> Vec<f64> {
-        self.t
-            .rows
-            .iter()
-            .map(|r| {
-                self.t
-                    .number(r, c)
-                    .unwrap_or_else(|| panic!("no number in {c}"))
-            })
-            .collect()
-    }
-
-    /// Column `c` of the row holding `want`.
-    fn at(&self, want: &[(&str, &str)], c: &str) -> f64 {
-        let r = self.row(want);
-        self.t
-            .number(r, c)
-            .unwrap_or_else(|| panic!("no number in {c} of {want:?}"))
-    }
+/// Column `c` of every row of `s`, in order.
+fn col(s: &Swept, c: &str) -> Vec<f64> {
+    s.t.rows
+        .iter()
+        .map(|r| {
+            s.t.number(r, c)
+                .unwrap_or_else(|| panic!("no number in {c}"))
+        })
+        .collect()
 }
 
 /// Pictures side by side.
@@ -172,8 +128,8 @@ fn main() {
     );
 
     // ---------------------------------------------------------------- 1: error vs s_N
-    let err = Sweep::run("error");
-    let neu = Sweep::run("neuquant");
+    let err = tarini("error");
+    let neu = tarini("neuquant");
     let mc = |s: u32, d: bool, c: &str| {
         err.at(
             &[
@@ -351,8 +307,8 @@ fn main() {
     let sw = sweep_section(&mut md);
 
     // ---------------------------------------------------------------- 2: builder cycles
-    let bld = Sweep::run("builder");
-    let tex = Sweep::run("texture-size");
+    let bld = tarini("builder");
+    let tex = tarini("texture-size");
     let models: Vec<String> = {
         let mut v: Vec<String> = Vec::new();
         for r in &bld.t.rows {
@@ -482,8 +438,8 @@ fn main() {
     );
     let same = |v: Vec<f64>| v.iter().all(|&x| x == v[0]);
     let (fsame, csame) = (
-        same(tex.col("report.cycles.frame")),
-        same(tex.col("cycles")),
+        same(col(&tex, "report.cycles.frame")),
+        same(col(&tex, "cycles")),
     );
     let _ = writeln!(
         md,
@@ -508,8 +464,8 @@ fn main() {
     eprintln!("section 2: {:.1} s", t0.elapsed().as_secs_f64());
 
     // ---------------------------------------------------------------- 3: bits per texel
-    let bits = Sweep::run("bits");
-    let b = bits.col("bits_per_texel");
+    let bits = tarini("bits");
+    let b = col(&bits, "bits_per_texel");
     let (bmin, bmax) = (b[0], b[b.len() - 1]);
     let _ = writeln!(
         md,
@@ -530,7 +486,7 @@ fn main() {
     );
 
     // ---------------------------------------------------------------- 4: eq. (1) vs (2)
-    let bl = Sweep::run("blend");
+    let bl = tarini("blend");
     let eqs: Vec<(u32, [f64; 7])> = BLEND_LIGHTS
         .iter()
         .map(|(a, l)| {
@@ -664,8 +620,8 @@ fn main() {
 
     // ---------------------------------------------------------------- 5: mipmaps
     let mip = mip_angles(&mut md);
-    let floor = Sweep::run("floor");
-    let flat = Sweep::run("floor-unmipmapped");
+    let floor = tarini("floor");
+    let flat = tarini("floor-unmipmapped");
     let fl = |m: &str, k: u32, c: &str| floor.at(&[("mipmap", m), ("samples", &k.to_string())], c);
     let un = |k: u32| flat.at(&[("samples", &k.to_string())], "total_psnr_db");
     let good = "Some(NearestToAverage)";
@@ -698,7 +654,7 @@ fn main() {
     eprintln!("section 5: {:.1} s", t0.elapsed().as_secs_f64());
 
     // ---------------------------------------------------------------- 6: figures
-    let vase = Sweep::run("vase");
+    let vase = tarini("vase");
     let vase_sn = [16u32, 32, 64, 128, 256, 512, 1024, 2048];
     let names: Vec<String> = vase_sn
         .iter()
@@ -769,7 +725,7 @@ fn main() {
     );
     let mut fig_sweeps = Vec::new();
     for (name, cfg, pic, what) in figs {
-        let s = Sweep::run(name);
+        let s = tarini(name);
         let _ = writeln!(
             md,
             "{what}: `configs/{cfg}.ron`, `docs/studies/sweeps/tarini-{name}.ron`\n\n{}\n\n\
@@ -910,7 +866,7 @@ fn main() {
         PAPER_T1[0].2[2] / PAPER_T1[0].2[1],
         ph[2] / lam[2],
         PAPER_T1[1].2[2] / PAPER_T1[0].2[2],
-        tex.col("report.cycles.frame")[0],
+        col(&tex, "report.cycles.frame")[0],
         s0.1[4],
         s0.0,
         s_last.1[4],
@@ -933,7 +889,7 @@ fn main() {
 /// each mip level's table normals against the true box-filtered normals, both rules).
 /// Returns level 1's (mean, max) angle of NearestToAverage and of NaiveIndexAverage.
 fn mip_angles(md: &mut String) -> ((f64, f64), (f64, f64)) {
-    let s = Sweep::run("index-mipmap");
+    let s = tarini("index-mipmap");
     let l1 = |rule: &str| {
         let at = |c: &str| {
             s.at(

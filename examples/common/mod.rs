@@ -9,6 +9,7 @@ use bumpsim_pipeline::config;
 use bumpsim_pipeline::report::Gates;
 use bumpsim_pipeline::rop::{self, Framebuffer};
 use bumpsim_pipeline::run::{self, RunResult};
+use bumpsim_pipeline::sweep::table::{Cell, Row};
 use std::path::PathBuf;
 
 pub fn root() -> PathBuf {
@@ -109,4 +110,91 @@ pub fn study_sweep(
         })
         .collect();
     (o.table, tables)
+}
+
+/// A study's sweep, run ([`study_sweep`]): its rows and tables, read by the prose.
+pub struct Swept {
+    /// The sweep file's stem under `docs/studies/sweeps/`.
+    pub file: String,
+    /// Its output directory under `docs/studies/`.
+    pub out: String,
+    pub t: bumpsim_pipeline::sweep::Table,
+    pub md: std::collections::BTreeMap<String, String>,
+}
+
+impl Swept {
+    /// Run `docs/studies/sweeps/{file}.ron` into `docs/studies/{out}/`.
+    pub fn run(file: &str, out: &str) -> Swept {
+        let (t, md) = study_sweep(file, out);
+        Swept {
+            file: file.into(),
+            out: out.into(),
+            t,
+            md,
+        }
+    }
+
+    /// The sweep file and the command that writes its tables, for the prose.
+    pub fn cite(&self) -> String {
+        let (f, o) = (&self.file, &self.out);
+        format!(
+            "`docs/studies/sweeps/{f}.ron` (`bumpsim sweep docs/studies/sweeps/{f}.ron --out \
+             docs/studies/{o}`)"
+        )
+    }
+
+    /// Table `name`, as the sweep wrote it.
+    pub fn table(&self, name: &str) -> &str {
+        self.md
+            .get(name)
+            .unwrap_or_else(|| panic!("{}: no table {name}", self.file))
+    }
+
+    /// The cell as the CSV writes it (text, numbers, booleans; empty for none).
+    pub fn text(&self, r: &Row, c: &str) -> String {
+        match self.t.cell(r, c) {
+            Some(Cell::Text(s)) => s,
+            Some(Cell::Int(i)) => i.to_string(),
+            Some(Cell::Bool(b)) => b.to_string(),
+            Some(Cell::Float(x)) => x.to_string(),
+            _ => String::new(),
+        }
+    }
+
+    /// The number in column `c` (NaN for none).
+    pub fn n(&self, r: &Row, c: &str) -> f64 {
+        self.t.number(r, c).unwrap_or(f64::NAN)
+    }
+
+    /// The ok rows.
+    pub fn rows(&self) -> impl Iterator<Item = &Row> {
+        self.t.rows.iter().filter(|r| r.is_ok())
+    }
+
+    /// Whether row `r`'s cells hold these texts: `v` exactly, or with a trailing `*` the
+    /// text's start ("SphereCaps*"), with a leading `*` its end ("*`visa-teapot`").
+    pub fn holds(&self, r: &Row, conds: &[(&str, &str)]) -> bool {
+        conds.iter().all(|(c, v)| {
+            let t = self.text(r, c);
+            if let Some(p) = v.strip_suffix('*') {
+                t.starts_with(p)
+            } else if let Some(e) = v.strip_prefix('*') {
+                t.ends_with(e)
+            } else {
+                t == *v
+            }
+        })
+    }
+
+    /// The first ok row that [`Swept::holds`] `conds`.
+    pub fn row(&self, conds: &[(&str, &str)]) -> &Row {
+        self.rows()
+            .find(|r| self.holds(r, conds))
+            .unwrap_or_else(|| panic!("{}: no row {conds:?}", self.file))
+    }
+
+    /// Column `c` of [`Swept::row`]`(conds)`.
+    pub fn at(&self, conds: &[(&str, &str)], c: &str) -> f64 {
+        self.n(self.row(conds), c)
+    }
 }
