@@ -1,92 +1,103 @@
 //! Wang et al. §3, Fig. 2 (issue 14, item 5): 8-bit against 16-bit precision of a normal map
 //! rendered by texture shaders, outside (the type the application hands over) and inside (the
 //! texture's internal format, its filtering and the dot products). Regenerates
-//! `docs/studies/hilo-precision.md` and the pictures in `docs/studies/hilo-precision/`:
+//! `docs/studies/hilo-precision.md` and everything under `docs/studies/hilo-precision/`:
 //!
 //! ```sh
 //! cargo run --release --example study_hilo_precision
 //! ```
 //!
-//! Every figure is of the bundled `configs/wang-bunny-hilo*.ron` and `wang-bunny-rgb8.ron`
-//! (with `--set` overrides for the two rows that split the factors), measured as the reports
-//! measure quantization: the bit-accurate framebuffer against the exact-mode framebuffer of
-//! the same config, so that the algorithm is held fixed.
+//! The tables are those of the sweeps `docs/studies/sweeps/wang-hilo-*.ron`, run into
+//! `docs/studies/hilo-precision/NAME/` exactly as `bumpsim sweep
+//! docs/studies/sweeps/wang-hilo-NAME.ron --out docs/studies/hilo-precision/NAME` runs them,
+//! quoted as they are written (issue 11); this program adds the prose, reading the sweeps'
+//! rows for the verdicts, and the pictures (the bundled `configs/wang-bunny-hilo*.ron` and
+//! `wang-bunny-rgb8.ron` rendered), which no sweep holds.
 
 mod common;
 
-use bumpsim_pipeline::artifacts;
-use bumpsim_pipeline::metrics;
+use bumpsim_pipeline::highlight;
 use bumpsim_pipeline::rop::Framebuffer;
-use bumpsim_pipeline::sweep::table::Cell;
-use bumpsim_pipeline::sweep::{self, RunOptions};
+use bumpsim_pipeline::sweep::table::{Cell, Row};
+use bumpsim_pipeline::sweep::Table;
+use std::collections::BTreeMap;
 use std::fmt::Write;
 
-struct Variant {
-    fig: &'static str,
-    config: &'static str,
-    sets: &'static [&'static str],
-    texel: &'static str,
-    dot_frac: u32,
-}
-
-const VARIANTS: [Variant; 5] = [
-    Variant {
-        fig: "(c)",
-        config: "wang-bunny-hilo",
-        sets: &[],
-        texel: "SIGNED_HILO16 (GL_SHORT)",
-        dot_frac: 16,
-    },
-    Variant {
-        fig: "(a)",
-        config: "wang-bunny-hilo-byte",
-        sets: &[],
-        texel: "SIGNED_HILO16 from GL_BYTE",
-        dot_frac: 16,
-    },
-    Variant {
-        fig: "(b)",
-        config: "wang-bunny-rgb8",
-        sets: &[],
-        texel: "SIGNED_RGB8",
-        dot_frac: 8,
-    },
-    Variant {
-        fig: "(b), 16-bit dot",
-        config: "wang-bunny-rgb8",
-        sets: &["engine.units.shader.unit.dot_frac=16"],
-        texel: "SIGNED_RGB8",
-        dot_frac: 16,
-    },
-    Variant {
-        fig: "(c), 8-bit dot",
-        config: "wang-bunny-hilo",
-        sets: &["engine.units.shader.unit.dot_frac=8"],
-        texel: "SIGNED_HILO16 (GL_SHORT)",
-        dot_frac: 8,
-    },
-];
-
-/// Exact-mode luma at or above which a pixel is in a highlight: the material's diffuse and
-/// ambient reach at most 0.73 (`diffuse` (0.75, 0.65, 0.45) + 0.08), so only the specular
-/// term gets past 0.8.
+/// The reference luma at or above which a pixel is in the highlight, as the sweeps set it
+/// (`reference.highlight_luma=Some(0.8)`): the material's diffuse and ambient reach at most
+/// 0.73 (`diffuse` (0.75, 0.65, 0.45) + 0.08), so only the specular term gets past 0.8. The
+/// pictures' crop is placed on this region.
 const HIGHLIGHT: f64 = 0.8;
 const CROP: u32 = 48;
 const ZOOM: u32 = 4;
 /// Gain of the pictures of |bit-accurate - exact|.
 const GAIN: f64 = 16.0;
 
-fn luma(p: [f64; 3]) -> f64 {
-    0.299 * p[0] + 0.587 * p[1] + 0.114 * p[2]
+/// One sweep of `docs/studies/sweeps/`, run: its rows and its tables' Markdown by name.
+struct Swept {
+    file: &'static str,
+    t: Table,
+    md: BTreeMap<String, String>,
 }
 
-/// `mask` restricted to the highlight of `exact`.
-fn highlight(exact: &Framebuffer, mask: &[bool]) -> Vec<bool> {
-    let px = &exact.image.px;
-    mask.iter()
-        .zip(px)
-        .map(|(&m, &p)| m && luma(p) >= HIGHLIGHT)
-        .collect()
+impl Swept {
+    /// Run `docs/studies/sweeps/wang-hilo-{name}.ron` into `docs/studies/hilo-precision/{name}/`.
+    fn run(name: &'static str) -> Swept {
+        let (t, md) = common::study_sweep(
+            &format!("wang-hilo-{name}"),
+            &format!("hilo-precision/{name}"),
+        );
+        Swept { file: name, t, md }
+    }
+
+    /// The sweep file and the command that writes its tables, for the prose.
+    fn cite(&self) -> String {
+        let n = self.file;
+        format!(
+            "`docs/studies/sweeps/wang-hilo-{n}.ron` (`bumpsim sweep \
+             docs/studies/sweeps/wang-hilo-{n}.ron --out docs/studies/hilo-precision/{n}`)"
+        )
+    }
+
+    /// Table `name`, as the sweep wrote it.
+    fn table(&self, name: &str) -> &str {
+        self.md
+            .get(name)
+            .unwrap_or_else(|| panic!("{}: no table {name}", self.file))
+    }
+
+    fn text(&self, r: &Row, c: &str) -> String {
+        match self.t.cell(r, c) {
+            Some(Cell::Text(s)) => s,
+            Some(Cell::Int(i)) => i.to_string(),
+            Some(Cell::Bool(b)) => b.to_string(),
+            Some(Cell::Float(x)) => x.to_string(),
+            _ => String::new(),
+        }
+    }
+
+    fn n(&self, r: &Row, c: &str) -> f64 {
+        self.t.number(r, c).unwrap_or(f64::NAN)
+    }
+
+    /// A highlight figure of the quantization comparison (`highlight.quantization.FIELD`).
+    fn hl(&self, r: &Row, field: &str) -> f64 {
+        self.n(r, &format!("report.highlight.quantization.{field}"))
+    }
+
+    fn rows(&self) -> impl Iterator<Item = &Row> {
+        self.t.rows.iter().filter(|r| r.is_ok())
+    }
+
+    /// The row of `engine` (its label starts with it: "(c)") at `dot` fraction bits.
+    fn row(&self, engine: &str, dot: u32) -> &Row {
+        self.rows()
+            .find(|r| {
+                self.text(r, "engine").starts_with(engine)
+                    && self.text(r, "dot_frac") == dot.to_string()
+            })
+            .unwrap_or_else(|| panic!("{}: no row {engine} {dot}", self.file))
+    }
 }
 
 /// The top-left corner of the `CROP` window holding the most highlight pixels (first in
@@ -120,49 +131,42 @@ fn save(img: &image::RgbImage, name: &str) {
     img.save(dir.join(name)).unwrap();
 }
 
-struct Row {
-    all: metrics::ErrorStats,
-    all_art: artifacts::ArtifactStats,
-    hl: metrics::ErrorStats,
-    hl_art: artifacts::ArtifactStats,
-    /// Mean of bit-accurate - exact over the highlight, in LSB (all channels).
-    hl_bias: f64,
+/// The highlight region of the scene: the f64 reference of `wang-bunny-hilo` (the same scene
+/// and raster as the two other configs) where its luma is at least `HIGHLIGHT`, as the
+/// report's `highlight` section defines it.
+fn highlight_region() -> Vec<bool> {
+    let l = common::load("wang-bunny-hilo", &[]);
+    let p = bumpsim_pipeline::run::prepare(&l).unwrap_or_else(|e| panic!("{e}"));
+    let r = p.reference(l.config.reference);
+    highlight::region(&r.image, &r.mask, HIGHLIGHT)
 }
 
-fn measure(b: &Framebuffer, e: &Framebuffer, hl: &[bool]) -> Row {
-    let (bm, em) = (&b.mask[..], &e.mask[..]);
-    let bh: Vec<bool> = bm.iter().zip(hl).map(|(&m, &h)| m && h).collect();
-    Row {
-        all: metrics::compare(&b.image, bm, &e.image, em),
-        all_art: artifacts::measure(&b.image, bm, &e.image, em),
-        hl: metrics::compare(&b.image, &bh, &e.image, em),
-        hl_art: artifacts::measure(&b.image, &bh, &e.image, em),
-        hl_bias: {
-            let (mut sum, mut n) = (0.0, 0usize);
-            for (k, _) in bh.iter().zip(em).enumerate().filter(|(_, (&x, &y))| x && y) {
-                let (p, q) = (b.image.px[k], e.image.px[k]);
-                sum += (0..3).map(|c| p[c] - q[c]).sum::<f64>();
-                n += 3;
-            }
-            255.0 * sum / n.max(1) as f64
-        },
-    }
+/// `x` times `y`, as the prose writes a ratio.
+fn times(x: f64, y: f64) -> String {
+    format!("{:.1}x", x / y)
 }
 
 fn main() {
-    let frames: Vec<(Framebuffer, Framebuffer)> = VARIANTS
-        .iter()
-        .map(|v| {
-            let sets: Vec<String> = v.sets.iter().map(|s| s.to_string()).collect();
-            common::framebuffers(v.config, &sets)
-        })
-        .collect();
+    // the sweeps (rayon inside) beside the pictures' renders
+    let (fig2, dot, frames, hl) = std::thread::scope(|sc| {
+        let sweeps = sc.spawn(|| (Swept::run("fig2"), Swept::run("dot-frac")));
+        let frames: Vec<(Framebuffer, Framebuffer)> = common::par_map(
+            &["wang-bunny-hilo", "wang-bunny-hilo-byte", "wang-bunny-rgb8"],
+            |c| common::framebuffers(c, &[]),
+        );
+        let hl = highlight_region();
+        let (fig2, dot) = sweeps.join().expect("the sweeps");
+        (fig2, dot, frames, hl)
+    });
     let (w, h) = (frames[0].1.image.width, frames[0].1.image.height);
-    // one highlight for every row: that of (c)'s exact image (the same scene and raster)
-    let hl = highlight(&frames[0].1, &frames[0].1.mask);
     let hl_pixels = hl.iter().filter(|&&x| x).count();
+    let c16 = fig2.row("(c)", 16);
+    assert_eq!(
+        fig2.n(c16, "report.highlight.pixels"),
+        hl_pixels as f64,
+        "the pictures' region is the sweep's"
+    );
     let (x0, y0) = densest(&hl, w, h);
-    let rows: Vec<Row> = frames.iter().map(|(b, e)| measure(b, e, &hl)).collect();
 
     // pictures: the whole of (c) with the crop outlined, then per figure variant the
     // bit-accurate crop and |bit-accurate - exact| x GAIN
@@ -205,7 +209,11 @@ fn main() {
         md,
         "Generated by `cargo run --release --example study_hilo_precision` (do not edit by hand). \
          Part of the normal-map study (`normal-map-baking.md`); the paper is \
-         `wang-normal-map-generation-hilo.txt`, §3.\n"
+         `wang-normal-map-generation-hilo.txt`, §3. Every table is a table of a sweep, \
+         `docs/studies/sweeps/wang-hilo-*.ron`, written into `docs/studies/hilo-precision/NAME/` \
+         (with the sweep's rows, `sweep.csv`) by the command each section names (`bumpsim \
+         sweep`, docs/sweep.md); each sweep file's header says what it varies, what it holds \
+         fixed and which claim it tests.\n"
     )
     .unwrap();
     writeln!(
@@ -232,167 +240,234 @@ fn main() {
          converted by the driver (`upload`). (b) is `wang-bunny-rgb8.ron`: (x, y, z) as 8-bit \
          signed RGB texels (GL_SIGNED_RGB8_NV rather than the paper's range-compressed GL_RGB8: \
          the same 8 bits a component, read without the expand), the vector at 8 fraction bits. \
-         The two last rows split (b)'s two factors by a `--set` of `dot_frac`.\n"
+         The sweep runs each engine with the dot products at 16 and at 8 fraction bits \
+         (`dot_frac`): Fig. 2's own rows are (c) and (a) at 16 and (b) at 8; the other three \
+         split the texel's precision from the dot products'.\n"
     )
     .unwrap();
     writeln!(
         md,
         "**The measure.** Precision is judged as each report judges quantization: the \
          bit-accurate framebuffer against the exact-mode framebuffer of the same config (the \
-         same algorithm without rounding), so nothing but precision differs. Banding is the \
+         same algorithm without rounding), so nothing but precision differs. Blocks are the \
          report's blockiness measure (steps per pixel between plateaus of the bit-accurate image \
-         where the exact one is smooth: blocks of any size, `docs/metrics.md`), faceting the RMS Laplacian difference after a 3x3 blur (the \
-         blockiness of flat-shaded cells). \"Highlight\" is the {hl_pixels} pixels where the \
-         exact image of (c) has a luma of at least {HIGHLIGHT} (only the specular term gets \
-         there: diffuse and ambient reach 0.73).\n"
+         where the exact one is smooth: blocks of any size, `docs/metrics.md`), faceting the RMS \
+         Laplacian difference after a 3x3 blur (the blockiness of flat-shaded cells), bands the \
+         false-contour measure `banding` (the same steps in groups of 8 pixels or more). \"Highlight\" is the report's \
+         `highlight` section (`reference.highlight_luma: Some({HIGHLIGHT})`, docs/metrics.md): \
+         the {hl_pixels} pixels where the f64 reference has a Rec. 601 luma of at least \
+         {HIGHLIGHT} (only the specular term gets there: diffuse and ambient reach 0.73), the \
+         same pixels for every engine. Mean signed LSB is the mean of bit-accurate − exact over \
+         the highlight (negative: darker); the algorithm columns are exact mode against the \
+         reference (`error.algorithm`).\n"
     )
     .unwrap();
     writeln!(
         md,
-        "| Fig. 2 | texture | dot bits | PSNR dB | max LSB | blockiness | faceting LSB | highlight: PSNR dB | max LSB | mean LSB | blockiness | faceting LSB |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+        "## Fig. 2\n\n{}, errors (LSB: 8-bit steps):\n\n{}\n\nArtifacts:\n\n{}\n",
+        fig2.cite(),
+        fig2.table("error"),
+        fig2.table("artifacts"),
     )
     .unwrap();
-    for (v, r) in VARIANTS.iter().zip(&rows) {
-        writeln!(
-            md,
-            "| {} | {} | {} | {:.1} | {:.1} | {:.4} | {:.3} | {:.1} | {:.1} | {:.2} | {:.4} | {:.3} |",
-            v.fig,
-            v.texel,
-            v.dot_frac,
-            r.all.psnr_db,
-            r.all.max_abs_lsb,
-            r.all_art.blockiness,
-            r.all_art.faceting_lsb,
-            r.hl.psnr_db,
-            r.hl.max_abs_lsb,
-            r.hl.mean_abs_lsb,
-            r.hl_art.blockiness,
-            r.hl_art.faceting_lsb,
-        )
-        .unwrap();
-    }
-    let (c, a, b) = (&rows[0], &rows[1], &rows[2]);
+    findings(&mut md, &fig2);
     writeln!(
         md,
-        "\n**Findings.**\n\n\
-         - *8 bits inside band and block the highlight* (holds). In the highlight, (b) has \
-         {:.1}x the steps between plateaus of (c) and {:.1}x its faceting, with errors up to \
-         {:.1} LSB against {:.1}. The blocks are small: the false-contour measure (steps in \
-         groups of 8 pixels or more) reads at most {:.4} per pixel in any row, so the \
-         paper's \"mach banding\" shows here as blocks a few pixels wide, not as long bands.\n\
-         - *The external precision matters little with 16 bits inside* (holds, with a \
-         measurable cost). (a) is {:.1} dB below (c) overall and {:.1} dB below it in the \
-         highlight, but {:.1} dB above (b); its highlight blockiness is {:.1}x that of (c) and \
-         {:.2}x that of (b). The 16-bit texture filters the 8-bit steps into 16-bit \
-         gradients, and z comes from the hemisphere mapping at 16 bits.\n\
-         - *What \"internal precision\" is: both the texel and the dot product.* With an \
-         8-bit texel, 16-bit dot products change nothing ({:.1} dB): the texel's 8 bits (its \
-         8-bit filtered result and its quantized z) bound the error. With 16-bit texels, 8-bit \
-         dot products lose {:.1} dB, mostly as a bias: in the highlight the mean error is {:.2} \
-         LSB (against {:.2} for (c)) and the mean signed error {:.2} LSB, darker, as the \
-         hemisphere's z is the floor root of words of 8 fraction bits; \
-         their blockiness ({:.4}) stays below (b)'s. SIGNED_HILO16 widens both, as the paper's \
-         \"internal type\" does.\n\
-         - *Not precision, but visible*: the algorithm error of (b) against the reference is \
-         larger than that of (a) and (c) (the reports' `error.algorithm`), because a filtered \
-         RGB normal is not renormalised, while the hemisphere mapping of a HILO texel always \
-         gives a unit vector.\n",
-        b.hl_art.blockiness / c.hl_art.blockiness,
-        b.hl_art.faceting_lsb / c.hl_art.faceting_lsb,
-        b.hl.max_abs_lsb,
-        c.hl.max_abs_lsb,
-        rows.iter()
-            .flat_map(|r| [r.all_art.banding, r.hl_art.banding])
-            .fold(0.0, f64::max),
-        c.all.psnr_db - a.all.psnr_db,
-        c.hl.psnr_db - a.hl.psnr_db,
-        a.all.psnr_db - b.all.psnr_db,
-        a.hl_art.blockiness / c.hl_art.blockiness,
-        a.hl_art.blockiness / b.hl_art.blockiness,
-        rows[3].all.psnr_db - b.all.psnr_db,
-        c.all.psnr_db - rows[4].all.psnr_db,
-        rows[4].hl.mean_abs_lsb,
-        c.hl.mean_abs_lsb,
-        rows[4].hl_bias,
-        rows[4].hl_art.blockiness,
-    )
-    .unwrap();
-    writeln!(md).unwrap();
-    writeln!(
-        md,
-        "**Pictures.** The crop ({CROP}x{CROP} pixels at ({x0}, {y0}), outlined in the whole \
-         frame of (c); {ZOOM}x, nearest), and below each crop |bit-accurate − exact| x {GAIN} \
-         (the largest channel). The exact column is (c)'s exact image, the algorithm of (a) and \
-         (c); (b)'s own exact image, against which its difference is taken, is brighter in the \
-         highlight (its filtered normals are not renormalised).\n\n\
+        "**Pictures.** The crop ({CROP}x{CROP} pixels at ({x0}, {y0}), the window holding the \
+         most highlight pixels, outlined in the whole frame of (c); {ZOOM}x, nearest), and below \
+         each crop |bit-accurate − exact| x {GAIN} (the largest channel). The exact column is \
+         (c)'s exact image, the algorithm of (a) and (c); (b)'s own exact image, against which \
+         its difference is taken, is brighter in the highlight (its filtered normals are not \
+         renormalised).\n\n\
          ![whole frame of (c)](hilo-precision/whole.png)\n\n\
          | exact | (c) 16-bit | (a) 8-bit outside, 16 inside | (b) 8-bit |\n|---|---|---|---|\n\
          | ![exact](hilo-precision/exact.png) | ![c](hilo-precision/c.png) | ![a](hilo-precision/a.png) | ![b](hilo-precision/b.png) |\n\
          | | ![c diff](hilo-precision/c-diff.png) | ![a diff](hilo-precision/a-diff.png) | ![b diff](hilo-precision/b-diff.png) |"
     )
     .unwrap();
-    dot_sweep(&mut md);
+    dot_section(&mut md, &dot);
     let out = common::root().join("docs/studies/hilo-precision.md");
     std::fs::write(&out, md).unwrap();
     println!("wrote {}", out.display());
 }
 
-/// The sweep of the dot products' width, `configs/sweeps/wang-hilo-dot-frac.ron`.
-fn dot_sweep(md: &mut String) {
-    let path = common::root().join("configs/sweeps/wang-hilo-dot-frac.ron");
-    let s = sweep::load(&path).unwrap_or_else(|e| panic!("{e}"));
-    let table = s
-        .run(RunOptions::default())
-        .unwrap_or_else(|e| panic!("{e}"));
-    let columns = table.columns();
-    let at = |row: &sweep::Row, name: &str| -> f64 {
-        let k = columns
-            .iter()
-            .position(|c| c == name)
-            .expect("a sweep column");
-        let cells: Vec<Cell> = std::iter::once(Cell::Int(row.index as i64))
-            .chain(row.values.iter().cloned())
-            .chain(row.report.iter().cloned())
-            .collect();
-        match &cells[k] {
-            Cell::Float(x) => *x,
-            Cell::Int(i) => *i as f64,
-            other => panic!("{name}: {other:?}"),
-        }
+/// The findings of Fig. 2, each verdict computed from the sweep's rows.
+fn findings(md: &mut String, s: &Swept) {
+    let (c, a, b) = (s.row("(c)", 16), s.row("(a)", 16), s.row("(b)", 8));
+    let (b16, c8, a8) = (s.row("(b)", 16), s.row("(c)", 8), s.row("(a)", 8));
+    let psnr = |r: &Row| s.n(r, "quantization_psnr_db");
+    let block = |r: &Row| s.hl(r, "blockiness");
+    let facet = |r: &Row| s.hl(r, "faceting_lsb");
+    // 1. 8 bits inside: blocky in the highlight (twice the steps and the facets of (c) at least)
+    let blocky = block(b) > 2.0 * block(c) && facet(b) > 2.0 * facet(c);
+    let contour = s
+        .rows()
+        .flat_map(|r| [s.n(r, "quantization_banding"), s.hl(r, "banding")])
+        .fold(0.0, f64::max);
+    let bands = if contour < 0.1 * block(b) {
+        format!(
+            "The blocks are small: the false-contour measure (steps in groups of 8 pixels or \
+             more) reads at most {contour:.4} per pixel in any row, so the paper's \"mach \
+             banding\" shows here as blocks a few pixels wide, not as long bands."
+        )
+    } else {
+        format!(
+            "The false-contour measure (steps in groups of 8 pixels or more) reads up to \
+             {contour:.4} per pixel: some of the steps line up into bands, the paper's \"mach \
+             banding\"."
+        )
+    };
+    // 2. external precision: (a) nearer (c) than (b) overall and in the highlight
+    let (ca, ab) = (psnr(c) - psnr(a), psnr(a) - psnr(b));
+    let (ca_hl, ab_hl) = (
+        s.hl(c, "psnr_db") - s.hl(a, "psnr_db"),
+        s.hl(a, "psnr_db") - s.hl(b, "psnr_db"),
+    );
+    let external = match (ca < ab && ca_hl < ab_hl, ca > 1.0 || ca_hl > 1.0) {
+        (true, true) => "holds, with a measurable cost",
+        (true, false) => "holds",
+        (false, _) => "does not hold",
+    };
+    // 3. internal precision: the texel and the dot product
+    let rgb_dot = psnr(b16) - psnr(b);
+    let nothing = if rgb_dot.abs() < 0.5 {
+        "change nothing"
+    } else {
+        "change the error"
+    };
+    let bias = s.hl(c8, "mean_signed_lsb");
+    let biased = if bias.abs() > 0.5 * s.hl(c8, "mean_abs_lsb") {
+        format!(
+            "mostly as a bias: in the highlight the mean error is {:.2} LSB (against {:.2} for \
+             (c)) and the mean signed error {bias:.2} LSB, {}",
+            s.hl(c8, "mean_abs_lsb"),
+            s.hl(c, "mean_abs_lsb"),
+            if bias < 0.0 {
+                "darker, as the hemisphere's z is the floor root of words of 8 fraction bits"
+            } else {
+                "brighter"
+            }
+        )
+    } else {
+        format!(
+            "as noise more than bias: in the highlight the mean error is {:.2} LSB, the mean \
+             signed error {bias:.2} LSB",
+            s.hl(c8, "mean_abs_lsb")
+        )
+    };
+    let below = if block(c8) < block(b) {
+        "stays below"
+    } else {
+        "reaches"
+    };
+    // 4. the algorithm: (b) not renormalised
+    let alg = |r: &Row| s.n(r, "algorithm_psnr_db");
+    let alg_hl = |r: &Row| s.n(r, "report.highlight.algorithm.psnr_db");
+    let larger = if alg(b) < alg(c).min(alg(a)) && alg_hl(b) < alg_hl(c).min(alg_hl(a)) {
+        "larger than"
+    } else {
+        "not larger than"
     };
     writeln!(
         md,
-        "\n\n## The dot products' width, swept\n\n`bumpsim sweep \
-         configs/sweeps/wang-hilo-dot-frac.ron`: (c) with the mapped vector at 8 to 16 fraction \
-         bits (`dot_frac`), the texels SIGNED_HILO16 throughout; quantization against exact mode \
-         of the same config, over the whole frame.\n\n\
-         | dot bits | PSNR dB | max LSB | mean LSB | blockiness | faceting LSB |\n|---:|---:|---:|---:|---:|---:|"
+        "**Findings.**\n\n\
+         - *8 bits inside band and block the highlight* ({}). In the highlight, (b) has {} the \
+         steps between plateaus of (c) and {} its faceting, with errors up to {:.1} LSB against \
+         {:.1}. {bands}\n\
+         - *The external precision matters little with 16 bits inside* ({external}). (a) is \
+         {ca:.1} dB below (c) overall and {ca_hl:.1} dB below it in the highlight, but {ab:.1} dB \
+         above (b) ({ab_hl:.1} dB in the highlight); its highlight blockiness is {} that of (c) \
+         and {:.2}x that of (b). The 16-bit texture filters the 8-bit steps into 16-bit \
+         gradients, and z comes from the hemisphere mapping at 16 bits. With 8-bit dot products \
+         {}: (a) at 8 bits is {:.1} dB from (c) at 8 bits.\n\
+         - *What \"internal precision\" is: both the texel and the dot product.* With an 8-bit \
+         texel, 16-bit dot products {nothing} ({rgb_dot:+.1} dB): the texel's 8 bits (its 8-bit \
+         filtered result and its quantized z) bound the error. With 16-bit texels, 8-bit dot \
+         products lose {:.1} dB, {biased}; their highlight blockiness ({:.4}) {below} (b)'s \
+         ({:.4}). SIGNED_HILO16 widens both, as the paper's \"internal type\" does.\n\
+         - *Not precision, but visible*: the algorithm error of (b) against the reference is \
+         {larger} that of (a) and (c) (`error.algorithm`: {:.1} dB against {:.1}, and {:.1} dB \
+         against {:.1} in the highlight), because a filtered RGB normal is not renormalised, \
+         while the hemisphere mapping of a HILO texel always gives a unit vector.\n",
+        if blocky { "holds" } else { "does not hold" },
+        times(block(b), block(c)),
+        times(facet(b), facet(c)),
+        s.hl(b, "max_abs_lsb"),
+        s.hl(c, "max_abs_lsb"),
+        times(block(a), block(c)),
+        block(a) / block(b),
+        if (psnr(c8) - psnr(a8)).abs() < 0.5 {
+            "the outside no longer shows"
+        } else {
+            "the outside still shows"
+        },
+        (psnr(c8) - psnr(a8)).abs(),
+        psnr(c) - psnr(c8),
+        block(c8),
+        block(b),
+        alg(b),
+        alg(c),
+        alg_hl(b),
+        alg_hl(c),
     )
     .unwrap();
-    for row in &table.rows {
-        writeln!(
-            md,
-            "| {} | {:.1} | {:.1} | {:.2} | {:.4} | {:.3} |",
-            at(row, "dot_frac"),
-            at(row, "quantization_psnr_db"),
-            at(row, "quantization_max_lsb"),
-            at(row, "quantization_mean_lsb"),
-            at(row, "quantization_blockiness"),
-            at(row, "quantization_faceting_lsb"),
-        )
-        .unwrap();
-    }
-    let last = at(table.rows.last().expect("rows"), "quantization_psnr_db");
-    let enough = table
-        .rows
-        .iter()
-        .find(|r| at(r, "quantization_psnr_db") > last - 0.5)
-        .map_or(f64::NAN, |r| at(r, "dot_frac"));
+}
+
+/// The sweep of the dot products' width, `wang-hilo-dot-frac.ron`.
+fn dot_section(md: &mut String, s: &Swept) {
     writeln!(
         md,
-        "\nFrom {enough} fraction bits on, the error is within 0.5 dB of 16 bits: the rest is \
-         the texels' own 16 bits and the 8-bit lighting table. The blockiness falls with the \
-         width to the same floor."
+        "\n\n## The dot products' width, swept\n\n{}: (c) with the mapped vector at 8 to 16 \
+         fraction bits (`dot_frac`), the texels SIGNED_HILO16 throughout; quantization against \
+         exact mode of the same config, over the whole frame and over the highlight. Errors:\n\n\
+         {}\n\nArtifacts:\n\n{}\n",
+        s.cite(),
+        s.table("error"),
+        s.table("artifacts"),
+    )
+    .unwrap();
+    let rows: Vec<&Row> = s.rows().collect();
+    let last = *rows.last().expect("rows");
+    let dot = |r: &Row| s.n(r, "dot_frac");
+    // the first width from which on every wider one satisfies `ok`
+    let from = |ok: &dyn Fn(&Row) -> bool| {
+        let k = rows.iter().rposition(|r| !ok(r)).map_or(0, |k| k + 1);
+        rows.get(k).map_or(f64::NAN, |r| dot(r))
+    };
+    let whole = from(&|r| s.n(r, "quantization_psnr_db") > s.n(last, "quantization_psnr_db") - 0.5);
+    let hl_psnr = from(&|r| s.hl(r, "psnr_db") > s.hl(last, "psnr_db") - 0.5);
+    let floor = s.hl(last, "blockiness");
+    let hl_block = from(&|r| s.hl(r, "blockiness") <= 2.0 * floor);
+    let first = rows[0];
+    let more = |x: f64| if x > whole { "more" } else { "no more" };
+    let bias = s.hl(first, "mean_signed_lsb");
+    let biased = if bias.abs() > 0.5 * s.hl(first, "mean_abs_lsb") {
+        "mostly the bias of the hemisphere's z"
+    } else {
+        "noise more than bias"
+    };
+    writeln!(
+        md,
+        "From {whole} fraction bits on, the whole frame's error is within 0.5 dB of 16 bits: \
+         the rest is the texels' own 16 bits and the 8-bit lighting table. The highlight needs \
+         {}: its error comes within 0.5 dB of 16 bits from {hl_psnr} bits on, and its \
+         blockiness within twice its 16-bit floor ({floor:.4}) from {hl_block} bits on \
+         ({:.4} at {} bits, {} the whole frame's {:.4} there). So the answer to \"how many bits \
+         before the highlight stops banding\" is {hl_block} here, {} than the whole-frame PSNR \
+         suggests; at the narrow widths the highlight's error is {biased} (mean signed {bias:.2} \
+         LSB of a mean {:.2} at {} bits).",
+        more(hl_psnr.max(hl_block)),
+        s.hl(first, "blockiness"),
+        dot(first),
+        if s.hl(first, "blockiness") > s.n(first, "quantization_blockiness") {
+            "above"
+        } else {
+            "not above"
+        },
+        s.n(first, "quantization_blockiness"),
+        more(hl_block),
+        s.hl(first, "mean_abs_lsb"),
+        dot(first),
     )
     .unwrap();
 }

@@ -140,6 +140,15 @@ const STUDY_SWEEPS: &[(&str, &str, &str)] = &[
     ("embm-resolution", "embm/resolution", "embm-limits.md"),
     ("embm-stale", "embm/stale", "embm-limits.md"),
     ("embm-point", "embm/point", "embm-limits.md"),
+    ("kautz-stages", "ndf/stages", "ndf-synthesis.md"),
+    ("kautz-nv20", "ndf/nv20", "ndf-synthesis.md"),
+    ("kautz-cost", "ndf/cost", "ndf-synthesis.md"),
+    ("wang-hilo-fig2", "hilo-precision/fig2", "hilo-precision.md"),
+    (
+        "wang-hilo-dot-frac",
+        "hilo-precision/dot-frac",
+        "hilo-precision.md",
+    ),
 ];
 
 #[test]
@@ -162,20 +171,13 @@ fn every_study_sweep_writes_the_committed_tables() {
     );
     let s = Scratch::new("study-sweeps");
     for (name, dir, page) in STUDY_SWEEPS {
-        let file = studies.join(format!("sweeps/{name}.ron"));
+        // relative to the repository root (the tests' directory), as the study programs run
+        // them: an error row's message names the configs by this path, not the checkout's
+        let file = format!("docs/studies/sweeps/{name}.ron");
         let out = s.join(name);
-        let o = bumpsim(&[
-            "sweep",
-            file.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ]);
+        let o = bumpsim(&["sweep", &file, "--out", out.to_str().unwrap()]);
+        // (a rejected point is an error row, compared with the committed one below)
         o.expect_code(0, name);
-        assert!(
-            o.stdout.contains(", 0 with errors;"),
-            "{name}: {}",
-            o.stdout
-        );
         let committed = studies.join(dir);
         let page = std::fs::read_to_string(studies.join(page)).unwrap();
         let mut tables = 0;

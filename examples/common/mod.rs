@@ -89,9 +89,12 @@ pub fn study_sweep(
 ) {
     use bumpsim_pipeline::plot;
     use bumpsim_pipeline::sweep::{self, RunOptions};
-    let file = root().join(format!("docs/studies/sweeps/{name}.ron"));
+    // relative to the repository root, so that a path in the rows (an error row's message)
+    // does not name the checkout
+    std::env::set_current_dir(root()).unwrap_or_else(|e| panic!("{e}"));
+    let file = PathBuf::from(format!("docs/studies/sweeps/{name}.ron"));
     let s = sweep::load(&file).unwrap_or_else(|e| panic!("{e}"));
-    let dir = root().join("docs/studies").join(out);
+    let dir = PathBuf::from("docs/studies").join(out);
     let o =
         sweep::run_into(&s, &dir, RunOptions::default(), false).unwrap_or_else(|e| panic!("{e}"));
     let csv = o.table.to_csv();

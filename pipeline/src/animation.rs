@@ -2,7 +2,8 @@
 //! its own, one after another, and the report of frame 0 extended with a row per frame: the
 //! frame's cycles and its per-frame work (the palette builds and table loads the hardware pays
 //! again each frame), its fragments and texture traffic, its error against the reference, and
-//! the temporal flicker of the bit-accurate image against the frame before.
+//! the temporal flicker of the bit-accurate image against the frame before; and over all frames,
+//! the ringing of the bit-accurate path against the exact-mode path ([`Ringing`]).
 
 use crate::config::{frames, InputError, Loaded};
 use crate::run::{self, RunResult};
@@ -20,7 +21,78 @@ pub struct AnimationReport {
     pub frame_work_cycles: u64,
     /// The largest flicker between two successive frames.
     pub max_flicker_lsb: f64,
+    /// Temporal ringing of the bit-accurate path against the exact-mode path (the same
+    /// program in f64), over every pair of successive frames ([`Ringing`]).
+    pub ringing: Ringing,
     pub per_frame: Vec<FrameRow>,
+}
+
+/// How much more the bit-accurate image changes from frame to frame than the exact-mode one
+/// (8-bit codes of the framebuffers), pooled over every pair of successive frames and every
+/// channel of the samples lit (non-zero) in any of the four images of the pair: the engine's
+/// own quantization moving with the scene, apart from the algorithm's error against the
+/// reference. All 0 for a single frame.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Ringing {
+    /// Mean `|ΔI_bit - ΔI_exact|`, `ΔI` the change from the frame before.
+    pub mean_lsb: f64,
+    /// Share of the samples where `|ΔI_bit - ΔI_exact|` reaches 4 codes (0 to 1).
+    pub share_4lsb: f64,
+    /// The bit-accurate image's own mean `|ΔI_bit|` over the same samples.
+    pub change_lsb: f64,
+    /// The samples counted (channels, over all pairs).
+    pub samples: u64,
+}
+
+/// The sums of [`Ringing`] over pairs of frames.
+#[derive(Default)]
+struct RingingSum {
+    diff: u64,
+    big: u64,
+    own: u64,
+    n: u64,
+}
+
+impl RingingSum {
+    /// Add the pair `a` (bit-accurate, exact) then `b`.
+    fn add(&mut self, a: [&RgbImage; 2], b: [&RgbImage; 2]) {
+        let [a0, r0] = a;
+        let [a1, r1] = b;
+        let pixels = a0
+            .pixels()
+            .zip(a1.pixels())
+            .zip(r0.pixels().zip(r1.pixels()));
+        for ((p0, p1), (q0, q1)) in pixels {
+            for c in 0..3 {
+                if p0[c] == 0 && p1[c] == 0 && q0[c] == 0 && q1[c] == 0 {
+                    continue;
+                }
+                let db = i32::from(p1[c]) - i32::from(p0[c]);
+                let dr = i32::from(q1[c]) - i32::from(q0[c]);
+                let x = (db - dr).unsigned_abs();
+                self.diff += u64::from(x);
+                self.own += u64::from(db.unsigned_abs());
+                self.big += u64::from(x >= 4);
+                self.n += 1;
+            }
+        }
+    }
+
+    fn report(&self) -> Ringing {
+        let per = |x: u64| {
+            if self.n == 0 {
+                0.0
+            } else {
+                x as f64 / self.n as f64
+            }
+        };
+        Ringing {
+            mean_lsb: per(self.diff),
+            share_4lsb: per(self.big),
+            change_lsb: per(self.own),
+            samples: self.n,
+        }
+    }
 }
 
 /// One frame of an animation.
@@ -67,9 +139,11 @@ pub fn run(l: &Loaded) -> Result<Animation, InputError> {
     let mut rows = vec![row(0, &[], &first, None)];
     let mut images = Vec::new();
     let mut prev: Option<RunResult> = None;
+    let mut ringing = RingingSum::default();
     for k in 1..=l.config.frames.len() {
         let r = run::run(&frames::frame(l, k)?, None)?;
         let before = prev.as_ref().unwrap_or(&first);
+        ringing.add([&before.image, &before.exact], [&r.image, &r.exact]);
         rows.push(row(
             k,
             &l.config.frames[k - 1],
@@ -90,6 +164,7 @@ pub fn run(l: &Loaded) -> Result<Animation, InputError> {
             .iter()
             .filter_map(|r| r.flicker_lsb)
             .fold(0.0, f64::max),
+        ringing: ringing.report(),
         per_frame: rows,
     });
     Ok(Animation { first, images })
@@ -173,5 +248,27 @@ mod tests {
         assert_eq!(flicker_of([&a, &ra], &all, [&a, &ra], &all), 0.0);
         // nothing covered in both: no flicker
         assert_eq!(flicker_of([&a, &ra], &all, [&b, &rb], &[false; 4]), 0.0);
+    }
+
+    #[test]
+    fn ringing_is_the_change_of_the_bit_accurate_image_beyond_the_exact_ones() {
+        // 4 pixels x 3 channels; pixel 3 black in all four images: not counted.
+        // pixel 0: bit 10 -> 14 (+4), exact 10 -> 10 (0): 4, a big one, own 4
+        // pixel 1: bit 12 -> 11 (-1), exact 12 -> 13 (+1): 2, own 1
+        // pixel 2: bit 0 -> 0, exact 0 -> 5 (lit in one image): 5, big, own 0
+        let (a, ea) = (img([10, 12, 0, 0]), img([10, 12, 0, 0]));
+        let (b, eb) = (img([14, 11, 0, 0]), img([10, 13, 5, 0]));
+        let mut s = RingingSum::default();
+        s.add([&a, &ea], [&b, &eb]);
+        let r = s.report();
+        assert_eq!(r.samples, 9);
+        assert_eq!(r.mean_lsb, 33.0 / 9.0);
+        assert_eq!(r.share_4lsb, 6.0 / 9.0);
+        assert_eq!(r.change_lsb, 15.0 / 9.0);
+        // a frame against itself: no ringing, no change
+        let mut z = RingingSum::default();
+        z.add([&a, &ea], [&a, &ea]);
+        assert_eq!((z.report().mean_lsb, z.report().change_lsb), (0.0, 0.0));
+        assert_eq!(RingingSum::default().report().samples, 0);
     }
 }

@@ -5,6 +5,7 @@ pub mod artifacts;
 pub mod config;
 pub mod edges;
 pub mod engine;
+pub mod highlight;
 pub mod memo;
 pub mod metrics;
 pub mod ndf;

@@ -34,6 +34,10 @@ pub struct Report {
     pub artifacts: Artifacts,
     /// The edge-discontinuity measure (`pipeline/src/edges.rs`, docs/metrics.md).
     pub edges: Edges,
+    /// With `reference.highlight_luma`: the error and artifact figures over the pixels where
+    /// the reference is bright (`crate::highlight`, docs/metrics.md); left out otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub highlight: Option<crate::highlight::Highlight>,
     /// Each quantized normal map of the engine (`QuantizedNormals` units, config order) and
     /// its index mipmaps against the true normals, in texel space (docs/metrics.md,
     /// `normal_maps`); left out when the engine has none.
@@ -348,6 +352,30 @@ impl Report {
                 e.edge_p99_lsb,
                 e.worst_seam_lsb
             );
+        }
+        if let Some(h) = &self.highlight {
+            let _ = writeln!(
+                s,
+                "\nhighlight, {} pixels of reference luma >= {}\n               {:>9} {:>9} {:>9} {:>9} {:>9} {:>9}",
+                h.pixels, h.luma, "PSNR dB", "max LSB", "mean LSB", "bias LSB", "blocky", "facet LSB"
+            );
+            for (name, x) in [
+                ("total", &h.total),
+                ("algorithm", &h.algorithm),
+                ("quantization", &h.quantization),
+            ] {
+                let _ = writeln!(
+                    s,
+                    "  {:<12} {:>9.2} {:>9.2} {:>9.3} {:>+9.3} {:>9.5} {:>9.3}",
+                    name,
+                    x.error.psnr_db,
+                    x.error.max_abs_lsb,
+                    x.error.mean_abs_lsb,
+                    x.mean_signed_lsb,
+                    x.artifacts.blockiness,
+                    x.artifacts.faceting_lsb
+                );
+            }
         }
         if let Some(a) = &self.animation {
             let _ = writeln!(

@@ -34,6 +34,9 @@ pub struct RunResult {
     pub mask: Vec<bool>,
     pub reference: image::RgbImage,
     pub error: image::RgbImage,
+    /// The exact-mode framebuffer's 8-bit image (the same algorithm in f64, `image`'s
+    /// comparison in `error.quantization`); an animation compares its frames' changes.
+    pub exact: image::RgbImage,
     pub trace: Option<Trace>,
     /// Wall time of each phase, in order (for `render --timings`; never in the report, which
     /// stays deterministic).
@@ -501,6 +504,10 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
     let rimg = &refimg.image;
     let rmask = &refimg.mask;
     let measured = measures::measure(&fb, &fb_exact, exact_tri, rimg, rmask);
+    let highlight = cfg.reference.highlight_luma.map(|t| {
+        let (a, e) = ((&fb.image, &fb.mask), (&fb_exact.image, &fb_exact.mask));
+        crate::highlight::measure(a.0, a.1, e.0, e.1, rimg, rmask, t)
+    });
     let covered = mask.iter().filter(|&&m| m).count() as u64;
     let mismatch = mask.iter().zip(rmask).filter(|(a, b)| a != b).count() as u64;
 
@@ -568,6 +575,7 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
         error: measured.errors,
         artifacts: measured.artifacts,
         edges: measured.edges,
+        highlight,
         normal_maps: bit.normal_maps.clone(),
         animation: None,
     };
@@ -583,6 +591,7 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
     });
     timings.lap("metrics");
     Ok(RunResult {
+        exact: fb_exact.rgb8,
         image: fb.rgb8,
         mask: fb.mask,
         reference: measured.reference,

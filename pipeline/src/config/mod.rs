@@ -197,6 +197,11 @@ pub struct ReferenceConfig {
     /// default, shades the pixel centre; more approximate the band-limited image that a
     /// minified bump map (and an index mipmap, Tarini §5.2) should approach.
     pub samples: u32,
+    /// `Some(t)`, 0 < t <= 1: the report's `highlight` section, the error and artifact
+    /// figures over the pixels where the reference's Rec. 601 luma is at least `t`
+    /// (`crate::highlight`, docs/metrics.md). Left out of the config hash when `None`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub highlight_luma: Option<f64>,
 }
 
 impl Default for ReferenceConfig {
@@ -204,6 +209,7 @@ impl Default for ReferenceConfig {
         ReferenceConfig {
             perturbation: Perturbation::default(),
             samples: 1,
+            highlight_luma: None,
         }
     }
 }
@@ -802,6 +808,15 @@ fn validate(l: &Loaded) -> Result<(), InputError> {
             "samples:",
             format!("expected 1 to 16, found {}", c.reference.samples),
         ));
+    }
+    if let Some(t) = c.reference.highlight_luma {
+        if !(t > 0.0 && t <= 1.0) {
+            return Err(l.error(
+                "reference.highlight_luma",
+                "highlight_luma:",
+                format!("expected a luma with 0 < highlight_luma <= 1, found {t}"),
+            ));
+        }
     }
     if !(1..=64).contains(&c.sim.fifo_depth) {
         return Err(l.error(

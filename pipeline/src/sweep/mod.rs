@@ -565,7 +565,9 @@ impl Sweep {
             })?;
             let config = self.config_of(p);
             let l = config::load_with(&config, &sets, LoadOptions { force })?;
-            let r = crate::run::run(&l, None)?;
+            // every frame of a config with `frames`, as `bumpsim report` runs it: the row is
+            // frame 0's report with its `animation` section
+            let r = crate::animation::run(&l)?.first;
             let mut extra = base.map(|b| b.cells(&r)).unwrap_or_default();
             if !self.file.report.is_empty() {
                 let json = serde_json::to_value(&r.report).unwrap_or_default();
