@@ -143,6 +143,8 @@ const STUDY_SWEEPS: &[(&str, &str, &str)] = &[
     ("kautz-stages", "ndf/stages", "ndf-synthesis.md"),
     ("kautz-nv20", "ndf/nv20", "ndf-synthesis.md"),
     ("kautz-cost", "ndf/cost", "ndf-synthesis.md"),
+    ("kautz-ringing", "ndf/ringing", "ndf-synthesis.md"),
+    ("kautz-ringing-wide", "ndf/ringing-wide", "ndf-synthesis.md"),
     ("wang-hilo-fig2", "hilo-precision/fig2", "hilo-precision.md"),
     (
         "wang-hilo-dot-frac",
