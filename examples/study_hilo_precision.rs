@@ -18,9 +18,7 @@ mod common;
 
 use bumpsim_pipeline::highlight;
 use bumpsim_pipeline::rop::Framebuffer;
-use bumpsim_pipeline::sweep::table::{Cell, Row};
-use bumpsim_pipeline::sweep::Table;
-use std::collections::BTreeMap;
+use bumpsim_pipeline::sweep::table::Row;
 use std::fmt::Write;
 
 /// The reference luma at or above which a pixel is in the highlight, as the sweeps set it
@@ -33,71 +31,27 @@ const ZOOM: u32 = 4;
 /// Gain of the pictures of |bit-accurate - exact|.
 const GAIN: f64 = 16.0;
 
-/// One sweep of `docs/studies/sweeps/`, run: its rows and its tables' Markdown by name.
-struct Swept {
-    file: &'static str,
-    t: Table,
-    md: BTreeMap<String, String>,
+use common::Swept;
+
+/// Run `docs/studies/sweeps/wang-hilo-{name}.ron` into `docs/studies/hilo-precision/{name}/`.
+fn wang(name: &str) -> Swept {
+    Swept::run(
+        &format!("wang-hilo-{name}"),
+        &format!("hilo-precision/{name}"),
+    )
 }
 
-impl Swept {
-    /// Run `docs/studies/sweeps/wang-hilo-{name}.ron` into `docs/studies/hilo-precision/{name}/`.
-    fn run(name: &'static str) -> Swept {
-        let (t, md) = common::study_sweep(
-            &format!("wang-hilo-{name}"),
-            &format!("hilo-precision/{name}"),
-        );
-        Swept { file: name, t, md }
-    }
+/// A highlight figure of the quantization comparison (`highlight.quantization.FIELD`).
+fn hl(s: &Swept, r: &Row, field: &str) -> f64 {
+    s.n(r, &format!("report.highlight.quantization.{field}"))
+}
 
-    /// The sweep file and the command that writes its tables, for the prose.
-    fn cite(&self) -> String {
-        let n = self.file;
-        format!(
-            "`docs/studies/sweeps/wang-hilo-{n}.ron` (`bumpsim sweep \
-             docs/studies/sweeps/wang-hilo-{n}.ron --out docs/studies/hilo-precision/{n}`)"
-        )
-    }
-
-    /// Table `name`, as the sweep wrote it.
-    fn table(&self, name: &str) -> &str {
-        self.md
-            .get(name)
-            .unwrap_or_else(|| panic!("{}: no table {name}", self.file))
-    }
-
-    fn text(&self, r: &Row, c: &str) -> String {
-        match self.t.cell(r, c) {
-            Some(Cell::Text(s)) => s,
-            Some(Cell::Int(i)) => i.to_string(),
-            Some(Cell::Bool(b)) => b.to_string(),
-            Some(Cell::Float(x)) => x.to_string(),
-            _ => String::new(),
-        }
-    }
-
-    fn n(&self, r: &Row, c: &str) -> f64 {
-        self.t.number(r, c).unwrap_or(f64::NAN)
-    }
-
-    /// A highlight figure of the quantization comparison (`highlight.quantization.FIELD`).
-    fn hl(&self, r: &Row, field: &str) -> f64 {
-        self.n(r, &format!("report.highlight.quantization.{field}"))
-    }
-
-    fn rows(&self) -> impl Iterator<Item = &Row> {
-        self.t.rows.iter().filter(|r| r.is_ok())
-    }
-
-    /// The row of `engine` (its label starts with it: "(c)") at `dot` fraction bits.
-    fn row(&self, engine: &str, dot: u32) -> &Row {
-        self.rows()
-            .find(|r| {
-                self.text(r, "engine").starts_with(engine)
-                    && self.text(r, "dot_frac") == dot.to_string()
-            })
-            .unwrap_or_else(|| panic!("{}: no row {engine} {dot}", self.file))
-    }
+/// The row of `engine` (its label starts with it: "(c)") at `dot` fraction bits.
+fn row<'a>(s: &'a Swept, engine: &str, dot: u32) -> &'a Row {
+    s.row(&[
+        ("engine", &format!("{engine}*")),
+        ("dot_frac", &dot.to_string()),
+    ])
 }
 
 /// The top-left corner of the `CROP` window holding the most highlight pixels (first in
@@ -149,7 +103,7 @@ fn times(x: f64, y: f64) -> String {
 fn main() {
     // the sweeps (rayon inside) beside the pictures' renders
     let (fig2, dot, frames, hl) = std::thread::scope(|sc| {
-        let sweeps = sc.spawn(|| (Swept::run("fig2"), Swept::run("dot-frac")));
+        let sweeps = sc.spawn(|| (wang("fig2"), wang("dot-frac")));
         let frames: Vec<(Framebuffer, Framebuffer)> = common::par_map(
             &["wang-bunny-hilo", "wang-bunny-hilo-byte", "wang-bunny-rgb8"],
             |c| common::framebuffers(c, &[]),
@@ -160,7 +114,7 @@ fn main() {
     });
     let (w, h) = (frames[0].1.image.width, frames[0].1.image.height);
     let hl_pixels = hl.iter().filter(|&&x| x).count();
-    let c16 = fig2.row("(c)", 16);
+    let c16 = row(&fig2, "(c)", 16);
     assert_eq!(
         fig2.n(c16, "report.highlight.pixels"),
         hl_pixels as f64,
@@ -293,16 +247,16 @@ fn main() {
 
 /// The findings of Fig. 2, each verdict computed from the sweep's rows.
 fn findings(md: &mut String, s: &Swept) {
-    let (c, a, b) = (s.row("(c)", 16), s.row("(a)", 16), s.row("(b)", 8));
-    let (b16, c8, a8) = (s.row("(b)", 16), s.row("(c)", 8), s.row("(a)", 8));
+    let (c, a, b) = (row(s, "(c)", 16), row(s, "(a)", 16), row(s, "(b)", 8));
+    let (b16, c8, a8) = (row(s, "(b)", 16), row(s, "(c)", 8), row(s, "(a)", 8));
     let psnr = |r: &Row| s.n(r, "quantization_psnr_db");
-    let block = |r: &Row| s.hl(r, "blockiness");
-    let facet = |r: &Row| s.hl(r, "faceting_lsb");
+    let block = |r: &Row| hl(s, r, "blockiness");
+    let facet = |r: &Row| hl(s, r, "faceting_lsb");
     // 1. 8 bits inside: blocky in the highlight (twice the steps and the facets of (c) at least)
     let blocky = block(b) > 2.0 * block(c) && facet(b) > 2.0 * facet(c);
     let contour = s
         .rows()
-        .flat_map(|r| [s.n(r, "quantization_banding"), s.hl(r, "banding")])
+        .flat_map(|r| [s.n(r, "quantization_banding"), hl(s, r, "banding")])
         .fold(0.0, f64::max);
     let bands = if contour < 0.1 * block(b) {
         format!(
@@ -320,8 +274,8 @@ fn findings(md: &mut String, s: &Swept) {
     // 2. external precision: (a) nearer (c) than (b) overall and in the highlight
     let (ca, ab) = (psnr(c) - psnr(a), psnr(a) - psnr(b));
     let (ca_hl, ab_hl) = (
-        s.hl(c, "psnr_db") - s.hl(a, "psnr_db"),
-        s.hl(a, "psnr_db") - s.hl(b, "psnr_db"),
+        hl(s, c, "psnr_db") - hl(s, a, "psnr_db"),
+        hl(s, a, "psnr_db") - hl(s, b, "psnr_db"),
     );
     let external = match (ca < ab && ca_hl < ab_hl, ca > 1.0 || ca_hl > 1.0) {
         (true, true) => "holds, with a measurable cost",
@@ -335,13 +289,13 @@ fn findings(md: &mut String, s: &Swept) {
     } else {
         "change the error"
     };
-    let bias = s.hl(c8, "mean_signed_lsb");
-    let biased = if bias.abs() > 0.5 * s.hl(c8, "mean_abs_lsb") {
+    let bias = hl(s, c8, "mean_signed_lsb");
+    let biased = if bias.abs() > 0.5 * hl(s, c8, "mean_abs_lsb") {
         format!(
             "mostly as a bias: in the highlight the mean error is {:.2} LSB (against {:.2} for \
              (c)) and the mean signed error {bias:.2} LSB, {}",
-            s.hl(c8, "mean_abs_lsb"),
-            s.hl(c, "mean_abs_lsb"),
+            hl(s, c8, "mean_abs_lsb"),
+            hl(s, c, "mean_abs_lsb"),
             if bias < 0.0 {
                 "darker, as the hemisphere's z is the floor root of words of 8 fraction bits"
             } else {
@@ -352,7 +306,7 @@ fn findings(md: &mut String, s: &Swept) {
         format!(
             "as noise more than bias: in the highlight the mean error is {:.2} LSB, the mean \
              signed error {bias:.2} LSB",
-            s.hl(c8, "mean_abs_lsb")
+            hl(s, c8, "mean_abs_lsb")
         )
     };
     let below = if block(c8) < block(b) {
@@ -392,8 +346,8 @@ fn findings(md: &mut String, s: &Swept) {
         if blocky { "holds" } else { "does not hold" },
         times(block(b), block(c)),
         times(facet(b), facet(c)),
-        s.hl(b, "max_abs_lsb"),
-        s.hl(c, "max_abs_lsb"),
+        hl(s, b, "max_abs_lsb"),
+        hl(s, c, "max_abs_lsb"),
         times(block(a), block(c)),
         block(a) / block(b),
         if (psnr(c8) - psnr(a8)).abs() < 0.5 {
@@ -435,13 +389,13 @@ fn dot_section(md: &mut String, s: &Swept) {
         rows.get(k).map_or(f64::NAN, |r| dot(r))
     };
     let whole = from(&|r| s.n(r, "quantization_psnr_db") > s.n(last, "quantization_psnr_db") - 0.5);
-    let hl_psnr = from(&|r| s.hl(r, "psnr_db") > s.hl(last, "psnr_db") - 0.5);
-    let floor = s.hl(last, "blockiness");
-    let hl_block = from(&|r| s.hl(r, "blockiness") <= 2.0 * floor);
+    let hl_psnr = from(&|r| hl(s, r, "psnr_db") > hl(s, last, "psnr_db") - 0.5);
+    let floor = hl(s, last, "blockiness");
+    let hl_block = from(&|r| hl(s, r, "blockiness") <= 2.0 * floor);
     let first = rows[0];
     let more = |x: f64| if x > whole { "more" } else { "no more" };
-    let bias = s.hl(first, "mean_signed_lsb");
-    let biased = if bias.abs() > 0.5 * s.hl(first, "mean_abs_lsb") {
+    let bias = hl(s, first, "mean_signed_lsb");
+    let biased = if bias.abs() > 0.5 * hl(s, first, "mean_abs_lsb") {
         "mostly the bias of the hemisphere's z"
     } else {
         "noise more than bias"
@@ -457,16 +411,16 @@ fn dot_section(md: &mut String, s: &Swept) {
          suggests; at the narrow widths the highlight's error is {biased} (mean signed {bias:.2} \
          LSB of a mean {:.2} at {} bits).",
         more(hl_psnr.max(hl_block)),
-        s.hl(first, "blockiness"),
+        hl(s, first, "blockiness"),
         dot(first),
-        if s.hl(first, "blockiness") > s.n(first, "quantization_blockiness") {
+        if hl(s, first, "blockiness") > s.n(first, "quantization_blockiness") {
             "above"
         } else {
             "not above"
         },
         s.n(first, "quantization_blockiness"),
         more(hl_block),
-        s.hl(first, "mean_abs_lsb"),
+        hl(s, first, "mean_abs_lsb"),
         dot(first),
     )
     .unwrap();

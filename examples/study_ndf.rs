@@ -23,10 +23,8 @@ use bumpsim_pipeline::config;
 use bumpsim_pipeline::ndf::tables::{binned, fit, histogram};
 use bumpsim_pipeline::ndf::{Distribution, NdfSpec, SynthesisSpec};
 use bumpsim_pipeline::run::{run, RunResult};
-use bumpsim_pipeline::sweep::table::{Cell, Row};
-use bumpsim_pipeline::sweep::Table;
+use bumpsim_pipeline::sweep::table::Row;
 use rayon::prelude::*;
-use std::collections::BTreeMap;
 use std::fmt::Write;
 use std::path::Path;
 
@@ -43,95 +41,20 @@ fn go(name: &str, sets: &[String]) -> RunResult {
     load(name, sets).unwrap_or_else(|e| panic!("{name} {sets:?}: {e}"))
 }
 
-/// One sweep of `docs/studies/sweeps/kautz-*.ron`, run: its rows and its tables' Markdown by
-/// name.
-struct Swept {
-    file: &'static str,
-    t: Table,
-    md: BTreeMap<String, String>,
+use common::Swept;
+
+/// Run `docs/studies/sweeps/kautz-{name}.ron` into `docs/studies/ndf/{name}/`, error rows kept
+/// (C16's rejected programs are rows).
+fn kautz(name: &str) -> Swept {
+    Swept::run_keeping_errors(&format!("kautz-{name}"), &format!("ndf/{name}"))
 }
 
-impl Swept {
-    /// Run `docs/studies/sweeps/kautz-{name}.ron` into `docs/studies/ndf/{name}/` exactly as
-    /// `bumpsim sweep docs/studies/sweeps/kautz-{name}.ron --out docs/studies/ndf/{name}` does
-    /// from the repository root (the current directory, `main` sets it): relative paths, so
-    /// that an error row names its config as `docs/studies/sweeps/../../../configs/...` on
-    /// every machine. Error rows are kept (C16's rejected programs are rows).
-    fn run(name: &'static str) -> Swept {
-        use bumpsim_pipeline::plot;
-        use bumpsim_pipeline::sweep::{self, RunOptions};
-        let file = format!("docs/studies/sweeps/kautz-{name}.ron");
-        let s = sweep::load(Path::new(&file)).unwrap_or_else(|e| panic!("{e}"));
-        let dir = Path::new("docs/studies/ndf").join(name);
-        let o = sweep::run_into(&s, &dir, RunOptions::default(), false)
-            .unwrap_or_else(|e| panic!("{e}"));
-        let csv = o.table.to_csv();
-        plot::sweep_plots(&s.file.plots, &csv, &dir).unwrap_or_else(|e| panic!("{e}"));
-        plot::table::sweep_tables(&s.file.tables, &csv, &dir).unwrap_or_else(|e| panic!("{e}"));
-        let md = s
-            .file
-            .tables
-            .iter()
-            .map(|t| {
-                let md = std::fs::read_to_string(dir.join(format!("{}.md", t.name)))
-                    .unwrap_or_else(|e| panic!("{e}"));
-                (t.name.clone(), md.trim_end().to_string())
-            })
-            .collect();
-        Swept {
-            file: name,
-            t: o.table,
-            md,
-        }
-    }
-
-    /// The sweep file and the command that writes its tables, for the prose.
-    fn cite(&self) -> String {
-        let n = self.file;
-        format!(
-            "`docs/studies/sweeps/kautz-{n}.ron` (`bumpsim sweep docs/studies/sweeps/kautz-{n}.ron \
-             --out docs/studies/ndf/{n}`)"
-        )
-    }
-
-    /// Table `name`, as the sweep wrote it.
-    fn table(&self, name: &str) -> &str {
-        self.md
-            .get(name)
-            .unwrap_or_else(|| panic!("{}: no table {name}", self.file))
-    }
-
-    /// The cell as the CSV writes it (text, numbers, booleans).
-    fn text(&self, r: &Row, c: &str) -> String {
-        match self.t.cell(r, c) {
-            Some(Cell::Text(s)) => s,
-            Some(Cell::Int(i)) => i.to_string(),
-            Some(Cell::Bool(b)) => b.to_string(),
-            Some(Cell::Float(x)) => x.to_string(),
-            _ => String::new(),
-        }
-    }
-
-    fn n(&self, r: &Row, c: &str) -> f64 {
-        self.t.number(r, c).unwrap_or(f64::NAN)
-    }
-
-    /// The row (ok or not) whose cells start with these texts.
-    fn row(&self, conds: &[(&str, &str)]) -> &Row {
-        self.t
-            .rows
-            .iter()
-            .find(|r| conds.iter().all(|(c, v)| self.text(r, c).starts_with(v)))
-            .unwrap_or_else(|| panic!("{}: no row {conds:?}", self.file))
-    }
-
-    /// A rejected row's reason: its error message from the field on (`engine....`), without
-    /// the config file and its overrides.
-    fn reason(&self, r: &Row) -> String {
-        assert!(!r.is_ok(), "{}: row {} is not an error", self.file, r.index);
-        let e = self.text(r, "error");
-        format!("engine.{}", e.rsplit(": engine.").next().unwrap_or(&e))
-    }
+/// A rejected row's reason: its error message from the field on (`engine....`), without the
+/// config file and its overrides.
+fn reason(s: &Swept, r: &Row) -> String {
+    assert!(!r.is_ok(), "{}: row {} is not an error", s.file, r.index);
+    let e = s.text(r, "error");
+    format!("engine.{}", e.rsplit(": engine.").next().unwrap_or(&e))
 }
 
 fn c16(md: &mut String, stages: &Swept, nv20: &Swept) {
@@ -140,14 +63,15 @@ fn c16(md: &mut String, stages: &Swept, nv20: &Swept) {
         "## C16: four stages allow isotropic NDFs only; an extra stage allows anisotropic ones\n"
     )
     .unwrap();
-    let (gf3, hw5, sw) = ("GeForce3", "5 stages", "software");
-    let (iso, ward) = ("isotropic", "anisotropic");
+    // labels by their start (`Swept::holds`)
+    let (gf3, hw5, sw) = ("GeForce3*", "5 stages*", "software*");
+    let (iso, ward) = ("isotropic*", "anisotropic*");
     let s = stages;
-    let it = s.row(&[("program", gf3), ("ndf", iso)]);
-    let w4 = s.row(&[("program", gf3), ("ndf", ward)]);
-    let a5 = s.row(&[("program", hw5), ("ndf", ward)]);
-    let i5 = s.row(&[("program", hw5), ("ndf", iso)]);
-    let aw = s.row(&[("program", sw), ("ndf", ward)]);
+    let it = s.any_row(&[("program", gf3), ("ndf", iso)]);
+    let w4 = s.any_row(&[("program", gf3), ("ndf", ward)]);
+    let a5 = s.any_row(&[("program", hw5), ("ndf", ward)]);
+    let i5 = s.any_row(&[("program", hw5), ("ndf", iso)]);
+    let aw = s.any_row(&[("program", sw), ("ndf", ward)]);
     let nv = &nv20.t.rows[0];
     let db = |r: &Row, c: &str| format!("{:.1}", s.n(r, c));
     writeln!(
@@ -162,8 +86,8 @@ fn c16(md: &mut String, stages: &Swept, nv20: &Swept) {
         s.table("stages"),
         nv20.cite(),
         nv20.table("nv20"),
-        s.reason(w4),
-        nv20.reason(nv),
+        reason(s, w4),
+        reason(nv20, nv),
     )
     .unwrap();
     let teapot = |name: &str| {
@@ -309,7 +233,7 @@ fn c17(md: &mut String) {
 }
 
 fn c18(md: &mut String) {
-    let (ring, wide) = (Swept::run("ringing"), Swept::run("ringing-wide"));
+    let (ring, wide) = (kautz("ringing"), kautz("ringing-wide"));
     writeln!(
         md,
         "## C18: 8-bit noise indices cause ringing that float does not\n\n\
@@ -672,7 +596,7 @@ variant), `configs/ndf-teapot-aniso-sw.ron` (Fig. 4: the software path, anisotro
 "
     )
     .unwrap();
-    let (stages, nv20, cost_sw) = (Swept::run("stages"), Swept::run("nv20"), Swept::run("cost"));
+    let (stages, nv20, cost_sw) = (kautz("stages"), kautz("nv20"), kautz("cost"));
     c16(&mut md, &stages, &nv20);
     c17(&mut md);
     writeln!(md, "{C17_VERDICT}").unwrap();

@@ -87,6 +87,20 @@ pub fn study_sweep(
     bumpsim_pipeline::sweep::Table,
     std::collections::BTreeMap<String, String>,
 ) {
+    let (t, md) = sweep_into(name, out);
+    let bad: Vec<_> = t.rows.iter().filter(|r| !r.is_ok()).collect();
+    assert!(bad.is_empty(), "{name}: points failed: {bad:?}");
+    (t, md)
+}
+
+/// [`study_sweep`], error rows kept (a rejected config is a row).
+fn sweep_into(
+    name: &str,
+    out: &str,
+) -> (
+    bumpsim_pipeline::sweep::Table,
+    std::collections::BTreeMap<String, String>,
+) {
     use bumpsim_pipeline::plot;
     use bumpsim_pipeline::sweep::{self, RunOptions};
     // relative to the repository root, so that a path in the rows (an error row's message)
@@ -100,8 +114,6 @@ pub fn study_sweep(
     let csv = o.table.to_csv();
     plot::sweep_plots(&s.file.plots, &csv, &dir).unwrap_or_else(|e| panic!("{e}"));
     plot::table::sweep_tables(&s.file.tables, &csv, &dir).unwrap_or_else(|e| panic!("{e}"));
-    let bad: Vec<_> = o.table.rows.iter().filter(|r| !r.is_ok()).collect();
-    assert!(bad.is_empty(), "{name}: points failed: {bad:?}");
     let tables = s
         .file
         .tables
@@ -126,7 +138,8 @@ pub struct Swept {
 }
 
 impl Swept {
-    /// Run `docs/studies/sweeps/{file}.ron` into `docs/studies/{out}/`.
+    /// Run `docs/studies/sweeps/{file}.ron` into `docs/studies/{out}/`; every point must
+    /// succeed.
     pub fn run(file: &str, out: &str) -> Swept {
         let (t, md) = study_sweep(file, out);
         Swept {
@@ -135,6 +148,26 @@ impl Swept {
             t,
             md,
         }
+    }
+
+    /// [`Swept::run`], error rows kept (a rejected config is a row: [`Swept::any_row`]).
+    pub fn run_keeping_errors(file: &str, out: &str) -> Swept {
+        let (t, md) = sweep_into(file, out);
+        Swept {
+            file: file.into(),
+            out: out.into(),
+            t,
+            md,
+        }
+    }
+
+    /// The first row, ok or not, that [`Swept::holds`] `conds`.
+    pub fn any_row(&self, conds: &[(&str, &str)]) -> &Row {
+        self.t
+            .rows
+            .iter()
+            .find(|r| self.holds(r, conds))
+            .unwrap_or_else(|| panic!("{}: no row {conds:?}", self.file))
     }
 
     /// The sweep file and the command that writes its tables, for the prose.
