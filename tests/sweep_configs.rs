@@ -37,6 +37,16 @@ fn orders_sweep(extra: &str) -> String {
     )
 }
 
+/// `bumpsim sweep FILE --out OUT`.
+fn sweep(file: &Path, out: &Path) -> Out {
+    bumpsim(&[
+        "sweep",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ])
+}
+
 fn rows(dir: &Path) -> Vec<Value> {
     std::fs::read_to_string(dir.join("sweep.jsonl"))
         .unwrap()
@@ -51,12 +61,7 @@ fn a_config_axis_runs_each_engine_labels_its_rows_and_measures_light_shares() {
     let file = s.join("orders.ron");
     std::fs::write(&file, orders_sweep("")).unwrap();
     let out = s.join("out");
-    let o = bumpsim(&[
-        "sweep",
-        file.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = sweep(&file, &out);
     o.expect_code(0, "the orders sweep");
     let r = rows(&out);
     assert_eq!(r.len(), 3);
@@ -189,12 +194,7 @@ fn bad_labels_config_axes_and_shares_are_rejected() {
     for (text, needle) in cases {
         let file = s.join("s.ron");
         std::fs::write(&file, &text).unwrap();
-        let o = bumpsim(&[
-            "sweep",
-            file.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ]);
+        let o = sweep(&file, &out);
         o.expect_code(2, &text);
         assert!(o.stderr.contains(needle), "{text}: {}", o.stderr);
         assert!(!out.exists(), "nothing is written");
@@ -207,12 +207,7 @@ fn bad_labels_config_axes_and_shares_are_rejected() {
     );
     let file = s.join("s.ron");
     std::fs::write(&file, &text).unwrap();
-    let o = bumpsim(&[
-        "sweep",
-        file.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = sweep(&file, &out);
     o.expect_code(0, "error rows");
     let r = rows(&out);
     assert_eq!(r[0]["status"], "error");
