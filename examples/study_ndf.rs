@@ -9,24 +9,17 @@
 //! generated normals follow the NDF), C18 (8-bit noise indices ring when the object moves,
 //! float does not), shading consistency across levels of detail, Fig. 1 and cost.
 //!
-//! The tables of C16 and of the cost are those of the sweeps `docs/studies/sweeps/kautz-*.ron`,
-//! run into `docs/studies/ndf/NAME/` exactly as `bumpsim sweep docs/studies/sweeps/kautz-NAME.ron
-//! --out docs/studies/ndf/NAME` runs them (from the repository root, so that the error rows
-//! name the configs by relative paths), quoted as they are written; the verdicts read the
-//! sweeps' rows. What no sweep holds yet, this program computes: C17 and the LOD table
-//! (texel-space statistics of `ndf::*`, no run reports them), C18 (the report's
-//! `animation.ringing` of 8-frame animations, run here with `animation::run`: sweep points
-//! render frame 0 only), Fig. 1 (a distance paired with a noise level, and the mean lit
-//! intensity, which no report holds), the texture memory per texture, and the pictures.
+//! Every table is a sweep's, `docs/studies/sweeps/kautz-*.ron`, run into
+//! `docs/studies/ndf/NAME/` exactly as `bumpsim sweep docs/studies/sweeps/kautz-NAME.ron --out
+//! docs/studies/ndf/NAME` runs them (from the repository root, so that the error rows name the
+//! configs by relative paths), quoted as they are written; the verdicts read the sweeps' rows
+//! or quote their numbers. This program adds the prose and the pictures (Fig. 1's renders,
+//! checked to be the sweep's points by their config hashes).
 
 use bumpsim_pipeline::config;
-use bumpsim_pipeline::ndf::tables::{binned, fit, histogram};
-use bumpsim_pipeline::ndf::{Distribution, NdfSpec, SynthesisSpec};
 use bumpsim_pipeline::run::{run, RunResult};
 use bumpsim_pipeline::sweep::table::Row;
-use rayon::prelude::*;
 use std::fmt::Write;
-use std::path::Path;
 
 mod common;
 use common::root;
@@ -158,78 +151,22 @@ fn save(img: &image::RgbImage, name: &str) {
     img.save(dir.join(name)).unwrap();
 }
 
-/// KL and chi-square/dof of the generated normals (256² texture coordinates, 16² bins).
-fn c17_fit(s: &SynthesisSpec, table: Option<u32>) -> (f64, f64) {
-    let surf = s.build(Path::new(".")).unwrap();
-    let lookup = table.map(|n| surf.lookup(n));
-    let side = 256;
-    let normals = (0..side * side).map(|k| {
-        let (i, j) = (k % side, k / side);
-        let u = (f64::from(i) + 0.5) / f64::from(side);
-        let v = (f64::from(j) + 0.5) / f64::from(side);
-        let r = surf.indices(u, v, f64::from(s.octaves));
-        match &lookup {
-            Some(l) => l.normals[l.nearest(r[0], r[1])],
-            None => surf.normal_of(r),
-        }
-    });
-    let bins = 16;
-    let h = histogram(bins, normals);
-    let fine = bins * 16;
-    fit(
-        &h,
-        &binned(&surf.ndf.map(fine, Distribution::Ndf), fine, bins),
-    )
-}
-
-fn c17(md: &mut String) {
+fn c17(md: &mut String, fit: &Swept) {
     writeln!(md, "## C17: the generated normals follow the NDF\n").unwrap();
     writeln!(
         md,
         "Normals generated at 256² texture coordinates (turbulence of 4 octaves from 32 cells, \
          so 8 samples per first-octave cell), binned on a 16² hemispherical map, against the \
-         NDF integrated over each bin. KL divergence in nats; chi-square per degree of freedom \
-         (bins with at least 5 expected). Uniform: Fig. 4 right's normals.\n\n\
-         | NDF | exact inverse CDFs | L 64² | L 256² | uniform normals |\n|---|---|---|---|---|"
+         NDF integrated over each bin: the report's `synthesis` section (`reference.synthesis`, \
+         docs/metrics.md), measured on the tables. KL divergence in nats; chi-square per degree \
+         of freedom (bins with at least 5 expected); through the exact inverse CDFs and through \
+         the engine's `L` (nearest entry), {}:\n\n{}\n\nUniform normals (Fig. 4 right's \
+         counter-example), the same sweep:\n\n{}\n",
+        fit.cite(),
+        fit.table("fit"),
+        fit.table("uniform")
     )
     .unwrap();
-    let ndfs = [
-        NdfSpec::BlinnPhong { exponent: 20.0 },
-        NdfSpec::BlinnPhong { exponent: 200.0 },
-        NdfSpec::Beckmann { roughness: 0.3 },
-        NdfSpec::Beckmann { roughness: 0.6 },
-        NdfSpec::Ward {
-            alpha_x: 0.15,
-            alpha_y: 0.5,
-        },
-    ];
-    let rows: Vec<String> = ndfs
-        .par_iter()
-        .map(|ndf| {
-            let s = SynthesisSpec {
-                ndf: ndf.clone(),
-                normals: Distribution::Ndf,
-                octaves: 4,
-                frequency: 32,
-                seed: 1,
-                map_size: 64,
-            };
-            let mut u = s.clone();
-            u.normals = Distribution::Uniform;
-            let cell = |(chi, kl): (f64, f64)| format!("KL {kl:.4}, χ²/dof {chi:.1}");
-            format!(
-                "| {ndf:?} | {} | {} | {} | {} |",
-                cell(c17_fit(&s, None)),
-                cell(c17_fit(&s, Some(64))),
-                cell(c17_fit(&s, Some(256))),
-                cell(c17_fit(&u, None))
-            )
-        })
-        .collect();
-    for r in rows {
-        writeln!(md, "{r}").unwrap();
-    }
-    writeln!(md).unwrap();
 }
 
 fn c18(md: &mut String) {
@@ -332,7 +269,7 @@ fn c18(md: &mut String) {
     save(&r.exact, "sphere-float.png");
 }
 
-fn lod(md: &mut String) {
+fn lod(md: &mut String, lod: &Swept) {
     writeln!(md, "## Shading consistency across levels of detail\n").unwrap();
     writeln!(
         md,
@@ -341,105 +278,63 @@ fn lod(md: &mut String) {
          seen from far away), against the NDF's closed-form shading of the flat surface, \
          `D(θ_h) / max D`, for half-way vectors tilted by θ_h from the macro normal, and the \
          flat level shaded with the far NDF (`NdfShading(far: true)`: the NDF averaged over \
-         its own microfacets, read at `L(1/2, 1/2) · h`, as the texture shader reads it). \
-         Beckmann 0.35, 8 cells.\n\n\
-         | θ_h | closed form | level 0 (4 octaves) | level 1 | level 2 | level 3 | level 4 (flat) | level 4, far NDF |\n|---:|---:|---:|---:|---:|---:|---:|---:|"
+         its own microfacets, read at `L(1/2, 1/2) · h`, as the texture shader reads it): the \
+         report's `synthesis` section. Beckmann 0.35, 8 cells, {}:\n\n{}\n",
+        lod.cite(),
+        lod.table("lod")
     )
     .unwrap();
-    let s = SynthesisSpec {
-        ndf: NdfSpec::Beckmann { roughness: 0.35 },
-        normals: Distribution::Ndf,
-        octaves: 4,
-        frequency: 8,
-        seed: 1,
-        map_size: 128,
-    };
-    let surf = s.build(Path::new(".")).unwrap();
-    for deg in [0.0f64, 10.0, 20.0, 30.0, 45.0] {
-        let closed = surf.ndf.relative_iso(deg.to_radians().cos());
-        let mut row = format!("| {deg}° | {closed:.4} |");
-        for level in 0..=4u32 {
-            let m = surf.patch_shading(level, 256, deg.to_radians());
-            write!(row, " {m:.4} |").unwrap();
-        }
-        let far = surf.far_shading(deg.to_radians());
-        write!(row, " {far:.4} |").unwrap();
-        writeln!(md, "{row}").unwrap();
-    }
-    writeln!(md).unwrap();
 }
 
 /// Fig. 1: the sphere at three distances, each with the noise level its distance needs
-/// (one level coarser per doubling).
-fn fig1(md: &mut String) {
+/// (one level coarser per doubling), then with the level per fragment; the tables are the
+/// sweeps', the pictures rendered here.
+fn fig1(md: &mut String, near: &Swept, mip: &Swept) {
     writeln!(
         md,
-        "## Fig. 1: the sphere at several distances
-"
-    )
-    .unwrap();
-    writeln!(
-        md,
-        "`ndf-sphere-hw` with the eye at 3.2, 6.4 and 12.8 along its direction and the noise \
-         level 0, 1, 2 bound (4, 3, 2 octaves: one level per doubling of distance); then \
-         `ndf-sphere-hw-mip`, whose stage 0 selects the level per fragment from the whole mip \
-         chain (the interpolated per-vertex LOD of the 256-texel map, NEAREST_MIPMAP_NEAREST).\n\n\
-         | distance | level | algorithm dB | quantization dB | mean lit intensity |\n|---:|---:|---:|---:|---:|"
+        "## Fig. 1: the sphere at several distances\n\n\
+         `ndf-sphere-hw` with the eye at 3.2, 6.4 and 12.8 along its direction and the noise \
+         level 0, 1, 2 bound (4, 3, 2 octaves: one level per doubling of distance, each \
+         distance paired with its level), {}:\n\n{}\n\n\
+         Then `ndf-sphere-hw-mip`, whose stage 0 selects the level per fragment from the whole \
+         mip chain (the interpolated per-vertex LOD of the 256-texel map, \
+         NEAREST_MIPMAP_NEAREST), {}:\n\n{}\n\n\
+         The mean lit intensity is the report's `image.mean_lit_level`: (R + G + B) / 3 over \
+         the pixels that are not black.\n",
+        near.cite(),
+        near.table("distance"),
+        mip.cite(),
+        mip.table("distance")
     )
     .unwrap();
     let mut pics = String::new();
-    let rows = [3.2f64, 6.4, 12.8]
-        .iter()
-        .enumerate()
-        .map(|(k, &d)| (d, Some(k)))
-        .chain([3.2f64, 6.4, 12.8, 25.6].map(|d| (d, None)));
-    for (d, k) in rows {
+    for (k, d) in [3.2f64, 6.4, 12.8].into_iter().enumerate() {
         let f = d / 3.2;
-        let mut sets = vec![
+        let sets = vec![
             format!("scene.camera.eye=(0.0, {}, {})", 0.6 * f, 3.2 * f),
             format!("scene.camera.far={}", 10.0 * f),
+            format!(
+                "engine.units.shader.unit.programs[0].texture.source=NdfNoise(size: 256, level: {k})"
+            ),
         ];
-        let name = match k {
-            Some(k) => {
-                sets.push(format!(
-                    "engine.units.shader.unit.programs[0].texture.source=NdfNoise(size: 256, level: {k})"
-                ));
-                "ndf-sphere-hw"
-            }
-            None => "ndf-sphere-hw-mip",
-        };
-        let r = go(name, &sets);
-        let (mut sum, mut n) = (0.0f64, 0.0f64);
-        for p in r.image.pixels() {
-            let v = f64::from(p[0]) + f64::from(p[1]) + f64::from(p[2]);
-            if v > 0.0 {
-                sum += v / 3.0;
-                n += 1.0;
-            }
-        }
-        let level = k.map_or("per fragment".to_string(), |k| k.to_string());
-        writeln!(
-            md,
-            "| {d} | {level} | {:.1} | {:.1} | {:.1} |",
-            r.report.error.algorithm.psnr_db,
-            r.report.error.quantization.psnr_db,
-            sum / n.max(1.0)
-        )
-        .unwrap();
-        if let Some(k) = k {
-            let name = format!("sphere-distance-{k}.png");
-            save(&r.image, &name);
-            write!(pics, "![distance {d}](ndf/{name}) ").unwrap();
-        } else if d == 3.2 {
-            save(&r.image, "sphere-mip.png");
-            write!(
-                pics,
-                "![distance 3.2, mip level per fragment](ndf/sphere-mip.png) "
-            )
-            .unwrap();
-        }
+        let r = go("ndf-sphere-hw", &sets);
+        let row = near.row(&[("distance", &d.to_string())]);
+        assert_eq!(
+            near.text(row, "config_hash"),
+            r.report.config_hash,
+            "the picture is the sweep's point"
+        );
+        let name = format!("sphere-distance-{k}.png");
+        save(&r.image, &name);
+        write!(pics, "![distance {d}](ndf/{name}) ").unwrap();
     }
-    writeln!(md, "\n{pics}\n").unwrap();
+    save(&go("ndf-sphere-hw-mip", &[]).image, "sphere-mip.png");
+    write!(
+        pics,
+        "![distance 3.2, mip level per fragment](ndf/sphere-mip.png) "
+    )
+    .unwrap();
+    writeln!(md, "{pics}\n").unwrap();
 }
 
 fn cost(md: &mut String, cost: &Swept) {
@@ -454,30 +349,17 @@ fn cost(md: &mut String, cost: &Swept) {
         s.table("cost")
     )
     .unwrap();
-    // the texture memory per texture: the report's `bandwidth.texture_memory` is keyed by
-    // texture names with a dot (`shader.tex0`), which a sweep's `report` path cannot address
-    let r = go("ndf-teapot-hw", &[]).report;
+    let mip = s.row(&[("config", "ndf-sphere-hw-mip")]);
+    let chain = "report.bandwidth.texture_memory[shader.tex0].stored_bits";
     writeln!(
         md,
-        "The textures of `ndf-teapot-hw` (its report's `bandwidth.texture_memory`, printed by the \
-         program: a sweep's `report` path cannot name a texture, whose key holds a dot):\n\n\
-         | texture | size | bits/texel | bits stored |\n|---|---|---:|---:|"
-    )
-    .unwrap();
-    for (name, t) in &r.bandwidth.texture_memory {
-        writeln!(
-            md,
-            "| {name} | {}x{}, {} level(s) | {} | {} |",
-            t.size[0], t.size[1], t.levels, t.bits_per_texel, t.stored_bits
-        )
-        .unwrap();
-    }
-    let chain: u64 = (0..=8).map(|k| (256u64 >> k).pow(2) * 24).sum();
-    writeln!(
-        md,
-        "\nThe whole noise mip chain (256² down to 1², 24 bits a texel) is {chain} bits: what \
+        "The bits stored per texture (the reports' `bandwidth.texture_memory`: the noise \
+         `shader.tex0`, `L` `shader.tex1`, the 1-D NDF `shader.tex3`; 24 bits a texel), the same \
+         sweep:\n\n{}\n\nThe whole noise mip chain (256² down to 1²) is {} bits: what \
          `ndf-sphere-hw-mip` stores to select the level per fragment; the other configs bind \
-         one level per draw (see `docs/units/ndf.md`).\n"
+         one level per draw (see `docs/units/ndf.md`).\n",
+        s.table("memory"),
+        s.text(mip, chain)
     )
     .unwrap();
     writeln!(
@@ -579,15 +461,14 @@ precomputed table `L(r1, r2)` turns them into a microfacet normal distributed by
 NDF (§5.2). This study tests the paper's hardware claims on bumpsim's model
 (`pipeline/src/ndf/`, `docs/units/ndf.md`). The page is generated by
 `cargo run --release --example study_ndf` (`examples/study_ndf.rs`; do not edit by hand),
-with the pictures in `docs/studies/ndf/`. The tables of C16, C18 and of the cost are tables of
-sweeps, `docs/studies/sweeps/kautz-*.ron`, written into `docs/studies/ndf/NAME/` (with the
-sweep's rows, `sweep.csv`) by the command each section names (`bumpsim sweep`,
-docs/sweep.md, run from the repository root); each sweep file's header says what it varies,
-what it holds fixed and which claim it tests. The other tables the program computes itself: C17 and
-the levels of detail are statistics of the texel space (`ndf::*`) that no run reports;
-Fig. 1 pairs each distance with a noise level (a sweep's axes multiply) and
-shows the mean lit intensity, which no report holds; the texture memory is keyed by names a
-sweep's `report` path cannot address. The verdicts are written from those numbers.
+with the pictures in `docs/studies/ndf/`. Every table is a sweep's,
+`docs/studies/sweeps/kautz-*.ron`, written into `docs/studies/ndf/NAME/` (with the sweep's
+rows, `sweep.csv`) by the command each section names (`bumpsim sweep`, docs/sweep.md, run
+from the repository root); each sweep file's header says what it varies, what it holds fixed
+and which claim it tests. C17 and the levels of detail are measured on the synthesis tables
+themselves (the report's `synthesis` section, `reference.synthesis`); Fig. 1 pairs each
+distance with its noise level (`paired` paths of an axis). The verdicts are written from
+those numbers.
 
 Configs: `configs/ndf-sphere-hw.ron` (Fig. 1's sphere, Beckmann), `configs/ndf-teapot-hw.ron`
 (Fig. 5: isotropic, hardware, 16,384 triangles), `configs/ndf-teapot-uniform-hw.ron` (Fig. 4
@@ -598,12 +479,12 @@ variant), `configs/ndf-teapot-aniso-sw.ron` (Fig. 4: the software path, anisotro
     .unwrap();
     let (stages, nv20, cost_sw) = (kautz("stages"), kautz("nv20"), kautz("cost"));
     c16(&mut md, &stages, &nv20);
-    c17(&mut md);
+    c17(&mut md, &kautz("fit"));
     writeln!(md, "{C17_VERDICT}").unwrap();
     c18(&mut md);
-    lod(&mut md);
+    lod(&mut md, &kautz("lod"));
     writeln!(md, "{LOD_VERDICT}").unwrap();
-    fig1(&mut md);
+    fig1(&mut md, &kautz("distance"), &kautz("distance-mip"));
     writeln!(md, "{FIG1_PROSE}").unwrap();
     cost(&mut md, &cost_sw);
     md.push_str(LEFT_OPEN);

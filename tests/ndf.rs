@@ -5,6 +5,7 @@
 
 mod common;
 
+use bumpsim_pipeline::ndf::statistics;
 use bumpsim_pipeline::ndf::tables::{binned, fit, histogram};
 use bumpsim_pipeline::ndf::{Distribution, NdfSpec, NdfSurface, SynthesisSpec};
 use common::*;
@@ -22,31 +23,13 @@ fn spec(ndf: NdfSpec) -> SynthesisSpec {
 }
 
 /// Chi-square per degree of freedom and KL divergence (nats) of the normals generated over a
-/// grid of `side^2` texture coordinates against the target NDF integrated over `bins x bins`
-/// bins of the hemispherical map; `table`: through the lookup table `L` of that size (nearest
-/// entry, as the hardware path reads it), else the exact inverse CDFs.
-fn c17(surf: &NdfSurface, side: u32, bins: u32, table: Option<u32>) -> (f64, f64) {
-    let lookup = table.map(|n| surf.lookup(n));
-    let mut normals = Vec::new();
-    for j in 0..side {
-        for i in 0..side {
-            let (u, v) = (
-                (f64::from(i) + 0.5) / f64::from(side),
-                (f64::from(j) + 0.5) / f64::from(side),
-            );
-            let r = surf.indices(u, v, f64::from(surf.spec.octaves));
-            normals.push(match &lookup {
-                Some(l) => l.normals[l.nearest(r[0], r[1])],
-                None => surf.normal_of(r),
-            });
-        }
-    }
-    let h = histogram(bins, normals.into_iter());
-    let fine = bins * 16;
-    fit(
-        &h,
-        &binned(&surf.ndf.map(fine, Distribution::Ndf), fine, bins),
-    )
+/// grid of 256² texture coordinates against the target NDF integrated over 16² bins of the
+/// hemispherical map; `table`: through the lookup table `L` of that size (nearest entry, as
+/// the hardware path reads it), else the exact inverse CDFs (the report's `synthesis`
+/// figures, `ndf::statistics`).
+fn c17(surf: &NdfSurface, table: Option<u32>) -> (f64, f64) {
+    let f = statistics::normals_fit(surf, table);
+    (f.chi2_dof, f.kl)
 }
 
 /// C17: the generated normals follow the NDF for Blinn-Phong, Beckmann and Ward's
@@ -71,10 +54,10 @@ fn generated_normals_follow_the_ndf() {
         let mut u = s.clone();
         u.normals = Distribution::Uniform;
         let (surf, usurf) = (build(&s), build(&u));
-        let (uchi, ukl) = c17(&usurf, 256, 16, None);
+        let (uchi, ukl) = c17(&usurf, None);
         println!("{ndf:?} uniform: chi2/dof {uchi:.1} KL {ukl:.4}");
         for table in [None, Some(64), Some(256)] {
-            let (chi, kl) = c17(&surf, 256, 16, table);
+            let (chi, kl) = c17(&surf, table);
             println!("{ndf:?} table {table:?}: chi2/dof {chi:.2} KL {kl:.5}");
             assert!(kl < 0.02, "{ndf:?} {table:?}: KL {kl}");
             assert!(
@@ -350,4 +333,64 @@ fn noise_mip_level_is_selected_per_fragment() {
     }
     println!("pixels first matching level 0..4: {used:?}");
     assert!(used.iter().filter(|&&n| n > 100).count() >= 2, "{used:?}");
+}
+
+/// The report's `synthesis` section (`reference.synthesis`): the patch shading per level at
+/// a 30° half-way vector is the study's (Beckmann 0.35, 8 cells: the closed form 0.1170,
+/// levels 0 to 4 0.1865 0.1865 0.1858 0.1809 0.1117, the far NDF 0.1813), the fits are those
+/// of the tables (through the exact inverse CDFs and through the engine's 256² `L`, 16² bins),
+/// the section is absent without the option, and the option needs an NDF scene and a tilt
+/// from 0 to 90 degrees.
+#[test]
+fn the_report_measures_the_synthesis_tables() {
+    let small = ["scene.width=32", "scene.height=32"];
+    let with = [
+        small[0],
+        small[1],
+        "reference.synthesis=Some((tilt_deg: 30.0))",
+    ];
+    let r = config_report("ndf-sphere-hw", &with);
+    let y = r.synthesis.expect("the section");
+    let near = |a: f64, b: f64| (a - b).abs() < 5e-5;
+    assert!(near(y.closed_form, 0.1170), "{}", y.closed_form);
+    let want = [0.1865, 0.1865, 0.1858, 0.1809, 0.1117];
+    assert_eq!(y.levels.len(), 5);
+    for (k, (&got, want)) in y.levels.iter().zip(want).enumerate() {
+        assert!(near(got, want), "level {k}: {got} vs {want}");
+    }
+    assert!(near(y.far, 0.1813), "{}", y.far);
+    let l = y.lookup.expect("the engine reads L");
+    assert_eq!((y.side, y.bins, l.side), (256, 16, 256));
+    // the fits: small and the uniform counter-example far off (the same sweep as the study's
+    // C17, docs/studies/sweeps/kautz-fit.ron)
+    assert!(y.exact.kl < 0.03 && l.kl < 0.03, "{:?} {l:?}", y.exact);
+    let u = config_report(
+        "ndf-sphere-hw",
+        &[with[0], with[1], with[2], "scene.bump.normals=Uniform"],
+    )
+    .synthesis
+    .unwrap();
+    assert!(
+        u.exact.kl > 100.0 * y.exact.kl,
+        "{:?} vs {:?}",
+        u.exact,
+        y.exact
+    );
+    assert!(config_report("ndf-sphere-hw", &small).synthesis.is_none());
+    let e = config_error(
+        "sgi-teapot",
+        &["reference.synthesis=Some((tilt_deg: 30.0))"],
+    );
+    assert!(
+        e.contains("reference.synthesis") && e.contains("bump: Ndf"),
+        "{e}"
+    );
+    let e = config_error(
+        "ndf-sphere-hw",
+        &["reference.synthesis=Some((tilt_deg: 91.0))"],
+    );
+    assert!(
+        e.contains("reference.synthesis.tilt_deg") && e.contains("0 to 90"),
+        "{e}"
+    );
 }

@@ -38,6 +38,10 @@ pub struct Report {
     /// the reference is bright (`crate::highlight`, docs/metrics.md); left out otherwise.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub highlight: Option<crate::highlight::Highlight>,
+    /// With `reference.synthesis`: the NDF bump synthesis measured on its tables
+    /// (`crate::ndf::statistics`, docs/metrics.md); left out otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub synthesis: Option<crate::ndf::statistics::Synthesis>,
     /// Each quantized normal map of the engine (`QuantizedNormals` units, config order) and
     /// its index mipmaps against the true normals, in texel space (docs/metrics.md,
     /// `normal_maps`); left out when the engine has none.
@@ -76,6 +80,32 @@ pub struct ImageInfo {
     pub covered_pixels: u64,
     /// Pixels covered by the engine but not the reference, or the other way round.
     pub coverage_mismatch: u64,
+    /// Pixels of the bit-accurate 8-bit image that are not black (any channel above 0).
+    pub lit_pixels: u64,
+    /// The mean of `(R + G + B) / 3` (8-bit levels, 0 to 255) over those pixels: the image's
+    /// mean lit intensity (e.g. how a surface's brightness holds over distance, Kautz et al.
+    /// Fig. 1), 0 when none is lit.
+    pub mean_lit_level: f64,
+}
+
+impl ImageInfo {
+    /// The lit pixels and mean lit level of an 8-bit image ([`ImageInfo::mean_lit_level`]).
+    pub fn lit(img: &image::RgbImage) -> (u64, f64) {
+        let (mut n, mut sum) = (0u64, 0u64);
+        for p in img.pixels() {
+            let v = u64::from(p[0]) + u64::from(p[1]) + u64::from(p[2]);
+            if v > 0 {
+                n += 1;
+                sum += v;
+            }
+        }
+        let mean = if n == 0 {
+            0.0
+        } else {
+            sum as f64 / (3.0 * n as f64)
+        };
+        (n, mean)
+    }
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -203,11 +233,13 @@ impl Report {
         );
         let _ = writeln!(
             s,
-            "image {}x{}, {} pixels covered, {} coverage mismatches",
+            "image {}x{}, {} pixels covered, {} coverage mismatches, {} lit (mean level {:.2})",
             self.image.width,
             self.image.height,
             self.image.covered_pixels,
-            self.image.coverage_mismatch
+            self.image.coverage_mismatch,
+            self.image.lit_pixels,
+            self.image.mean_lit_level
         );
         if let Some(b) = &self.bake {
             let _ = writeln!(
@@ -220,6 +252,14 @@ impl Report {
                 100.0 * b.updated as f64 / b.samples.max(1) as f64,
                 b.below
             );
+            if let Some(e) = &b.evaluation {
+                let _ = writeln!(
+                    s,
+                    "  against the detailed mesh ({} views of {}x{}): normal error {:.3} (8-bit) \
+                     {:.3} (unquantised) colour steps, distance error {:.5} of the radius",
+                    e.views, e.size, e.size, e.normal8, e.normal, e.distance
+                );
+            }
         }
         let c = &self.cycles;
         let _ = writeln!(
@@ -377,6 +417,30 @@ impl Report {
                 );
             }
         }
+        if let Some(y) = &self.synthesis {
+            let _ = writeln!(
+                s,
+                "\nNDF synthesis, normals at {0}x{0} texture coordinates on {1}x{1} bins: exact \
+                 inverse CDFs KL {2:.4} chi2/dof {3:.2}",
+                y.side, y.bins, y.exact.kl, y.exact.chi2_dof
+            );
+            if let Some(l) = &y.lookup {
+                let _ = writeln!(
+                    s,
+                    "  through L {0}x{0}: KL {1:.4} chi2/dof {2:.2}",
+                    l.side, l.kl, l.chi2_dof
+                );
+            }
+            let levels: Vec<String> = y.levels.iter().map(|x| format!("{x:.4}")).collect();
+            let _ = writeln!(
+                s,
+                "  mean shading at {} deg: closed form {:.4}, levels {}, far NDF {:.4}",
+                y.tilt_deg,
+                y.closed_form,
+                levels.join(" "),
+                y.far
+            );
+        }
         if let Some(a) = &self.animation {
             let _ = writeln!(
                 s,
@@ -413,5 +477,22 @@ impl Report {
             }
         }
         s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::ImageInfo;
+
+    #[test]
+    fn mean_lit_level_averages_the_pixels_that_are_not_black() {
+        let mut img = image::RgbImage::new(4, 1);
+        img.put_pixel(0, 0, image::Rgb([30, 60, 90])); // 60
+        img.put_pixel(1, 0, image::Rgb([0, 0, 3])); // 1
+        img.put_pixel(3, 0, image::Rgb([255, 255, 255])); // 255
+        let (n, mean) = ImageInfo::lit(&img);
+        assert_eq!(n, 3);
+        assert_eq!(mean, (60.0 + 1.0 + 255.0) / 3.0);
+        assert_eq!(ImageInfo::lit(&image::RgbImage::new(2, 2)), (0, 0.0));
     }
 }

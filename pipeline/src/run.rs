@@ -508,7 +508,16 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
         let (a, e) = ((&fb.image, &fb.mask), (&fb_exact.image, &fb_exact.mask));
         crate::highlight::measure(a.0, a.1, e.0, e.1, rimg, rmask, t)
     });
+    let synthesis = match (&cfg.reference.synthesis, &p.scene.bump) {
+        (Some(st), crate::scene::BumpMap::Ndf(surf)) => Some(crate::ndf::statistics::measure(
+            surf,
+            ndf_lookup_side(&cfg.engine),
+            *st,
+        )),
+        _ => None,
+    };
     let covered = mask.iter().filter(|&&m| m).count() as u64;
+    let (lit_pixels, mean_lit_level) = ImageInfo::lit(&fb.rgb8);
     let mismatch = mask.iter().zip(rmask).filter(|(a, b)| a != b).count() as u64;
 
     let extras: u64 = bit
@@ -555,6 +564,8 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
             height: h,
             covered_pixels: covered,
             coverage_mismatch: mismatch,
+            lit_pixels,
+            mean_lit_level,
         },
         bake: p.scene.bake,
         cycles: result.cycles,
@@ -576,6 +587,7 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
         artifacts: measured.artifacts,
         edges: measured.edges,
         highlight,
+        synthesis,
         normal_maps: bit.normal_maps.clone(),
         animation: None,
     };
@@ -624,3 +636,27 @@ fn trace_units(engine: &Engine) -> Vec<TraceUnit> {
 
 #[cfg(test)]
 mod tests;
+
+/// The side of the engine's first lookup table `L` of microfacet normals (`NdfLookup` with an
+/// entry of normals, in a `TexFetch` or a texture-shader stage), for the report's
+/// `synthesis` section.
+fn ndf_lookup_side(engine: &crate::config::EngineConfig) -> Option<u32> {
+    use crate::engine::units::{TextureSource, UnitSpec};
+    use crate::ndf::sources::LookupEntry;
+    let normals = |s: &TextureSource| match *s {
+        TextureSource::NdfLookup { size, entry } => matches!(
+            entry,
+            LookupEntry::Rgb8 | LookupEntry::Hilo16 | LookupEntry::Signed
+        )
+        .then_some(size),
+        _ => None,
+    };
+    engine.units.iter().find_map(|u| match &u.unit {
+        UnitSpec::TexFetch(t) => normals(&t.source),
+        UnitSpec::TextureShader(t) => t
+            .programs
+            .iter()
+            .find_map(|p| p.texture.as_ref().and_then(|x| normals(&x.source))),
+        _ => None,
+    })
+}

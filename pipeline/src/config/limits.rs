@@ -378,9 +378,20 @@ pub fn estimate(c: &Config) -> Estimate {
         map_size,
         views,
         view_size,
+        evaluate,
         ..
     } = &s.mesh
     {
+        if let Some(ev) = evaluate {
+            // two renders a view (the detailed and the simplified mesh) and the comparison
+            let px = f64::from(ev.size.min(crate::wang::scene::MAX_VIEW)).powi(2);
+            let n = crate::wang::views::evaluation().len() as f64;
+            e.add(
+                format!("scene.mesh.Baked.evaluate: {n} views x size^2 = {px} pixels"),
+                n * 2.0 * px * cost::BAKE_VIEW_PIXEL_S,
+                n * 2.0 * px * cost::BAKE_VIEW_PIXEL_BYTES,
+            );
+        }
         // the detailed mesh itself is bounded by the file cap of the mesh readers; values
         // past the caps are priced at the caps and rejected, naming the field, by the bake
         let (map, view) = (

@@ -202,6 +202,12 @@ pub struct ReferenceConfig {
     /// (`crate::highlight`, docs/metrics.md). Left out of the config hash when `None`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub highlight_luma: Option<f64>,
+    /// `Some((tilt_deg: θ))` with the scene's `bump: Ndf(...)`: the report's `synthesis`
+    /// section (the generated normals' fit to the NDF and the patch shading per level of
+    /// detail at a half-way vector tilted by θ degrees, `crate::ndf::statistics`,
+    /// docs/metrics.md). Left out of the config hash when `None`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub synthesis: Option<crate::ndf::statistics::SynthesisStats>,
 }
 
 impl Default for ReferenceConfig {
@@ -210,6 +216,7 @@ impl Default for ReferenceConfig {
             perturbation: Perturbation::default(),
             samples: 1,
             highlight_luma: None,
+            synthesis: None,
         }
     }
 }
@@ -815,6 +822,23 @@ fn validate(l: &Loaded) -> Result<(), InputError> {
                 "reference.highlight_luma",
                 "highlight_luma:",
                 format!("expected a luma with 0 < highlight_luma <= 1, found {t}"),
+            ));
+        }
+    }
+    if let Some(st) = c.reference.synthesis {
+        let t = st.tilt_deg;
+        if !(0.0..=90.0).contains(&t) {
+            return Err(l.error(
+                "reference.synthesis.tilt_deg",
+                "tilt_deg:",
+                format!("expected degrees from 0 to 90, found {t}"),
+            ));
+        }
+        if !matches!(c.scene.bump, BumpSpec::Ndf { .. }) {
+            return Err(l.error(
+                "reference.synthesis",
+                "synthesis:",
+                "expected a scene with bump: Ndf(...) (it measures the NDF bump synthesis)",
             ));
         }
     }

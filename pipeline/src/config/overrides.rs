@@ -42,6 +42,9 @@ pub fn apply(config: &Config, sets: &[String]) -> Result<Config, InputError> {
         if walk(&mut tree, &segments).is_err() {
             add_default_field(&mut tree, &segments);
         }
+        if let Err(m) = walk(&mut tree, &segments) {
+            return Err(err(path, schema_fields(&tree, &segments).unwrap_or(m)));
+        }
         let node = walk(&mut tree, &segments).map_err(|m| err(path, m))?;
         // `None` over an enum variant (a string in the tree, e.g. `raster.cull`) is the
         // variant named None, not an absent option; unless the schema has no such variant
@@ -103,6 +106,25 @@ fn add_default_field(tree: &mut Value, segments: &[String]) {
             m.insert(last.clone(), Value::Null);
         }
     }
+}
+
+/// The message for a path the tree does not hold, with every field the schema accepts where
+/// the path leaves the tree (the tree leaves out fields at their default, so its own keys are
+/// not all of them): serde's list of expected fields, when a structure is there.
+fn schema_fields(tree: &Value, segments: &[String]) -> Option<String> {
+    let mut probe = tree.clone();
+    let depth = (1..=segments.len()).find(|&d| walk(&mut probe, &segments[..d]).is_err())?;
+    let (parent, seg) = (&segments[..depth - 1], &segments[depth - 1]);
+    field_map(&mut probe, parent)?.insert(seg.clone(), Value::Null);
+    let e = serde_json::from_value::<Config>(probe).err()?.to_string();
+    let unknown = format!("unknown field `{seg}`, ");
+    let at = e.find(&unknown)? + unknown.len();
+    let expected = e[at..].split(" at line").next().unwrap_or_default();
+    let here = parent.join(".");
+    Some(format!(
+        "no field {seg:?} under {:?}: {expected}",
+        if here.is_empty() { "(top)" } else { &here }
+    ))
 }
 
 /// The fields of the structure at `parent`: the object itself, or the fields of the enum
@@ -391,23 +413,22 @@ fn step<'a>(node: &'a mut Value, seg: &str) -> Option<&'a mut Value> {
 mod tests {
     use super::*;
 
+    /// The bundled config `configs/{name}`, parsed.
+    fn bundled(name: &str) -> Config {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../configs")
+            .join(name);
+        super::super::parse(&std::fs::read_to_string(path).unwrap(), name).unwrap()
+    }
+
     #[test]
     fn none_over_an_enum_variant_is_the_variant_named_none() {
-        let text = std::fs::read_to_string(
-            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../configs/cull-fragment.ron"),
-        )
-        .unwrap();
-        let c = super::super::parse(&text, "cull-fragment.ron").unwrap();
+        let c = bundled("cull-fragment.ron");
         assert_eq!(c.raster.cull, crate::raster::Cull::Back);
         let set = apply(&c, &["raster.cull=None".to_string()]).unwrap();
         assert_eq!(set.raster.cull, crate::raster::Cull::None);
         // but an Option of an enum without a None variant: the absent option
-        let text = std::fs::read_to_string(
-            std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-                .join("../configs/quantized-plane-mipmap.ron"),
-        )
-        .unwrap();
-        let c = super::super::parse(&text, "quantized-plane-mipmap.ron").unwrap();
+        let c = bundled("quantized-plane-mipmap.ron");
         let mip = |c: &Config| match &c.engine.units[0].unit {
             crate::engine::units::UnitSpec::QuantizedNormals(q) => q.mipmap,
             _ => panic!("the unit is qnm"),
@@ -422,9 +443,7 @@ mod tests {
 
     #[test]
     fn fields_left_out_at_their_default_can_be_set() {
-        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../configs");
-        let read = |n: &str| std::fs::read_to_string(root.join(n)).unwrap();
-        let c = super::super::parse(&read("sgi-teapot.ron"), "sgi-teapot.ron").unwrap();
+        let c = bundled("sgi-teapot.ron");
         let set = |s: &str| apply(&c, &[s.to_string()]);
         let fixed = set("engine.interpolator=Fixed(weight_bits: 12)").unwrap();
         assert_eq!(
@@ -489,6 +508,28 @@ mod tests {
         assert!(e.contains("nested more than"), "{e}");
         // the message shows the start of a long value, not all of it
         assert!(e.contains("... (1000000 bytes)") && e.len() < 300, "{e}");
+    }
+
+    #[test]
+    fn a_misspelt_field_lists_the_fields_left_out_at_their_default_too() {
+        let c = bundled("sgi-teapot.ron");
+        let e = apply(&c, &["reference.highlight_lum=0.5".to_string()]).unwrap_err();
+        let m = e.to_string();
+        assert!(
+            m.contains("no field \"highlight_lum\" under \"reference\""),
+            "{m}"
+        );
+        for f in [
+            "`perturbation`",
+            "`samples`",
+            "`highlight_luma`",
+            "`synthesis`",
+        ] {
+            assert!(m.contains(f), "{f} in {m}");
+        }
+        // and a field at its default is set
+        let set = apply(&c, &["reference.highlight_luma=0.5".to_string()]).unwrap();
+        assert_eq!(set.reference.highlight_luma, Some(0.5));
     }
 
     #[test]

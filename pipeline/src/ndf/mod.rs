@@ -9,12 +9,15 @@
 //!   histogram and fit measures (§4);
 //! * `surface.rs`: the synthesised surface, the scene's `bump: Ndf(...)`;
 //! * `sources.rs`: the textures of the hardware path (§5.2): the noise mip levels, `L` and the
-//!   NDF in 1-D (isotropic) or 2-D (anisotropic).
+//!   NDF in 1-D (isotropic) or 2-D (anisotropic);
+//! * `statistics.rs`: the report's `synthesis` section (the generated normals' fit to the NDF,
+//!   the patch shading per level of detail).
 
 #[allow(clippy::module_inception)]
 pub mod ndf;
 pub mod noise;
 pub mod sources;
+pub mod statistics;
 pub mod surface;
 pub mod tables;
 

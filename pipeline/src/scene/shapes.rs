@@ -115,7 +115,8 @@ pub enum MeshSpec {
         /// Border texels of each patch, 0 to 2. Default 1.
         #[serde(default = "default_bake_widen")]
         widen: u32,
-        /// Views, 1 to 64. Default 12 (the icosahedron's vertices).
+        /// Views, 0 (the initialisation alone: the simplified mesh's interpolated normals)
+        /// to 64. Default 12 (the icosahedron's vertices).
         #[serde(default = "default_bake_views")]
         views: usize,
         /// Side of each view's image in pixels, 16 to 4096. Default 1024.
@@ -134,6 +135,11 @@ pub enum MeshSpec {
         /// the two faces' frames (see docs/studies/normal-map-baking.md).
         #[serde(default = "default_bake_pairs")]
         pairs: bool,
+        /// `Some((size, bits))`: measure the bake against the detailed mesh (Wang et al. §5:
+        /// 30 views; the report's `bake.evaluation`, `crate::wang::scene::Evaluate`). Default
+        /// `None`: not measured.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        evaluate: Option<crate::wang::scene::Evaluate>,
     },
     /// A surface of revolution about the y axis (no caps): the smooth monotone cubic `r(y)`
     /// through `profile`, `u` around the axis, `v` along the profile's arc length
@@ -236,6 +242,7 @@ impl MeshSpec {
                 threshold,
                 buffer,
                 pairs,
+                evaluate,
             } => {
                 let spec = crate::wang::scene::BakeSpec {
                     path: path.clone(),
@@ -247,6 +254,7 @@ impl MeshSpec {
                     threshold,
                     buffer,
                     pairs,
+                    evaluate,
                 };
                 let (mesh, map, stats) = crate::wang::scene::build(&spec, base_dir)?;
                 mesh.validate("mesh.Baked")?;

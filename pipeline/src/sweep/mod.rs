@@ -67,13 +67,60 @@ pub struct SweepFile {
 /// in a field; `docs/sweep.md`).
 pub const CONFIG_AXIS: &str = "@config";
 
-/// The cell of report field `path` (dot-separated object keys and list indices) in `report`'s
-/// JSON: a number, text or boolean as it is, a list its length, anything else (an object,
-/// null, a path the report does not have) empty.
+/// The keys of report path `path`: dot-separated object keys and list indices, and a key
+/// in brackets taken as written, dots included (`bandwidth.texture_memory[shader.tex0].bits`:
+/// the texture `shader.tex0`). An unclosed or empty bracket, or an empty key, is an error.
+pub fn report_keys(path: &str) -> Result<Vec<&str>, String> {
+    let mut keys = Vec::new();
+    let mut rest = path;
+    // after a bracket a `.` or another bracket must follow
+    let mut after_bracket = false;
+    while !rest.is_empty() {
+        if let Some(r) = rest.strip_prefix('[') {
+            let end = r
+                .find(']')
+                .ok_or_else(|| format!("{path:?}: a '[' without its ']'"))?;
+            if end == 0 {
+                return Err(format!("{path:?}: an empty key in brackets"));
+            }
+            keys.push(&r[..end]);
+            rest = &r[end + 1..];
+            after_bracket = true;
+            continue;
+        }
+        if after_bracket {
+            rest = rest
+                .strip_prefix('.')
+                .ok_or_else(|| format!("{path:?}: expected '.' or '[' after ']'"))?;
+            after_bracket = false;
+        } else if !keys.is_empty() {
+            rest = rest
+                .strip_prefix('.')
+                .ok_or_else(|| format!("{path:?}: an empty key"))?;
+        }
+        let end = rest.find(['.', '[']).unwrap_or(rest.len());
+        if end == 0 {
+            return Err(format!("{path:?}: an empty key"));
+        }
+        keys.push(&rest[..end]);
+        rest = &rest[end..];
+    }
+    if keys.is_empty() {
+        return Err("an empty report path".into());
+    }
+    Ok(keys)
+}
+
+/// The cell of report field `path` ([`report_keys`]: object keys and list indices) in
+/// `report`'s JSON: a number, text or boolean as it is, a list its length, anything else (an
+/// object, null, a path the report does not have, a path that does not parse) empty.
 pub fn report_cell(report: &serde_json::Value, path: &str) -> table::Cell {
     use table::Cell;
+    let Ok(keys) = report_keys(path) else {
+        return Cell::Empty;
+    };
     let mut v = report;
-    for key in path.split('.') {
+    for key in keys {
         let next = match v {
             serde_json::Value::Object(m) => m.get(key),
             serde_json::Value::Array(a) => key.parse::<usize>().ok().and_then(|i| a.get(i)),
@@ -114,6 +161,21 @@ pub struct Axis {
     /// of the value (e.g. `"2 lights"` for a list of lights). Empty (the default): the value.
     #[serde(default)]
     pub labels: Vec<String>,
+    /// More `--set` paths that take their own value at the same position as the axis'
+    /// value (a `List` axis only, its values distinct): a distance paired with the noise
+    /// level it needs, where `also` sets one value and two axes would multiply.
+    #[serde(default)]
+    pub paired: Vec<Paired>,
+}
+
+/// A path whose values follow a `List` axis' value by position ([`Axis::paired`]).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Paired {
+    /// Any `--set` path.
+    pub path: String,
+    /// One value per value of the axis.
+    pub values: Vec<Scalar>,
 }
 
 impl Axis {
@@ -126,15 +188,38 @@ impl Axis {
         }
     }
 
+    /// The position of value `v` in the axis' `List` (the first, values with labels or
+    /// pairs are distinct).
+    fn position(&self, v: &Scalar) -> Option<usize> {
+        match &self.values {
+            Values::List(vals) => vals.iter().position(|x| x == v),
+            Values::Grid(..) => None,
+        }
+    }
+
+    /// The `path=value` overrides of value `v`: the axis' path and its `also` paths, then
+    /// each paired path with its value at `v`'s position (on the config axis, whose value
+    /// is a file, the paired paths only).
+    fn sets(&self, v: &Scalar) -> Vec<String> {
+        let text = v.to_ron();
+        let mut sets: Vec<String> = std::iter::once(&self.path)
+            .chain(&self.also)
+            .filter(|_| self.path != CONFIG_AXIS)
+            .map(|p| format!("{p}={text}"))
+            .collect();
+        if let Some(k) = self.position(v) {
+            for p in &self.paired {
+                if let Some(x) = p.values.get(k) {
+                    sets.push(format!("{}={}", p.path, x.to_ron()));
+                }
+            }
+        }
+        sets
+    }
+
     /// The axis' cell for value `v`: its label if it has labels, else the value.
     pub fn cell(&self, v: &Scalar) -> table::Cell {
-        let label = match &self.values {
-            Values::List(vals) if !self.labels.is_empty() => vals
-                .iter()
-                .position(|x| x == v)
-                .and_then(|k| self.labels.get(k)),
-            _ => None,
-        };
+        let label = self.position(v).and_then(|k| self.labels.get(k));
         label.map_or_else(|| table::Cell::of(v), |l| table::Cell::Text(l.clone()))
     }
 }
@@ -370,6 +455,14 @@ pub fn points(file: &SweepFile) -> Result<Vec<Point>, (String, String)> {
     if file.axes.is_empty() {
         return Err(("axes".into(), "expected at least one axis".into()));
     }
+    for (k, p) in file.report.iter().enumerate() {
+        report_keys(p).map_err(|e| {
+            (
+                format!("report[{k}]"),
+                format!("{e}: expected a report path (docs/sweep.md)"),
+            )
+        })?;
+    }
     let mut per_axis = Vec::new();
     for (k, a) in file.axes.iter().enumerate() {
         if a.path.trim().is_empty() {
@@ -391,6 +484,43 @@ pub fn points(file: &SweepFile) -> Result<Vec<Point>, (String, String)> {
                         a.labels.len()
                     ),
                 ));
+            }
+        }
+        if !a.paired.is_empty() {
+            let vals = match &a.values {
+                Values::List(v) => v.as_slice(),
+                Values::Grid(..) => &[],
+            };
+            if vals.is_empty() {
+                return Err((
+                    format!("axes[{k}].paired"),
+                    "expected a List axis (paired values follow its values by position)".into(),
+                ));
+            }
+            if (1..vals.len()).any(|i| vals[..i].contains(&vals[i])) {
+                return Err((
+                    format!("axes[{k}].values"),
+                    "a repeated value: expected distinct values on an axis with paired paths"
+                        .into(),
+                ));
+            }
+            for (j, p) in a.paired.iter().enumerate() {
+                if p.path.trim().is_empty() {
+                    return Err((
+                        format!("axes[{k}].paired[{j}].path"),
+                        "expected a --set path".into(),
+                    ));
+                }
+                if p.values.len() != vals.len() {
+                    return Err((
+                        format!("axes[{k}].paired[{j}].values"),
+                        format!(
+                            "{} values: expected one per value of the axis ({})",
+                            p.values.len(),
+                            vals.len()
+                        ),
+                    ));
+                }
             }
         }
         if a.path == CONFIG_AXIS {
@@ -510,12 +640,7 @@ impl Sweep {
     pub fn sets(&self, p: &Point) -> Vec<String> {
         let mut sets = self.file.sets.clone();
         for (a, v) in self.file.axes.iter().zip(&p.values) {
-            if a.path == CONFIG_AXIS {
-                continue;
-            }
-            for path in std::iter::once(&a.path).chain(&a.also) {
-                sets.push(format!("{path}={}", v.to_ron()));
-            }
+            sets.extend(a.sets(v));
         }
         sets
     }
@@ -798,6 +923,69 @@ mod tests {
         assert_eq!(ints, (0..10).collect::<Vec<_>>());
     }
 
+    /// The sweep of file `f` (base `x`, no units), its points drawn.
+    fn sweep_of(f: SweepFile) -> Sweep {
+        Sweep {
+            points: points(&f).unwrap(),
+            file: f,
+            path: "s.ron".into(),
+            base: "x".into(),
+            units: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn paired_paths_follow_the_axis_value_by_position() {
+        let f = file(
+            r#"(base: "x", axes: [
+            (path: "d", values: List([3.2, 6.4]), labels: ["near", "far"],
+             paired: [(path: "lvl", values: [0, 1]), (path: "e", values: ["(0, 2)", "(0, 4)"])]),
+            (path: "@config", values: List(["a.ron", "b.ron"]), paired: [(path: "z", values: [7, 8])]),
+        ])"#,
+        );
+        let s = sweep_of(f);
+        assert_eq!(s.points.len(), 4);
+        assert_eq!(s.sets(&s.points[0]), ["d=3.2", "lvl=0", "e=(0, 2)", "z=7"]);
+        assert_eq!(s.sets(&s.points[3]), ["d=6.4", "lvl=1", "e=(0, 4)", "z=8"]);
+        assert_eq!(s.cells(&s.points[3])[0], table::Cell::Text("far".into()));
+        let bad =
+            |axis: &str| points(&file(&format!(r#"(base: "x", axes: [{axis}])"#))).unwrap_err();
+        let e = bad(r#"(path: "d", values: List([1, 2]), paired: [(path: "l", values: [0])])"#);
+        assert_eq!(e.0, "axes[0].paired[0].values");
+        assert!(
+            e.1.contains("1 values: expected one per value of the axis (2)"),
+            "{}",
+            e.1
+        );
+        let e = bad(r#"(path: "d", values: Grid(1, 2, 2), paired: [(path: "l", values: [0, 1])])"#);
+        assert_eq!(e.0, "axes[0].paired");
+        let e = bad(r#"(path: "d", values: List([1, 1]), paired: [(path: "l", values: [0, 1])])"#);
+        assert_eq!(e.0, "axes[0].values");
+        let e = bad(r#"(path: "d", values: List([1]), paired: [(path: " ", values: [0])])"#);
+        assert_eq!(e.0, "axes[0].paired[0].path");
+    }
+
+    #[test]
+    fn report_paths_take_bracketed_keys_with_dots() {
+        assert_eq!(report_keys("a.b.0").unwrap(), ["a", "b", "0"]);
+        assert_eq!(
+            report_keys("bandwidth.texture_memory[shader.tex0].stored_bits").unwrap(),
+            ["bandwidth", "texture_memory", "shader.tex0", "stored_bits"]
+        );
+        assert_eq!(report_keys("[x.y][2]").unwrap(), ["x.y", "2"]);
+        for bad in ["", "a..b", ".a", "a.", "a[b", "a[]", "a[b]c"] {
+            assert!(report_keys(bad).is_err(), "{bad:?}");
+        }
+        let json = serde_json::json!({"t": {"s.t0": {"bits": 24}, "l": [5, 6]}});
+        assert_eq!(report_cell(&json, "t[s.t0].bits"), table::Cell::Int(24));
+        assert_eq!(report_cell(&json, "t.l[1]"), table::Cell::Int(6));
+        assert_eq!(report_cell(&json, "t.s.t0.bits"), table::Cell::Empty);
+        let f =
+            file(r#"(base: "x", axes: [(path: "a", values: List([1]))], report: ["ok", "a[b"])"#);
+        let e = points(&f).unwrap_err();
+        assert_eq!(e.0, "report[1]");
+    }
+
     #[test]
     fn an_axis_sets_its_also_paths_to_the_same_value() {
         let f = file(
@@ -806,13 +994,7 @@ mod tests {
             (path: "d", values: List([true])),
         ])"#,
         );
-        let s = Sweep {
-            points: points(&f).unwrap(),
-            file: f,
-            path: "s.ron".into(),
-            base: "x".into(),
-            units: Vec::new(),
-        };
+        let s = sweep_of(f);
         assert_eq!(s.sets(&s.points[1]), ["s=0", "a=2", "b=2", "c=2", "d=true"]);
         // the baseline: the point's sets, then its own
         assert_eq!(s.baseline_sets(&s.points[1]), None);

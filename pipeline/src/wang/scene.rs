@@ -13,7 +13,7 @@
 //! gives back `n` exactly at texel centres. Texels outside every square hold `(0, 0, 1)`.
 
 use glam::{DVec2, DVec3};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 use super::bake::{BakeConfig, Baker, Buffer};
@@ -38,6 +38,48 @@ pub struct BakeSpec {
     pub threshold: f64,
     pub buffer: Buffer,
     pub pairs: bool,
+    /// Measure the bake against the detailed mesh (`BakeStats::evaluation`).
+    pub evaluate: Option<Evaluate>,
+}
+
+/// The bake's measure of Wang et al. §5 (`MeshSpec::Baked`'s `evaluate`): 30 views on a
+/// golden-angle spiral (none a baking view, `super::views::evaluation`), `size` pixels a
+/// side, orthographic; per pixel covered by both meshes, the detailed mesh's interpolated
+/// normal against the map's bilinear value on the simplified mesh, the map stored at `bits`
+/// bits a component (`None`: f64).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Evaluate {
+    /// Side of each evaluation view, 16 to 4096 pixels. Default 512.
+    #[serde(default = "default_eval_size")]
+    pub size: u32,
+    /// Bits a component of the stored map, 2 to 16, or `None` (f64). Default `Some(16)`.
+    #[serde(default = "default_eval_bits")]
+    pub bits: Option<u32>,
+}
+
+fn default_eval_size() -> u32 {
+    512
+}
+
+fn default_eval_bits() -> Option<u32> {
+    Some(16)
+}
+
+/// The measure's figures (`super::evaluate::ViewError`, the mean over the views).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct BakeEvaluation {
+    pub views: usize,
+    pub size: u32,
+    /// Mean normal error in 8-bit colour steps, both normals quantised to 8 bits (the
+    /// paper's "quantized to 8 bit, average vector difference"; 0 to 441).
+    pub normal8: f64,
+    /// The same, unquantised (`127.5 |n_o - n_m|`).
+    pub normal: f64,
+    /// Mean depth difference over the detailed mesh's bounding radius.
+    pub distance: f64,
+    /// Pixels covered by both meshes, over all views.
+    pub pixels: usize,
 }
 
 /// What a bake did, for reports and studies.
@@ -48,8 +90,13 @@ pub struct BakeStats {
     pub samples: usize,
     /// Samples some view replaced (the others keep the interpolated normal).
     pub updated: usize,
+    /// `updated / samples`: the share of the map the views saw.
+    pub updated_share: f64,
     /// Samples whose face-space normal points away from the face (z < 0).
     pub below: usize,
+    /// With `evaluate`: the bake measured against the detailed mesh.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub evaluation: Option<BakeEvaluation>,
 }
 
 /// Largest map side of a baked mesh in a config.
@@ -61,11 +108,28 @@ pub const MAX_VIEW: u32 = 4096;
 pub fn build(spec: &BakeSpec, base_dir: &Path) -> Result<(Mesh, NormalMap, BakeStats), SceneError> {
     let field = |f: &str| format!("mesh.Baked.{f}");
     let bad = |f: &str, m: String| SceneError::invalid(field(f), m);
-    if spec.views == 0 || spec.views > MAX_VIEWS.min(64) {
+    if spec.views > MAX_VIEWS.min(64) {
         return Err(bad(
             "views",
-            format!("expected 1 to 64 views, found {}", spec.views),
+            format!(
+                "expected 0 (the initialisation alone) to 64 views, found {}",
+                spec.views
+            ),
         ));
+    }
+    if let Some(e) = spec.evaluate {
+        if !(16..=MAX_VIEW).contains(&e.size) {
+            return Err(bad(
+                "evaluate.size",
+                format!("expected 16 to {MAX_VIEW} pixels, found {}", e.size),
+            ));
+        }
+        if e.bits.is_some_and(|b| !(2..=16).contains(&b)) {
+            return Err(bad(
+                "evaluate.bits",
+                format!("expected None or 2 to 16 bits, found {:?}", e.bits),
+            ));
+        }
     }
     if spec.map_size > MAX_MAP {
         return Err(bad(
@@ -117,6 +181,20 @@ pub fn build(spec: &BakeSpec, base_dir: &Path) -> Result<(Mesh, NormalMap, BakeS
         baker.add_view(d);
         progress.inc(1);
     }
+    let evaluation = spec.evaluate.map(|e| {
+        progress.set_message("evaluating");
+        let dirs = super::views::evaluation();
+        let ev = super::evaluate::Evaluation::new(&detailed, s, &dirs, e.size);
+        let m = super::evaluate::mean(&ev.errors(&detailed, &baker.packing, &baker.map(e.bits)));
+        BakeEvaluation {
+            views: dirs.len(),
+            size: e.size,
+            normal8: m.normal8,
+            normal: m.normal,
+            distance: m.distance,
+            pixels: m.pixels,
+        }
+    });
     progress.set_message("face space");
     let mesh = face_mesh(s, &baker.packing.uv);
     let (texels, below) = face_space(&baker, &mesh);
@@ -125,7 +203,9 @@ pub fn build(spec: &BakeSpec, base_dir: &Path) -> Result<(Mesh, NormalMap, BakeS
         faces: s.triangles.len(),
         samples: baker.sample_count(),
         updated: baker.updated(),
+        updated_share: baker.updated() as f64 / baker.sample_count().max(1) as f64,
         below,
+        evaluation,
     };
     let map = NormalMap {
         width: spec.map_size,
