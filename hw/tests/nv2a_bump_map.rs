@@ -81,6 +81,33 @@ struct Hyp {
     xbox_matrix_order: bool,
     /// Fraction bits of the offset matrix.
     offset_frac: u32,
+    /// How the rasterizer interpolates (hypothesis 8).
+    interp: Interp,
+}
+
+/// The interpolator's arithmetic (hypothesis 8).
+#[derive(Clone, Copy, PartialEq, Debug)]
+enum Interp {
+    /// Exact (affine over the quad, f64).
+    Exact,
+    /// Per triangle of the quad ((v0, v1, v2) above the diagonal, (v0, v2, v3) below;
+    /// `upper` owns a centre on it): barycentrics `λ_i = E_i(p) / A`, each an edge function
+    /// over the doubled area rounded to f32 (`recip`: times the f32 reciprocal of the area),
+    /// the attribute `Σ λ_i a_i` in f32 in vertex order.
+    BaryF32 { upper: bool, recip: bool },
+    /// Per triangle of the quad (as `BaryF32`, the diagonal's centres in the upper one): the
+    /// plane `a_r + da/dx (x - x_r) + da/dy (y - y_r)` from vertex `r` (`up` of the upper
+    /// triangle, `lo` of the lower, indices v0..v3), the gradients rounded to f32, the rest
+    /// exact.
+    Plane {
+        up: usize,
+        lo: usize,
+        /// The gradients' fraction bits, rounded up (`None`: rounded to f32).
+        grad: Option<u32>,
+        /// The value rounded to nearest at this many fraction bits before the unit's input
+        /// encoding (`None`: not rounded).
+        mid: Option<u32>,
+    },
 }
 
 const MODEL: Hyp = Hyp {
@@ -93,6 +120,7 @@ const MODEL: Hyp = Hyp {
     twos_complement: true,
     xbox_matrix_order: true,
     offset_frac: 16,
+    interp: Interp::Exact,
 };
 
 /// The four bump texels (SDL RGBA8888 values) at (x >= 2, y >= 2).
@@ -190,8 +218,14 @@ impl Quad {
         let (x, y) = (x as f64, y as f64);
         x >= self.left && x < self.left + self.size && y >= self.top && y < self.top + self.size
     }
-    /// Bilinear over the corners (exact for affine attributes).
+    /// Bilinear over the corners (exact for affine attributes), or as `h.interp` says.
     fn at(&self, x: u32, y: u32, h: Hyp) -> [[f64; 4]; 4] {
+        if let Interp::BaryF32 { upper, recip } = h.interp {
+            return self.bary_f32(x, y, h.offset, upper, recip);
+        }
+        if let Interp::Plane { up, lo, grad, mid } = h.interp {
+            return self.plane(x, y, h.offset, (up, lo), grad, mid);
+        }
         let u = (x as f64 + h.offset - self.left) / self.size;
         let v = (y as f64 + h.offset - self.top) / self.size;
         let c = &self.coords;
@@ -200,6 +234,84 @@ impl Quad {
                 let top = c[0][s][k] + (c[1][s][k] - c[0][s][k]) * u;
                 let bot = c[3][s][k] + (c[2][s][k] - c[3][s][k]) * u;
                 top + (bot - top) * v
+            })
+        })
+    }
+}
+
+impl Quad {
+    /// [`Interp::Plane`].
+    fn plane(
+        &self,
+        x: u32,
+        y: u32,
+        o: f64,
+        (up, lo): (usize, usize),
+        grad: Option<u32>,
+        mid: Option<u32>,
+    ) -> [[f64; 4]; 4] {
+        let q = |g: f64| match grad {
+            None => g as f32 as f64,
+            Some(b) => (g * (1u64 << b) as f64).ceil() / (1u64 << b) as f64,
+        };
+        let m = |v: f64| match mid {
+            None => v,
+            Some(b) => (v * (1u64 << b) as f64).round() / (1u64 << b) as f64,
+        };
+        let (px, py) = (x as f64 + o - self.left, y as f64 + o - self.top);
+        let z = self.size;
+        let v = [(0.0, 0.0), (z, 0.0), (z, z), (0.0, z)];
+        let (tri, r) = if px >= py {
+            ([0, 1, 2], up)
+        } else {
+            ([0, 2, 3], lo)
+        };
+        let [a, b, c] = tri.map(|k| v[k]);
+        let (dx1, dy1, dx2, dy2) = (b.0 - a.0, b.1 - a.1, c.0 - a.0, c.1 - a.1);
+        let area = dx1 * dy2 - dx2 * dy1;
+        let cs = &self.coords;
+        std::array::from_fn(|s| {
+            std::array::from_fn(|k| {
+                let at = |i: usize| cs[tri[i]][s][k];
+                let (d1, d2) = (at(1) - at(0), at(2) - at(0));
+                let ddx = q((d1 * dy2 - d2 * dy1) / area);
+                let ddy = q((d2 * dx1 - d1 * dx2) / area);
+                m(cs[r][s][k] + ddx * (px - v[r].0) + ddy * (py - v[r].1))
+            })
+        })
+    }
+
+    /// [`Interp::BaryF32`].
+    fn bary_f32(&self, x: u32, y: u32, o: f64, upper: bool, recip: bool) -> [[f64; 4]; 4] {
+        let (px, py) = (
+            (x as f64 + o - self.left) as f32,
+            (y as f64 + o - self.top) as f32,
+        );
+        let z = self.size as f32;
+        let v = [(0.0f32, 0.0f32), (z, 0.0), (z, z), (0.0, z)];
+        let tri = if px > py || (px == py && upper) {
+            [0, 1, 2]
+        } else {
+            [0, 2, 3]
+        };
+        let e = |a: (f32, f32), b: (f32, f32), p: (f32, f32)| {
+            (b.0 - a.0) * (p.1 - a.1) - (b.1 - a.1) * (p.0 - a.0)
+        };
+        let [a, b, c] = tri.map(|k| v[k]);
+        let area = e(a, b, c);
+        let p = (px, py);
+        let l = [e(b, c, p), e(c, a, p), e(a, b, p)].map(|n| {
+            if recip {
+                n * (1.0 / area)
+            } else {
+                n / area
+            }
+        });
+        let cs = &self.coords;
+        std::array::from_fn(|s| {
+            std::array::from_fn(|k| {
+                let val = |i: usize| cs[tri[i]][s][k] as f32;
+                (l[0] * val(0) + l[1] * val(1) + l[2] * val(2)) as f64
             })
         })
     }
@@ -720,6 +832,30 @@ fn the_bumpenvmap_frames_decide_the_hypotheses() {
         alt("offset_frac 8", |h| h.offset_frac = 8),
         alt("offset_frac 12", |h| h.offset_frac = 12),
         alt("coordinates rounded", |h| h.coord_rnd = true),
+        alt("bary f32 / area, upper", |h| {
+            h.interp = Interp::BaryF32 {
+                upper: true,
+                recip: false,
+            }
+        }),
+        alt("bary f32 / area, lower", |h| {
+            h.interp = Interp::BaryF32 {
+                upper: false,
+                recip: false,
+            }
+        }),
+        alt("bary f32 x 1/area, upper", |h| {
+            h.interp = Interp::BaryF32 {
+                upper: true,
+                recip: true,
+            }
+        }),
+        alt("bary f32 x 1/area, lower", |h| {
+            h.interp = Interp::BaryF32 {
+                upper: false,
+                recip: true,
+            }
+        }),
     ];
     let mut exact = Vec::new();
     for (name, h) in alts {
@@ -730,5 +866,34 @@ fn the_bumpenvmap_frames_decide_the_hypotheses() {
     }
     for (name, e) in &exact[1..] {
         assert!(*e <= exact[0].1, "{name}: {e} > {}", exact[0].1);
+    }
+    // leads, not adopted (docs/nv2a.md, hypothesis 8): a plane per triangle from another
+    // vertex in each (the upper triangle's v2, the lower's v0) fixes the edge rows above the
+    // middle and breaks those below; rounding the value at 17 bits after 24-bit gradients
+    // rounded up keeps most of both, and moves misses to new columns
+    for (name, h) in [
+        alt("lead: plane v2/v0, f32 gradients", |h| {
+            h.interp = Interp::Plane {
+                up: 2,
+                lo: 0,
+                grad: None,
+                mid: None,
+            }
+        }),
+        alt(
+            "lead: plane v2/v0, 24-bit gradients up, 17-bit value",
+            |h| {
+                h.interp = Interp::Plane {
+                    up: 2,
+                    lo: 0,
+                    grad: Some(24),
+                    mid: Some(17),
+                }
+            },
+        ),
+    ] {
+        let t = totals(&env_scenes(h), h, false);
+        let (n, e) = t.iter().fold((0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+        println!("{name:<28} {e:>8} / {n} = {:.3}%", share(n, e));
     }
 }
