@@ -428,12 +428,34 @@ fn env_bump_colors(cross_on_blue: bool) -> [u32; 4] {
 /// channel that steps, hypothesis 18; the other channels have the top bit clear, where the
 /// flag changes nothing, so a texture-wide signedness models each quad exactly).
 fn env_bump_texture(cross_on_blue: bool, signed: bool) -> Arc<Texture> {
+    env_bump_lanes(cross_on_blue, signed, |c| {
+        [c >> 24, (c >> 16) & 0xff, (c >> 8) & 0xff, c & 0xff]
+    })
+}
+
+/// The generic test's bump map on the linear R16B16 format (`BumpMap_R16B16_L`), read as
+/// BUMPENVMAP reads it: the 8-bit channels (R, G, B, A) of the A8R8G8B8 reading of each
+/// 32-bit texel (hypothesis 22), i.e. R = HI & 0xff, G = LO >> 8, B = LO & 0xff, A = HI >> 8
+/// of the host's words ([`r16b16`]: the RGBA8888 colour's R and B, each doubled).
+fn env_bump_texture_r16b16(signed: bool) -> Arc<Texture> {
+    env_bump_lanes(false, signed, |c| {
+        let (hi, lo) = r16b16(c);
+        [hi & 0xff, lo >> 8, lo & 0xff, hi >> 8]
+    })
+}
+
+/// The generic bump map, each RGBA8888 colour made lanes (R, G, B, A) by `lanes`.
+fn env_bump_lanes(
+    cross_on_blue: bool,
+    signed: bool,
+    lanes: impl Fn(u32) -> [u32; 4],
+) -> Arc<Texture> {
     let cols = env_bump_colors(cross_on_blue);
     let values = (0..TEX * TEX)
         .map(|k| {
             let (x, y) = (k % TEX, k / TEX);
             let c = cols[(y >= 2) as usize * 2 + (x >= 2) as usize];
-            [c >> 24, (c >> 16) & 0xff, (c >> 8) & 0xff, c & 0xff].map(|v| {
+            lanes(c).map(|v| {
                 if signed {
                     (v as u8 as i8) as f64 / 128.0
                 } else {
@@ -454,6 +476,19 @@ fn env_bump_texture(cross_on_blue: bool, signed: bool) -> Arc<Texture> {
 /// (1 to 3), the same texels as the swizzled ones' 1/256 to 3/256; their frames are
 /// identical to the swizzled ones over every quad.
 fn env_scene(name: &'static str, cross_on_blue: bool, rotate90: bool, h: Hyp) -> Scene {
+    env_scene_of(name, cross_on_blue, rotate90, h, |signed| {
+        env_bump_texture(cross_on_blue, signed)
+    })
+}
+
+/// [`env_scene`] with the bump map `bump(signed)`.
+fn env_scene_of(
+    name: &'static str,
+    cross_on_blue: bool,
+    rotate90: bool,
+    h: Hyp,
+    bump: impl Fn(bool) -> Arc<Texture>,
+) -> Scene {
     // stage 1 (u, v) at the quad corner (u, v)
     let coords = corners(|u, v| [[u, v, 0.0, 1.0], [0.0, 0.0, 0.0, 1.0], [0.0; 4]]);
     let (quads, text) = draw_rectangles(coords);
@@ -476,7 +511,7 @@ fn env_scene(name: &'static str, cross_on_blue: bool, rotate90: bool, h: Hyp) ->
             let (bs, gs) = (k % 2 == 1, k / 2 == 1);
             let stepping_signed = if cross_on_blue { bs } else { gs };
             let signed = h.signed_flags && stepping_signed;
-            env_units(h, env_bump_texture(cross_on_blue, signed), matrix)
+            env_units(h, bump(signed), matrix)
         })
         .collect();
     Scene {
@@ -897,3 +932,42 @@ fn the_bumpenvmap_frames_decide_the_hypotheses() {
         println!("{name:<28} {e:>8} / {n} = {:.3}%", share(n, e));
     }
 }
+
+/// `BumpMap_R16B16_L`: the generic BUMPENVMAP test on the linear R16B16 format (stage 0 in
+/// texels 1 to 3, the same texels as the swizzled frames). The host's words hold only the
+/// colours' R and B (HI = R * 257 = 0, LO = B * 257 = 0x4545 everywhere: the G step of the
+/// 8-bit frames is lost), so the map is uniform and the four quads are identical. Hypothesis
+/// 22: BUMPENVMAP reads a 16-bit texel's offset as the 8-bit channels of its A8R8G8B8
+/// reading, du = B = LO & 0xff, dv = G = LO >> 8 (0x45 / 128 each, hypotheses 15 to 17),
+/// against the 16-bit word (LO / 32768 for both). A drop fails the test.
+#[test]
+fn the_r16b16_bumpenvmap_frame_reads_the_words_bytes() {
+    let run = |bump: &dyn Fn(bool) -> Arc<Texture>| {
+        let s = env_scene_of("BumpMap_R16B16_L", false, false, MODEL, bump);
+        let r = check(&s, MODEL);
+        print(&s, &r);
+        r.iter().fold((0, 0), |a, q| (a.0 + q.0, a.1 + q.1))
+    };
+    println!("-- du = B, dv = G of the A8R8G8B8 reading (model)");
+    let (n, e) = run(&env_bump_texture_r16b16);
+    println!("-- du = dv = the word LO, 16-bit two's complement (LO / 32768)");
+    let (n16, e16) = run(&|_| {
+        let v = 0x4545u32 as f64 / 65535.0;
+        texture(
+            "r16b16-words",
+            U16,
+            4,
+            vec![[0.0, v, v, 0.0]; (TEX * TEX) as usize],
+        )
+    });
+    println!(
+        "bytes {e} / {n} = {:.3}%, words {e16} / {n16} = {:.3}%",
+        share(n, e),
+        share(n16, e16)
+    );
+    assert_eq!((n, e), (4 * 27424, R16B16_L_EXACT));
+    assert!(e16 < e, "the word reading {e16} >= the bytes' {e}");
+}
+
+/// Exact pixels of `BumpMap_R16B16_L` (of 4 x 27,424) with [`MODEL`], as measured.
+const R16B16_L_EXACT: u64 = 108008;
