@@ -146,6 +146,7 @@ const STUDY_SWEEPS: &[(&str, &str, &str)] = &[
     ("kautz-ringing", "ndf/ringing", "ndf-synthesis.md"),
     ("kautz-ringing-wide", "ndf/ringing-wide", "ndf-synthesis.md"),
     ("kautz-fit", "ndf/fit", "ndf-synthesis.md"),
+    ("kautz-hw5-width", "ndf/hw5-width", "ndf-synthesis.md"),
     ("kautz-lod", "ndf/lod", "ndf-synthesis.md"),
     ("kautz-distance", "ndf/distance", "ndf-synthesis.md"),
     ("wang-packing", "baking/packing", "normal-map-baking.md"),
