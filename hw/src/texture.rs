@@ -90,6 +90,9 @@ pub struct Texture {
     texel: Encoding,
     levels: Vec<Level>,
     palette: Option<u32>,
+    /// The palette's entries as stored words (lane `l`'s code in bits `l w .. (l + 1) w` of
+    /// `w`-bit lanes), when known ([`Texture::with_palette_table`]).
+    palette_words: Option<Vec<i64>>,
 }
 
 fn check_side(what: &str, v: u32) -> Result<u32, String> {
@@ -117,6 +120,7 @@ impl Texture {
             texel,
             levels: vec![level],
             palette: None,
+            palette_words: None,
         })
     }
 
@@ -202,6 +206,27 @@ impl Texture {
         self
     }
 
+    /// [`Texture::with_palette`] of `entries` entries whose values (lanes `0..lanes`, in index
+    /// order; fewer than `entries`: the rest hold 0) are `table`: the palette's words are then
+    /// known, so the reading unit can price its palette table by its contents.
+    pub fn with_palette_table(self, entries: u32, table: &[[f64; 4]]) -> Self {
+        let w = self.texel.width();
+        let mask = if w >= 63 { -1i64 } else { (1i64 << w) - 1 };
+        let mut words: Vec<i64> = table
+            .iter()
+            .take(entries.max(1) as usize)
+            .map(|v| {
+                (0..self.lanes as usize).fold(0i64, |acc, l| {
+                    acc | ((self.texel.encode(v[l]) & mask) << (l as u32 * w))
+                })
+            })
+            .collect();
+        words.resize(entries.max(1) as usize, 0);
+        let mut t = self.with_palette(entries);
+        t.palette_words = Some(words);
+        t
+    }
+
     fn level(name: &str, texel: &Encoding, faces: Vec<Texels>, lanes: u8) -> Result<Level, String> {
         let (width, height) = (faces[0].width, faces[0].height);
         let log_w = check_side(&format!("texture {name} width"), width)?;
@@ -258,6 +283,10 @@ impl Texture {
     /// The palette size, if the texture is stored as palette indices.
     pub fn palette(&self) -> Option<u32> {
         self.palette
+    }
+    /// The palette's stored words, when known ([`Texture::with_palette_table`]).
+    pub fn palette_words(&self) -> Option<&[i64]> {
+        self.palette_words.as_deref()
     }
     /// Mip level `k` (0 is the finest).
     pub fn level_at(&self, k: usize) -> &Level {

@@ -304,10 +304,15 @@ impl Unit for TexFetch {
         );
         g.add("sequencer", 1, t.sequencer(self.latency()));
         if let Some(n) = self.tex.palette() {
+            // by its contents where the texture knows them (`cost.tables = Rom`), else by size
+            let ge = match self.tex.palette_words() {
+                Some(words) => t.table_of(words, wt * lanes),
+                None => t.table(n as u64, wt * lanes),
+            };
             g.add_memory(
                 format!("bump palette {n}x{} (loadable)", wt * lanes),
                 self.ports,
-                t.table(n as u64, wt * lanes),
+                ge,
             );
         }
         g
@@ -350,6 +355,41 @@ mod tests {
             lanes: 3,
             values,
         }
+    }
+
+    /// A palette whose words the texture holds is priced by its contents when tables are
+    /// ROMs (`table_of`), by its size otherwise; one whose words are unknown, by its size.
+    #[test]
+    fn a_known_palette_is_priced_by_its_contents_as_a_rom() {
+        let uv = Encoding::fixed(Format::u(16, 16));
+        let texel = Encoding::texel(Codec::UnitUnsigned, false, 8);
+        // a 4-entry palette of 3 lanes: entry k is (k/3, 0, 1)
+        let table: Vec<[f64; 4]> = (0..4).map(|k| [k as f64 / 3.0, 0.0, 1.0, 0.0]).collect();
+        let values = (0..16).map(|i| table[i % 4]).collect();
+        let tex = Texels {
+            width: 4,
+            height: 4,
+            lanes: 3,
+            values,
+        };
+        let t = Texture::new("t", texel, tex).unwrap();
+        let sampler = Sampler::new(Filter::Nearest, 8).unwrap();
+        let fetch = |t: Texture| TexFetch::new(uv, Arc::new(t), sampler, 1, 0, texel).unwrap();
+        let known = fetch(t.clone().with_palette_table(4, &table));
+        let sized = fetch(t.with_palette(4));
+        // lane l's code in bits 8l..8l+8: (code(k/3), 0, 255)
+        let words: Vec<i64> = (0..4).map(|k| (85 * k) | (255 << 16)).collect();
+        assert_eq!(known.tex.palette_words().unwrap(), &words[..]);
+        let rom = CostTable {
+            tables: crate::gates::MemoryKind::Rom,
+            ..CostTable::default()
+        };
+        let sram = CostTable::default();
+        assert_eq!(known.gates(&rom).memory(), rom.rom_of(&words, 24));
+        assert_ne!(rom.rom_of(&words, 24), rom.table(4, 24));
+        assert_eq!(sized.gates(&rom).memory(), rom.table(4, 24));
+        assert_eq!(known.gates(&sram).memory(), sram.table(4, 24));
+        assert_eq!(sized.gates(&sram).memory(), sram.table(4, 24));
     }
 
     #[test]

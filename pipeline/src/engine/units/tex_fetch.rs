@@ -93,16 +93,20 @@ impl Spec for TexFetchSpec {
         }
         let tex = ctx.memory.get_or_build(&key, ctx.unit, |name| {
             let mut tex = texels(&self.source, ctx)?;
-            if let Some(n) = self.palette {
-                let table = match self.palette_table {
-                    PaletteTable::Hemisphere => palette::hemisphere(n as usize),
-                    PaletteTable::MedianCut => palette::median_cut(&tex.values, n as usize)?,
-                };
-                palette::quantize(&mut tex.values, &table);
-            }
+            let table = match self.palette {
+                Some(n) => {
+                    let table = match self.palette_table {
+                        PaletteTable::Hemisphere => palette::hemisphere(n as usize),
+                        PaletteTable::MedianCut => palette::median_cut(&tex.values, n as usize)?,
+                    };
+                    palette::quantize(&mut tex.values, &table);
+                    Some((n, table))
+                }
+                None => None,
+            };
             let t = Texture::new(name, self.texel, tex)?;
-            Ok(match self.palette {
-                Some(n) => t.with_palette(n),
+            Ok(match table {
+                Some((n, table)) => t.with_palette_table(n, &table),
                 None => t,
             })
         })?;
