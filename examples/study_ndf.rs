@@ -150,11 +150,11 @@ where the texture shader reads a noise texture.\n",
         md,
         "The 5-stage config's datapath is narrower than the 4-stage one's (chosen for Ward's \
          NDF). With the isotropic NDF, the same program at 16 bits throughout, {}:\n\n{}\n\n\
-         At 16 bits the quantization PSNR is {} dB, as good as the 4-stage program's {} dB, for \
+         At 16 bits the quantization PSNR is {:.1} dB, as good as the 4-stage program's {} dB, for \
          {:.0} GE more: the difference was the widths, not the fifth stage.\n",
         width.cite(),
         width.table("width"),
-        format!("{:.1}", width.n(wide, "quantization_psnr_db")),
+        width.n(wide, "quantization_psnr_db"),
         db(it, "quantization_psnr_db"),
         width.n(wide, "gates_total") - width.n(narrow, "gates_total"),
     )
