@@ -460,6 +460,7 @@ fn execute(cmd: Command) -> Result<(), Failure> {
                 filter,
                 digits,
                 pivot,
+                ..Default::default()
             };
             let table = plot::read_csv(&csv)?;
             print!("{}", spec.markdown(&table, &csv.display().to_string(), "")?);

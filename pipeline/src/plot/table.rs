@@ -34,6 +34,11 @@ pub struct TableSpec {
     /// Decimals of a non-integer number (default 2).
     #[serde(default = "two")]
     pub digits: u32,
+    /// Decimals for chosen columns instead of `digits`: `[(COLUMN, DIGITS), ...]`, each column
+    /// one of `columns` or the pivot's `value` (e.g. KL divergences at 4 and chi-squares at 1
+    /// in one table).
+    #[serde(default)]
+    pub column_digits: Vec<(String, u32)>,
     /// A cross table: one row per distinct combination of `columns` (in first-seen order),
     /// then one column per distinct value of `pivot.over`, holding `pivot.value` of the row
     /// with both (empty where there is none). E.g. engines as columns, angles as rows.
@@ -62,12 +67,21 @@ impl Default for TableSpec {
             headings: Vec::new(),
             filter: Vec::new(),
             digits: two(),
+            column_digits: Vec::new(),
             pivot: None,
         }
     }
 }
 
 impl TableSpec {
+    /// The decimals of column `c`: its `column_digits`, else `digits`.
+    fn digits_of(&self, c: &str) -> usize {
+        self.column_digits
+            .iter()
+            .find(|(n, _)| n == c)
+            .map_or(self.digits, |(_, d)| *d) as usize
+    }
+
     /// Check the spec against the CSV's header (`name`: the CSV in messages, `field`: where
     /// the spec is, e.g. `tables[0]` or `--columns`).
     fn check(&self, csv: &Csv, name: &str, field: &str) -> Result<Vec<Vec<usize>>, InputError> {
@@ -90,6 +104,20 @@ impl TableSpec {
         if self.digits > MAX_DIGITS {
             let m = format!("{}: expected 0 to {MAX_DIGITS}", self.digits);
             return Err(e(".digits", m));
+        }
+        for (c, d) in &self.column_digits {
+            let shown =
+                self.columns.contains(c) || self.pivot.as_ref().is_some_and(|p| p.value == *c);
+            if !shown {
+                let m = format!("{c:?}: expected one of the table's columns or its pivot value");
+                return Err(e(".column_digits", m));
+            }
+            if *d > MAX_DIGITS {
+                return Err(e(
+                    ".column_digits",
+                    format!("{c:?}: {d}: expected 0 to {MAX_DIGITS}"),
+                ));
+            }
         }
         for f in &self.filter {
             let (c, _) = f
@@ -135,12 +163,17 @@ impl TableSpec {
             [one] => number(&r[*one], digits),
             _ => number(&sum(c.iter().map(|&k| r[k].as_str())), digits),
         };
-        let digits = self.digits as usize;
+        let key_digits: Vec<usize> = self.columns.iter().map(|c| self.digits_of(c)).collect();
+        let value_digits = self.digits_of(&p.value);
         let mut spread: Vec<&str> = Vec::new();
         let mut keys: Vec<Vec<String>> = Vec::new();
         let mut cells: std::collections::HashMap<(usize, usize), String> = Default::default();
         for r in self.kept(csv) {
-            let key: Vec<String> = cols.iter().map(|c| cell(r, c, digits)).collect();
+            let key: Vec<String> = cols
+                .iter()
+                .zip(&key_digits)
+                .map(|(c, &d)| cell(r, c, d))
+                .collect();
             let ki = keys.iter().position(|k| *k == key).unwrap_or_else(|| {
                 keys.push(key);
                 keys.len() - 1
@@ -154,7 +187,7 @@ impl TableSpec {
                 });
             cells
                 .entry((ki, si))
-                .or_insert_with(|| cell(r, &value, digits));
+                .or_insert_with(|| cell(r, &value, value_digits));
         }
         if !p.headings.is_empty() && p.headings.len() != spread.len() {
             let m = format!(
@@ -195,15 +228,16 @@ impl TableSpec {
             true => &self.columns,
             false => &self.headings,
         };
-        let digits = self.digits as usize;
+        let digits: Vec<usize> = self.columns.iter().map(|c| self.digits_of(c)).collect();
         let mut s = format!("| {} |\n", heads.join(" | "));
         s += &format!("|{}\n", "---|".repeat(cols.len()));
         for r in self.kept(csv) {
             let cells: Vec<String> = cols
                 .iter()
-                .map(|c| match c[..] {
-                    [one] => number(&r[one], digits),
-                    _ => number(&sum(c.iter().map(|&k| r[k].as_str())), digits),
+                .zip(&digits)
+                .map(|(c, &d)| match c[..] {
+                    [one] => number(&r[one], d),
+                    _ => number(&sum(c.iter().map(|&k| r[k].as_str())), d),
                 })
                 .collect();
             s += &format!("| {} |\n", cells.join(" | "));
@@ -333,12 +367,33 @@ mod tests {
             headings: vec!["s_N".into(), "PSNR dB".into()],
             filter: vec!["dither=false".into()],
             digits: 1,
-            pivot: None,
+            ..Default::default()
         };
         assert_eq!(
             t.markdown(&csv(), "c.csv", "tables[0]").unwrap(),
             "| s_N | PSNR dB |\n|---|---|\n| 16 | 12.3 |\n| 64 | x\\|y |\n"
         );
+        // a column's own decimals
+        let t3 = TableSpec {
+            column_digits: vec![("psnr".into(), 3)],
+            ..t.clone()
+        };
+        assert_eq!(
+            t3.markdown(&csv(), "c.csv", "tables[0]").unwrap(),
+            "| s_N | PSNR dB |\n|---|---|\n| 16 | 12.345 |\n| 64 | x\\|y |\n"
+        );
+        for (c, d, want) in [
+            ("nope", 1, "expected one of the table's columns"),
+            ("psnr", 99, "expected 0 to"),
+        ] {
+            let bad = TableSpec {
+                column_digits: vec![(c.into(), d)],
+                ..t.clone()
+            };
+            let e = bad.markdown(&csv(), "c.csv", "tables[0]").unwrap_err();
+            assert_eq!(e.field, "tables[0].column_digits");
+            assert!(e.message.contains(want), "{e}");
+        }
     }
 
     #[test]
