@@ -11,6 +11,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 mod gates_cmd;
+mod nv2a_cmd;
 mod rtl_cmd;
 mod rtl_top;
 
@@ -167,6 +168,26 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Render NV2A frame configs (configs/nv2a/) and compare them with the frames real
+    /// hardware rendered: per frame the pixels compared, the exact share, the largest
+    /// difference and where the mismatches sit (docs/nv2a.md).
+    Nv2a {
+        /// NV2A frame configs (RON).
+        #[arg(required = true)]
+        frames: Vec<PathBuf>,
+        /// Override a field of every frame: --set path.to.field=value (repeatable).
+        #[arg(long = "set", value_name = "PATH=VALUE")]
+        sets: Vec<String>,
+        /// Run the units in exact (f64) mode instead of bit-accurate.
+        #[arg(long)]
+        exact: bool,
+        /// Print the comparisons as JSON.
+        #[arg(long)]
+        json: bool,
+        /// Write the model's picture of each frame (NAME.png) and nv2a.json into DIR.
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// Write Verilog of the engine's units into DIR (docs/rtl.md): NAME.v and NAME.regs per
     /// unit with a generator, and engine.v (the units wired as the config wires them) when
     /// every unit has one; --cosim N replays N vectors per unit and N fragments of the frame
@@ -246,6 +267,13 @@ fn execute(cmd: Command) -> Result<(), Failure> {
             cosim,
             synth,
         } => rtl_cmd::execute(&args.load()?, &out, cosim, synth)?,
+        Command::Nv2a {
+            frames,
+            sets,
+            exact,
+            json,
+            out,
+        } => nv2a_cmd::execute(&frames, &sets, exact, json, out.as_deref())?,
         Command::Render { args, out, timings } => {
             let l = args.load()?;
             let animation = animation::run(&l)?;

@@ -9,6 +9,7 @@ pub mod highlight;
 pub mod memo;
 pub mod metrics;
 pub mod ndf;
+pub mod nv2a;
 pub mod output;
 pub mod passes;
 pub mod plot;

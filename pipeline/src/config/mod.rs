@@ -546,13 +546,18 @@ fn ron_options() -> ron::Options {
 /// Parse RON text into a config, with the path of the failing field and its position. A
 /// byte-order mark at the start is skipped.
 pub fn parse(text: &str, file: &str) -> Result<Config, InputError> {
+    parse_as(text, file)
+}
+
+/// [`parse`] for any schema read from RON (e.g. an NV2A frame, `crate::nv2a`).
+pub fn parse_as<T: serde::de::DeserializeOwned>(text: &str, file: &str) -> Result<T, InputError> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let opts = ron_options();
     let mut de = ron::Deserializer::from_str_with_options(text, &opts).map_err(|e| {
         InputError::new(file, "", e.code.to_string())
             .at(Some((e.span.start.line, e.span.start.col)))
     })?;
-    let result: Result<Config, _> = serde_path_to_error::deserialize(&mut de);
+    let result: Result<T, _> = serde_path_to_error::deserialize(&mut de);
     match result {
         Ok(c) => {
             de.end().map_err(|e| {
@@ -628,7 +633,7 @@ fn not_an_integer(text: &str, pos: (usize, usize), path: &str) -> Option<(String
 
 /// Read a config file: a regular file of at most [`MAX_CONFIG_BYTES`] of UTF-8 text; a
 /// byte-order mark at the start is skipped.
-fn read_config(path: &Path, file: &str) -> Result<String, InputError> {
+pub fn read_config(path: &Path, file: &str) -> Result<String, InputError> {
     let cannot = |m: String| InputError::new(file, "", format!("cannot read the config: {m}"));
     let meta = std::fs::metadata(path).map_err(|e| cannot(e.to_string()))?;
     if meta.is_dir() {

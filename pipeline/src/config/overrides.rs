@@ -10,6 +10,8 @@
 //! most [`MAX_DEPTH`] levels deep (a config needs about ten).
 
 use super::{Config, InputError};
+use serde::de::DeserializeOwned;
+use serde::Serialize;
 use serde_json::Value;
 
 /// Deepest nesting of values in an override value (a value inside `n` brackets is at level
@@ -26,6 +28,16 @@ pub fn apply(config: &Config, sets: &[String]) -> Result<Config, InputError> {
             format!("expected a finite number, found {x} (before the --set overrides)"),
         ));
     }
+    apply_to(config, sets)
+}
+
+/// [`apply`] for any schema that goes through JSON (e.g. an NV2A frame, `crate::nv2a`): the
+/// same paths, values and messages. A number that JSON cannot hold (NaN, infinity) comes back
+/// as a type error at its field.
+pub fn apply_to<T: Serialize + DeserializeOwned>(
+    config: &T,
+    sets: &[String],
+) -> Result<T, InputError> {
     let mut tree = serde_json::to_value(config).expect("a config serialises to JSON");
     // the paths where `None` was set over a string (see below)
     let mut nones: Vec<Vec<String>> = Vec::new();
@@ -40,10 +52,10 @@ pub fn apply(config: &Config, sets: &[String]) -> Result<Config, InputError> {
             return Err(err(path, "empty path: expected path.to.field=value".into()));
         }
         if walk(&mut tree, &segments).is_err() {
-            add_default_field(&mut tree, &segments);
+            add_default_field::<T>(&mut tree, &segments);
         }
         if let Err(m) = walk(&mut tree, &segments) {
-            return Err(err(path, schema_fields(&tree, &segments).unwrap_or(m)));
+            return Err(err(path, schema_fields::<T>(&tree, &segments).unwrap_or(m)));
         }
         let node = walk(&mut tree, &segments).map_err(|m| err(path, m))?;
         // `None` over an enum variant (a string in the tree, e.g. `raster.cull`) is the
@@ -59,7 +71,7 @@ pub fn apply(config: &Config, sets: &[String]) -> Result<Config, InputError> {
     }
     // the tree is copied for a second try only when a `None` may have to be read back
     let retry = (!nones.is_empty()).then(|| tree.clone());
-    let e = match serde_path_to_error::deserialize::<_, Config>(tree) {
+    let e = match serde_path_to_error::deserialize::<_, T>(tree) {
         Ok(c) => return Ok(c),
         Err(e) => e,
     };
@@ -70,7 +82,7 @@ pub fn apply(config: &Config, sets: &[String]) -> Result<Config, InputError> {
                 *node = Value::Null;
             }
         }
-        if let Ok(c) = serde_path_to_error::deserialize::<_, Config>(tree) {
+        if let Ok(c) = serde_path_to_error::deserialize::<_, T>(tree) {
             return Ok(c);
         }
     }
@@ -85,7 +97,7 @@ pub fn apply(config: &Config, sets: &[String]) -> Result<Config, InputError> {
 /// that new fields keep old configs' hashes): add the last segment of `segments` under its
 /// parent (inside the parent's enum variant, if it is one) when the schema accepts a field of
 /// that name there. Otherwise leave the tree as it is, for [`walk`]'s error.
-fn add_default_field(tree: &mut Value, segments: &[String]) {
+fn add_default_field<T: DeserializeOwned>(tree: &mut Value, segments: &[String]) {
     let Some((last, parent)) = segments.split_last() else {
         return;
     };
@@ -97,7 +109,7 @@ fn add_default_field(tree: &mut Value, segments: &[String]) {
     };
     m.insert(last.clone(), serde_json::json!({ "\u{0}not a value": 0 }));
     let unknown = format!("unknown field `{last}`");
-    let known = match serde_json::from_value::<Config>(probe) {
+    let known = match serde_json::from_value::<T>(probe) {
         Err(e) => !e.to_string().contains(&unknown),
         Ok(_) => false,
     };
@@ -111,12 +123,12 @@ fn add_default_field(tree: &mut Value, segments: &[String]) {
 /// The message for a path the tree does not hold, with every field the schema accepts where
 /// the path leaves the tree (the tree leaves out fields at their default, so its own keys are
 /// not all of them): serde's list of expected fields, when a structure is there.
-fn schema_fields(tree: &Value, segments: &[String]) -> Option<String> {
+fn schema_fields<T: DeserializeOwned>(tree: &Value, segments: &[String]) -> Option<String> {
     let mut probe = tree.clone();
     let depth = (1..=segments.len()).find(|&d| walk(&mut probe, &segments[..d]).is_err())?;
     let (parent, seg) = (&segments[..depth - 1], &segments[depth - 1]);
     field_map(&mut probe, parent)?.insert(seg.clone(), Value::Null);
-    let e = serde_json::from_value::<Config>(probe).err()?.to_string();
+    let e = serde_json::from_value::<T>(probe).err()?.to_string();
     let unknown = format!("unknown field `{seg}`, ");
     let at = e.find(&unknown)? + unknown.len();
     let expected = e[at..].split(" at line").next().unwrap_or_default();

@@ -1,0 +1,249 @@
+//! The schema of an NV2A frame config (`configs/nv2a/`): what one frame of a hardware test
+//! suite draws, written so that the model can render it and compare it with the frame the
+//! hardware rendered. See [`super`] and `docs/nv2a.md`.
+
+use bumpsim_hw::units::combiner::Program;
+use serde::{Deserialize, Serialize};
+
+/// Frame size of every capture (the host's 640 x 480 A8R8G8B8 back buffer).
+pub const WIDTH: u32 = 640;
+pub const HEIGHT: u32 = 480;
+/// Most quads in a frame (the suites draw at most a few dozen).
+pub const MAX_QUADS: usize = 1024;
+/// Most passes drawn over one quad.
+pub const MAX_PASSES: usize = 16;
+/// Largest text row and column of a `pb_printat` cell (the frame holds 18 rows, 62 columns).
+pub const MAX_TEXT_CELL: u32 = 64;
+
+/// One frame of an NV2A test suite.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Frame {
+    /// The test's name (the frame's file name without `.png`).
+    pub name: String,
+    #[serde(default)]
+    pub description: String,
+    /// The frame the hardware rendered: a 640 x 480 PNG, relative to this file.
+    pub golden: String,
+    /// Register width of the combiners in bits, 9 to 24 (the NV2A's: 9, `docs/nv2a.md`).
+    #[serde(default = "nine")]
+    pub combiner_width: u32,
+    /// The text the host prints (`pb_printat(row, col, text)`): 10 x 16 pixel cells at
+    /// x = 20 + 10 col, y = 25 + 25 row, left out of the comparison.
+    #[serde(default)]
+    pub text: Vec<Text>,
+    /// The quads the test draws, each with the passes drawn over it in order.
+    pub quads: Vec<Quad>,
+}
+
+fn nine() -> u32 {
+    9
+}
+
+/// A line of text the host prints.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Text {
+    pub row: u32,
+    pub col: u32,
+    pub text: String,
+}
+
+impl Text {
+    /// Whether the pixel (x, y) lies in one of this text's cells.
+    pub fn covers(&self, x: u32, y: u32) -> bool {
+        let (x0, y0) = (20 + 10 * self.col, 25 + 25 * self.row);
+        let n = self.text.chars().count() as u32;
+        x >= x0 && x < x0 + 10 * n && y >= y0 && y < y0 + 16
+    }
+}
+
+/// One quad: where it lies, what lies under it, and the passes drawn over it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Quad {
+    pub label: String,
+    pub region: Region,
+    pub under: Under,
+    pub passes: Vec<Pass>,
+}
+
+/// Where a quad lies.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum Region {
+    /// A quad placed in screen space (the host unprojects integer pixel corners): the pixels
+    /// `[left, right) x [top, bottom)`, all compared.
+    Screen {
+        left: u32,
+        top: u32,
+        right: u32,
+        bottom: u32,
+    },
+    /// An axis-aligned quad in world space (y up) at depth `z`, seen by the host's XDK default
+    /// camera (eye (0, 0, -7) looking at the origin, 45 degree vertical field of view, aspect
+    /// 4:3, the D3D viewport on 640 x 480). Covered: pixel centres inside the projected edges;
+    /// compared: centres at least [`WORLD_INSET`] pixels inside them.
+    World {
+        left: f32,
+        top: f32,
+        right: f32,
+        bottom: f32,
+        z: f32,
+    },
+}
+
+/// How far inside a world-space quad's projected edges a compared pixel centre lies: one
+/// pixel beyond the viewport's 0.53125-pixel offset, whichever way the hardware applies it,
+/// so that neither the rasterizer's edge rule nor that offset matters.
+pub const WORLD_INSET: f64 = 1.53125;
+
+impl Region {
+    /// The projected rectangle (x0, y0, x1, y1) in pixels.
+    fn projected(&self) -> (f64, f64, f64, f64) {
+        match *self {
+            Region::Screen {
+                left,
+                top,
+                right,
+                bottom,
+            } => (left as f64, top as f64, right as f64, bottom as f64),
+            Region::World {
+                left,
+                top,
+                right,
+                bottom,
+                z,
+            } => {
+                let ys = 1.0 / (std::f64::consts::PI / 8.0).tan();
+                let xs = ys / (4.0 / 3.0);
+                let zv = z as f64 + 7.0;
+                let sx = |wx: f32| 320.0 + 320.0 * wx as f64 * xs / zv;
+                let sy = |wy: f32| 240.0 - 240.0 * wy as f64 * ys / zv;
+                (sx(left), sy(top), sx(right), sy(bottom))
+            }
+        }
+    }
+
+    /// Whether the pixel (x, y) is compared: inside a screen rectangle, or its centre at
+    /// least [`WORLD_INSET`] inside a world quad's projected edges.
+    pub fn compares(&self, x: u32, y: u32) -> bool {
+        self.inside(x, y, WORLD_INSET)
+    }
+
+    /// Whether the quad covers the pixel (x, y): what the model's picture paints.
+    pub fn covers(&self, x: u32, y: u32) -> bool {
+        self.inside(x, y, 0.0)
+    }
+
+    fn inside(&self, x: u32, y: u32, inset: f64) -> bool {
+        match *self {
+            Region::Screen {
+                left,
+                top,
+                right,
+                bottom,
+            } => x >= left && x < right && y >= top && y < bottom,
+            Region::World { .. } => {
+                let (x0, y0, x1, y1) = self.projected();
+                let (cx, cy) = (x as f64 + 0.5, y as f64 + 0.5);
+                cx >= x0 + inset && cx <= x1 - inset && cy >= y0 + inset && cy <= y1 - inset
+            }
+        }
+    }
+
+    /// The pixels to visit, clipped to the frame: (x0, y0, x1, y1), half-open.
+    pub fn bounds(&self) -> (u32, u32, u32, u32) {
+        let (x0, y0, x1, y1) = self.projected();
+        let clip = |v: f64, max: u32| v.clamp(0.0, max as f64) as u32;
+        (
+            clip(x0.floor(), WIDTH),
+            clip(y0.floor(), HEIGHT),
+            clip(x1.ceil() + 1.0, WIDTH),
+            clip(y1.ceil() + 1.0, HEIGHT),
+        )
+    }
+
+    /// What is wrong with the region, if anything.
+    pub(super) fn check(&self) -> Result<(), String> {
+        match *self {
+            Region::Screen {
+                left,
+                top,
+                right,
+                bottom,
+            } => {
+                if left >= right || right > WIDTH || top >= bottom || bottom > HEIGHT {
+                    return Err(format!(
+                        "Screen(left: {left}, top: {top}, right: {right}, bottom: {bottom}): \
+                         expected left < right <= {WIDTH} and top < bottom <= {HEIGHT}"
+                    ));
+                }
+            }
+            Region::World {
+                left,
+                top,
+                right,
+                bottom,
+                z,
+            } => {
+                let all = [left, top, right, bottom, z];
+                if all.iter().any(|v| !v.is_finite() || v.abs() > 1e6) {
+                    return Err(format!(
+                        "World{all:?}: expected finite coordinates of at most 1e6"
+                    ));
+                }
+                if left >= right || bottom >= top || z <= -6.0 {
+                    return Err(format!(
+                        "World(left: {left}, top: {top}, right: {right}, bottom: {bottom}, \
+                         z: {z}): expected left < right, bottom < top (y is up) and z > -6 \
+                         (in front of the camera at z = -7)"
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// What lies under a quad before its passes.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum Under {
+    /// The cleared colour (RGBA codes).
+    Clear([u8; 4]),
+    /// A checkerboard of these two colours (the host's background texture; its texel edges
+    /// are not modelled, so a pixel is exact when it matches the frame over either colour).
+    Checker([u8; 4], [u8; 4]),
+}
+
+impl Under {
+    /// The colours that may lie under a pixel.
+    pub fn colours(&self) -> Vec<[u8; 4]> {
+        match *self {
+            Under::Clear(c) => vec![c],
+            Under::Checker(a, b) => vec![a, b],
+        }
+    }
+}
+
+/// One draw over a quad: the combiner program and the registers it reads, constant over the
+/// quad (the Combiner suite's programs read no interpolated value). The result is blended
+/// over what lies there (SRC_ALPHA, ONE_MINUS_SRC_ALPHA, the host's default).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Pass {
+    pub program: Program,
+    /// PRIMARY_COLOR (the vertex diffuse colour), RGBA codes.
+    #[serde(default)]
+    pub primary: [u8; 4],
+    /// SECONDARY_COLOR (the vertex specular colour).
+    #[serde(default)]
+    pub secondary: [u8; 4],
+    /// FOG.
+    #[serde(default)]
+    pub fog: [u8; 4],
+    /// What TEXTURE0 to TEXTURE3 read (the suite binds no texture: an unbound stage's value).
+    #[serde(default)]
+    pub texture: [u8; 4],
+}

@@ -1,0 +1,240 @@
+//! NV2A conformance through the command line: the frame configs of `configs/nv2a/` rendered
+//! by the model's units and compared with the frames real NV2A hardware rendered
+//! (`bumpsim nv2a`, `docs/nv2a.md`). A missing frame is a failure (exit 2), not a skip.
+
+mod common;
+
+use common::*;
+use serde_json::Value;
+use std::path::PathBuf;
+
+/// Every frame config under `configs/nv2a/<suite>/`, sorted.
+fn frames(suite: &str) -> Vec<PathBuf> {
+    let dir = root().join("configs/nv2a").join(suite);
+    let mut v: Vec<PathBuf> = listing(&dir)
+        .into_iter()
+        .filter(|n| n.ends_with(".ron"))
+        .map(|n| dir.join(n))
+        .collect();
+    v.sort();
+    v
+}
+
+/// `bumpsim nv2a FRAMES... --json EXTRA...`: the comparisons.
+fn compare(frames: &[PathBuf], extra: &[&str]) -> Vec<Value> {
+    let mut args: Vec<String> = vec!["nv2a".into(), "--json".into()];
+    args.extend(frames.iter().map(|p| p.display().to_string()));
+    args.extend(extra.iter().map(|s| s.to_string()));
+    let o = bumpsim(&args);
+    o.expect_code(0, "bumpsim nv2a");
+    match json(&o.stdout) {
+        Value::Array(v) => v,
+        v => panic!("expected a list of comparisons, got {v}"),
+    }
+}
+
+/// (frame, compared, exact) as measured: every compared pixel is exact. A drop fails.
+const COMBINER: [(&str, u64, u64); 8] = [
+    ("AlphaFromBlue", 40960, 40960),
+    ("ColorAlphaIndependence", 129272, 129272),
+    ("CombinerOps", 24576, 24576),
+    ("Flags", 43134, 43134),
+    ("Independence", 21567, 21567),
+    ("Mux", 35774, 35774),
+    ("SpecialInputs", 16384, 16384),
+    ("UnboundTexSampler", 32768, 32768),
+];
+
+#[test]
+fn every_combiner_frame_is_reproduced_bit_for_bit() {
+    let files = frames("combiner");
+    assert_eq!(files.len(), COMBINER.len(), "{files:?}");
+    let mut got: Vec<(String, u64, u64)> = compare(&files, &[])
+        .iter()
+        .map(|c| {
+            let name = c["frame"].as_str().unwrap().to_string();
+            assert_eq!(uint(c, "text_pixels"), 0, "{name}: a text cell is missing");
+            assert_eq!(at(c, "mode").as_str(), Some("bit-accurate"));
+            assert_eq!(uint(c, "combiner_width"), 9);
+            for q in c["quads"].as_array().unwrap() {
+                assert!(q["compared"].as_u64().unwrap() > 0, "{name}: {q}");
+                assert!(q["misses_at"].is_null() && q["first_miss"].is_null(), "{q}");
+            }
+            (name, uint(c, "compared"), uint(c, "exact"))
+        })
+        .collect();
+    got.sort();
+    let want: Vec<(String, u64, u64)> = COMBINER
+        .iter()
+        .map(|&(n, c, e)| (n.to_string(), c, e))
+        .collect();
+    assert_eq!(got, want);
+    // the table the command prints
+    let mut args = vec!["nv2a".to_string()];
+    args.extend(files.iter().map(|p| p.display().to_string()));
+    let o = bumpsim(&args);
+    o.expect_code(0, "table");
+    let all = o.stdout.lines().last().unwrap();
+    assert!(
+        all.starts_with("all") && all.contains("344435") && all.ends_with("100.000%"),
+        "{}",
+        o.stdout
+    );
+}
+
+fn share(cs: &[Value], frame: &str) -> f64 {
+    let c = cs.iter().find(|c| c["frame"] == frame).unwrap();
+    num(c, "share")
+}
+
+#[test]
+fn the_frames_reject_wider_registers_and_a_float_model() {
+    let files = frames("combiner");
+    // 10 bits (1/2 exact) and wider lose the bias of CombinerOps; 10 bits also the E*F
+    // product of SpecialInputs; the f64 model rounded at the output loses CombinerOps too
+    for (extra, ops, special) in [
+        (vec!["--set", "combiner_width=10"], 2.0 / 3.0, 0.75),
+        (vec!["--set", "combiner_width=12"], 2.0 / 3.0, 1.0),
+        (vec!["--set", "combiner_width=16"], 2.0 / 3.0, 1.0),
+        (vec!["--exact"], 2.0 / 3.0, 1.0),
+    ] {
+        let cs = compare(&files, &extra);
+        assert!((share(&cs, "CombinerOps") - ops).abs() < 1e-9, "{extra:?}");
+        assert!(
+            (share(&cs, "SpecialInputs") - special).abs() < 1e-9,
+            "{extra:?}"
+        );
+        let c = cs.iter().find(|c| c["frame"] == "CombinerOps").unwrap();
+        // the mismatches sit in the Bias and ShiftLeft1Bias quads
+        let bad: Vec<&str> = c["quads"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|q| !q["misses_at"].is_null())
+            .map(|q| q["label"].as_str().unwrap())
+            .collect();
+        assert_eq!(
+            bad,
+            [
+                "Bias opaque",
+                "Bias alpha r0",
+                "ShiftLeft1Bias opaque",
+                "ShiftLeft1Bias alpha r0"
+            ],
+            "{extra:?}"
+        );
+    }
+}
+
+#[test]
+fn out_writes_the_model_pictures_and_the_comparisons() {
+    let s = Scratch::new("nv2a-out");
+    let out = s.join("out");
+    let files = frames("combiner");
+    let mut args = vec![
+        "nv2a".to_string(),
+        "--out".into(),
+        out.display().to_string(),
+    ];
+    args.extend(files.iter().map(|p| p.display().to_string()));
+    bumpsim(&args).expect_code(0, "--out");
+    let mut want: Vec<String> = COMBINER.iter().map(|c| format!("{}.png", c.0)).collect();
+    want.push("nv2a.json".into());
+    want.sort();
+    assert_eq!(listing(&out), want);
+    let cs = match json(&std::fs::read_to_string(out.join("nv2a.json")).unwrap()) {
+        Value::Array(v) => v,
+        v => panic!("{v}"),
+    };
+    // the picture holds each quad's model colour at its first compared pixel
+    let mux = cs.iter().find(|c| c["frame"] == "Mux").unwrap();
+    let img = image::open(out.join("Mux.png")).unwrap().to_rgba8();
+    assert_eq!(img.dimensions(), (640, 480));
+    let q0 = &mux["quads"][0];
+    let model: Vec<u8> = q0["model"][0]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_u64().unwrap() as u8)
+        .collect();
+    assert_eq!(img.get_pixel(150, 150).0.to_vec(), model);
+    assert_eq!(img.get_pixel(5, 5).0, [0, 0, 0, 0]);
+}
+
+#[test]
+fn bad_frames_name_the_file_and_the_field() {
+    let s = Scratch::new("nv2a-bad");
+    let base = std::fs::read_to_string(root().join("configs/nv2a/combiner/mux.ron")).unwrap();
+    let golden = root().join("hw/tests/nv2a/golden/Combiner/Mux.png");
+    let base = base.replace(
+        "\"../../../hw/tests/nv2a/golden/Combiner/Mux.png\"",
+        &format!("{:?}", golden.display().to_string()),
+    );
+    let cases: [(&str, String, &str); 5] = [
+        (
+            "missing-golden",
+            base.replace("Mux.png", "Nope.png"),
+            "golden",
+        ),
+        (
+            "narrow",
+            base.replacen("golden:", "combiner_width: 8,\n    golden:", 1),
+            "combiner_width",
+        ),
+        (
+            "behind",
+            base.replacen("z: 1.0", "z: -9.0", 1),
+            "quads[0].region",
+        ),
+        (
+            "unknown-key",
+            base.replacen("label:", "colour: 1, label:", 1),
+            "colour",
+        ),
+        (
+            "bad-source",
+            base.replacen("(source: Constant0)", "(source: EfProduct)", 1),
+            "quads[0].passes[0].program.stages[0].alpha.a.source",
+        ),
+    ];
+    for (name, text, field) in cases {
+        let p = s.join(&format!("{name}.ron"));
+        std::fs::write(&p, text).unwrap();
+        let o = bumpsim(&["nv2a", p.to_str().unwrap()]);
+        o.expect_code(2, name);
+        assert!(
+            o.stderr.contains(&format!("{name}.ron")) && o.stderr.contains(field),
+            "{name}: {}",
+            o.stderr
+        );
+        assert!(!o.stderr.contains("panicked"), "{}", o.stderr);
+    }
+    // a bad --set value and a frame that is not 640 x 480
+    let o = bumpsim(&[
+        "nv2a",
+        "configs/nv2a/combiner/mux.ron",
+        "--set",
+        "combiner_width=nine",
+    ]);
+    o.expect_code(2, "--set");
+    assert!(o.stderr.contains("combiner_width"), "{}", o.stderr);
+    let small = s.join("small.png");
+    image::RgbaImage::new(4, 4).save(&small).unwrap();
+    let p = s.join("small.ron");
+    std::fs::write(
+        &p,
+        base.replace(&golden.display().to_string(), small.to_str().unwrap()),
+    )
+    .unwrap();
+    let o = bumpsim(&["nv2a", p.to_str().unwrap()]);
+    o.expect_code(2, "small");
+    assert!(o.stderr.contains("640 x 480"), "{}", o.stderr);
+}
+
+#[test]
+fn the_licence_of_the_frames_is_in_the_repository() {
+    let p = root().join("hw/tests/nv2a/golden/LICENSE-CC0");
+    let text =
+        std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{} is missing: {e}", p.display()));
+    assert!(text.contains("CC0") || text.contains("Creative Commons"));
+}
