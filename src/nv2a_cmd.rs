@@ -29,7 +29,7 @@ pub fn execute(
     for path in frames {
         let l = nv2a::load(path, sets)?;
         let internal = |m: String| Failure::Internal(format!("{}: {m}", path.display()));
-        let c = nv2a::compare(&l.frame, &l.golden, mode).map_err(internal)?;
+        let c = nv2a::compare(&l, mode).map_err(internal)?;
         if let Some(set) = set.as_mut() {
             let name = format!("{}.png", l.frame.name);
             if results.iter().any(|r| r.frame == l.frame.name) {
@@ -42,7 +42,7 @@ pub fn execute(
                     ),
                 )));
             }
-            set.add(&name, nv2a::render_png(&l.frame, mode).map_err(internal)?);
+            set.add(&name, nv2a::render_png(&l, mode).map_err(internal)?);
         }
         results.push(c);
     }

@@ -1,7 +1,7 @@
 //! The model against the hardware's frame: per quad and per frame, the pixels compared, the
 //! exact ones, the largest difference and where the mismatches sit.
 
-use super::{quad_colours, Frame};
+use super::{Loaded, QuadModel};
 use bumpsim_hw::Mode;
 use serde::Serialize;
 
@@ -17,12 +17,13 @@ pub struct QuadResult {
     /// Largest channel difference over the quad's pixels, against the nearest of the model's
     /// colours (one per colour that may lie under it).
     pub max_diff: u8,
-    /// The model's colours (RGBA), one per colour under the quad.
+    /// The model's colours (RGBA) at the quad's first compared pixel, one per colour under
+    /// the quad.
     pub model: Vec<[u8; 4]>,
     /// Bounding box of the mismatches, (x0, y0, x1, y1) inclusive; none when exact.
     pub misses_at: Option<[u32; 4]>,
-    /// The first mismatch in raster order: (x, y) and the frame's RGBA there.
-    pub first_miss: Option<([u32; 2], [u8; 4])>,
+    /// The first mismatch in raster order: (x, y), the frame's RGBA and the model's there.
+    pub first_miss: Option<([u32; 2], [u8; 4], [u8; 4])>,
 }
 
 /// A frame's comparison.
@@ -43,18 +44,19 @@ pub struct Comparison {
     pub quads: Vec<QuadResult>,
 }
 
-/// Compare the model of `f` in `mode` with the frame the hardware rendered.
-pub fn compare(f: &Frame, golden: &image::RgbaImage, mode: Mode) -> Result<Comparison, String> {
+/// Compare the model of a frame in `mode` with the frame the hardware rendered.
+pub fn compare(l: &Loaded, mode: Mode) -> Result<Comparison, String> {
+    let (f, golden) = (&l.frame, &l.golden);
     let mut quads = Vec::with_capacity(f.quads.len());
     let mut text_pixels = 0;
     for q in &f.quads {
-        let model = quad_colours(f, q, mode)?;
+        let m = QuadModel::new(f, q, &l.textures, mode).map_err(|(_, m)| m)?;
         let mut r = QuadResult {
             label: q.label.clone(),
             compared: 0,
             exact: 0,
             max_diff: 0,
-            model: model.clone(),
+            model: Vec::new(),
             misses_at: None,
             first_miss: None,
         };
@@ -69,6 +71,10 @@ pub fn compare(f: &Frame, golden: &image::RgbaImage, mode: Mode) -> Result<Compa
                     text_pixels += 1;
                 }
                 r.compared += 1;
+                let model = m.colours_at(x, y);
+                if r.model.is_empty() {
+                    r.model = model.clone();
+                }
                 let diff = model
                     .iter()
                     .map(|c| (0..4).map(|i| c[i].abs_diff(px[i])).max().unwrap_or(0))
@@ -79,7 +85,7 @@ pub fn compare(f: &Frame, golden: &image::RgbaImage, mode: Mode) -> Result<Compa
                     continue;
                 }
                 r.max_diff = r.max_diff.max(diff);
-                r.first_miss.get_or_insert(([x, y], px));
+                r.first_miss.get_or_insert(([x, y], px, model[0]));
                 let b = r.misses_at.get_or_insert([x, y, x, y]);
                 *b = [b[0].min(x), b[1].min(y), b[2].max(x), b[3].max(y)];
             }
@@ -113,10 +119,13 @@ impl Comparison {
     /// One line: frame, compared, exact, share, largest difference, and the mismatching quads
     /// with their pixel counts and bounding boxes.
     pub fn line(&self) -> String {
-        let bad: Vec<String> = self
+        const SHOWN: usize = 4;
+        let missing = self.quads.iter().filter(|q| q.exact < q.compared).count();
+        let mut bad: Vec<String> = self
             .quads
             .iter()
             .filter(|q| q.exact < q.compared)
+            .take(SHOWN)
             .map(|q| {
                 let [x0, y0, x1, y1] = q.misses_at.unwrap_or_default();
                 format!(
@@ -126,6 +135,9 @@ impl Comparison {
                 )
             })
             .collect();
+        if missing > SHOWN {
+            bad.push(format!("{} more quads (--json)", missing - SHOWN));
+        }
         format!(
             "{:<24} {:>9} {:>9} {:>8.3}% {:>4}  {}",
             self.frame,

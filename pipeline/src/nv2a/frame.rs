@@ -3,6 +3,8 @@
 //! hardware rendered. See [`super`] and `docs/nv2a.md`.
 
 use bumpsim_hw::units::combiner::Program;
+use bumpsim_hw::units::texture_shader::Program as StageProgram;
+use bumpsim_hw::units::{Address, Filter};
 use serde::{Deserialize, Serialize};
 
 /// Frame size of every capture (the host's 640 x 480 A8R8G8B8 back buffer).
@@ -14,6 +16,9 @@ pub const MAX_QUADS: usize = 1024;
 pub const MAX_PASSES: usize = 16;
 /// Largest text row and column of a `pb_printat` cell (the frame holds 18 rows, 62 columns).
 pub const MAX_TEXT_CELL: u32 = 64;
+/// Most textures of a frame, and their largest side.
+pub const MAX_TEXTURES: usize = 16;
+pub const MAX_TEXTURE_SIDE: u32 = 1024;
 
 /// One frame of an NV2A test suite.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -32,8 +37,50 @@ pub struct Frame {
     /// x = 20 + 10 col, y = 25 + 25 row, left out of the comparison.
     #[serde(default)]
     pub text: Vec<Text>,
+    /// Where in a pixel the interpolated texture coordinates are sampled (default the
+    /// centre; see [`Sample`]).
+    #[serde(default)]
+    pub sample: Sample,
+    /// The textures the passes' shader stages read, by name.
+    #[serde(default)]
+    pub textures: Vec<TextureDef>,
     /// The quads the test draws, each with the passes drawn over it in order.
     pub quads: Vec<Quad>,
+}
+
+/// Where a pixel's interpolated attributes are sampled: the plane of its triangle through the
+/// three vertices' values (f64), evaluated at this point and truncated (toward minus
+/// infinity) to the texture shader's s16.16 coordinate words.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum Sample {
+    /// The pixel centre (x + 1/2, y + 1/2): the `Bump_map` frames (the passthrough vertex
+    /// shader; unit page, hypothesis 13).
+    #[default]
+    Centre,
+    /// The pixel's top-left corner (x, y): the `Pixel_shader` frames (the XDK default
+    /// viewport's 0.53125 offset truncated to the rasterizer's 4 fraction bits moves the
+    /// vertices half a pixel; unit page, hypothesis 1).
+    Corner,
+}
+
+/// A texture of the frame: its name and how the host makes it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TextureDef {
+    pub name: String,
+    pub source: TextureSource,
+}
+
+/// How the host makes a texture (A8R8G8B8, read as RGBA 8-bit codes).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum TextureSource {
+    /// `GenerateRGBRadialATestPattern(width, height)` of the host's texture generator.
+    RadialPattern { width: u32, height: u32 },
+    /// `GenerateRGBATestPattern(width, height)` (alpha wraps at 8 bits).
+    RgbaPattern { width: u32, height: u32 },
+    /// A host resource PNG (RGB) relative to this file, as `LoadPNG` uploads it: alpha 255.
+    Png(String),
 }
 
 fn nine() -> u32 {
@@ -65,6 +112,12 @@ pub struct Quad {
     pub label: String,
     pub region: Region,
     pub under: Under,
+    /// Texture coordinates (s, t, r, q) per shader stage (at most 4), each at the vertices
+    /// v0 to v3: top-left, top-right, bottom-right, bottom-left of a screen rectangle, drawn as
+    /// the triangles (v0, v1, v2) and (v0, v2, v3). f32, as the host passes them. Stages
+    /// left out read (0, 0, 0, 0).
+    #[serde(default)]
+    pub texcoords: Vec<[[f32; 4]; 4]>,
     pub passes: Vec<Pass>,
 }
 
@@ -227,12 +280,16 @@ impl Under {
     }
 }
 
-/// One draw over a quad: the combiner program and the registers it reads, constant over the
-/// quad (the Combiner suite's programs read no interpolated value). The result is blended
-/// over what lies there (SRC_ALPHA, ONE_MINUS_SRC_ALPHA, the host's default).
+/// One draw over a quad: the texture-shader program if any, the combiner program and the
+/// registers it reads (constant over the quad). The result is blended over what lies there
+/// (SRC_ALPHA, ONE_MINUS_SRC_ALPHA, the host's default); a fragment the shader culls leaves
+/// it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Pass {
+    /// The texture-shader stages (none: every texture register reads `texture`).
+    #[serde(default)]
+    pub shader: Option<Shader>,
     pub program: Program,
     /// PRIMARY_COLOR (the vertex diffuse colour), RGBA codes.
     #[serde(default)]
@@ -243,7 +300,58 @@ pub struct Pass {
     /// FOG.
     #[serde(default)]
     pub fog: [u8; 4],
-    /// What TEXTURE0 to TEXTURE3 read (the suite binds no texture: an unbound stage's value).
+    /// What TEXTURE0 to TEXTURE3 read without a shader (an unbound stage's value).
     #[serde(default)]
     pub texture: [u8; 4],
+}
+
+/// A pass's texture-shader program: 1 to 4 stages (the rest NONE) and the unit's precision
+/// (`docs/units/texture-shader.md`; the defaults are the NV2A's).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Shader {
+    pub stages: Vec<ShaderStage>,
+    /// Fraction bits of the mapped dot-product vector (1 to 24).
+    #[serde(default = "dot_frac")]
+    pub dot_frac: u32,
+    /// Fraction bits of the offset matrix, luminance scale and bias (1 to 16).
+    #[serde(default = "offset_frac")]
+    pub offset_frac: u32,
+    /// The colour converter's fraction bits (`None`: rounding; the NV2A's 12).
+    #[serde(default = "convert_frac")]
+    pub convert_frac: Option<u32>,
+}
+
+fn dot_frac() -> u32 {
+    16
+}
+fn offset_frac() -> u32 {
+    8
+}
+fn convert_frac() -> Option<u32> {
+    Some(12)
+}
+
+/// One texture-shader stage: its program, the texture it reads (a name of the frame's
+/// `textures`) and its sampler (default nearest, the host's default filter, 8-bit weights,
+/// wrap).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShaderStage {
+    pub program: StageProgram,
+    #[serde(default)]
+    pub texture: Option<String>,
+    #[serde(default = "nearest")]
+    pub filter: Filter,
+    #[serde(default = "weight_bits")]
+    pub weight_bits: u32,
+    #[serde(default)]
+    pub address: Address,
+}
+
+fn nearest() -> Filter {
+    Filter::Nearest
+}
+fn weight_bits() -> u32 {
+    8
 }

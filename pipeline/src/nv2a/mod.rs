@@ -4,36 +4,48 @@
 //!
 //! A frame config ([`Frame`]) lists the quads a test draws: where each lies (a screen
 //! rectangle or a world-space quad seen by the host's default camera), what lies under it (the
-//! cleared colour or the checkerboard background) and the passes drawn over it, each a
+//! cleared colour or the checkerboard background), its texture coordinates per shader stage at
+//! its four vertices, and the passes drawn over it: each an optional texture-shader program
+//! ([`bumpsim_hw::units::texture_shader`], reading the frame's textures by name) and a
 //! register-combiner program ([`bumpsim_hw::units::combiner`]) with the register values it
-//! reads. The model runs each pass's program once through the combiner unit in the chosen
-//! mode and blends it as the ROP does ([`blend`]); the comparison ([`compare`]) visits every
-//! compared pixel of every quad, minus the host's text cells.
+//! reads. [`QuadModel`] builds each pass's units once; a pass without a shader has one colour
+//! over the quad, a shaded one runs per pixel on the coordinates interpolated at the frame's
+//! [`Sample`] point; each is blended as the ROP does ([`blend`]), a culled fragment leaves the
+//! pixel. The comparison ([`compare`]) visits every compared pixel of every quad, minus the
+//! host's text cells.
 //!
-//! This covers the `Combiner` suite, whose programs read constants, flat vertex colours and
-//! unbound textures only. The texture-shader suites (`Pixel_shader`, `Bump_map`), which need
-//! the rasterizer's per-pixel coordinates and generated textures, are checked by the unit
-//! library's tests (`hw/tests/nv2a_*.rs`) and are not configs yet.
+//! Configs exist for the `Combiner` suite (`configs/nv2a/combiner/`: constants, flat vertex
+//! colours, unbound textures) and the `Pixel_shader` suite (`configs/nv2a/pixel-shader/`). The
+//! `Bump_map` suite is checked by the unit library's test (`hw/tests/nv2a_bump_map.rs`).
 
 mod compare;
 mod frame;
+mod model;
 
 pub use compare::{compare, Comparison, QuadResult};
-pub use frame::{Frame, Pass, Quad, Region, Text, Under, HEIGHT, WIDTH, WORLD_INSET};
+pub use frame::{
+    Frame, Pass, Quad, Region, Sample, Shader, ShaderStage, Text, TextureDef, TextureSource, Under,
+    HEIGHT, WIDTH, WORLD_INSET,
+};
+pub use model::{blend, QuadModel};
 
 use crate::config::{overrides, parse_as, read_config, InputError};
 use bumpsim_hw::units::combiner::{
     Combiner, CombinerParams, FinalCombiner, GeneralStage, MuxSelect, Program,
 };
-use bumpsim_hw::{Codec, Encoding, Mode, Unit, Word};
+use bumpsim_hw::{Mode, Texture};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
-/// A frame config read, overridden and checked, with its golden frame.
+/// A frame config read, overridden and checked, with its golden frame and textures.
 pub struct Loaded {
     pub frame: Frame,
     pub path: PathBuf,
     /// The frame the hardware rendered.
     pub golden: image::RgbaImage,
+    /// The frame's textures by name.
+    pub textures: BTreeMap<String, Arc<Texture>>,
 }
 
 /// Read a frame config, apply `--set` overrides, check every field and read its golden
@@ -47,6 +59,22 @@ pub fn load(path: &Path, sets: &[String]) -> Result<Loaded, InputError> {
     }
     check(&frame).map_err(|(field, m)| InputError::new(&file, field, m))?;
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    let textures = model::textures(&frame, &base).map_err(|m| {
+        let (field, m) = m.split_once(": ").unwrap_or(("textures", &m));
+        InputError::new(&file, field, m)
+    })?;
+    // every pass builds (its texture names, its shader and combiner programs)
+    for (i, q) in frame.quads.iter().enumerate() {
+        QuadModel::new(&frame, q, &textures, Mode::BitAccurate).map_err(|(j, m)| {
+            let at = format!("quads[{i}].passes[{j}]");
+            match m.split_once(": ") {
+                Some((sub, rest)) if !sub.contains(' ') => {
+                    InputError::new(&file, format!("{at}.{sub}"), rest)
+                }
+                _ => InputError::new(&file, at, m),
+            }
+        })?;
+    }
     let gpath = base.join(&frame.golden);
     let max = crate::scene::files::MAX_PNG_SIDE;
     let golden = crate::scene::files::read_png(&gpath, max)
@@ -68,6 +96,7 @@ pub fn load(path: &Path, sets: &[String]) -> Result<Loaded, InputError> {
         frame,
         path: path.to_path_buf(),
         golden,
+        textures,
     })
 }
 
@@ -78,7 +107,6 @@ fn check(f: &Frame) -> Result<(), (String, String)> {
         ("combiner_width".to_string(), m)
     };
     params(f.combiner_width).map_err(width_error)?;
-    let params = |w| params(w).map_err(width_error);
     if f.quads.is_empty() || f.quads.len() > frame::MAX_QUADS {
         return Err((
             "quads".into(),
@@ -98,10 +126,78 @@ fn check(f: &Frame) -> Result<(), (String, String)> {
             ));
         }
     }
+    if f.textures.len() > frame::MAX_TEXTURES {
+        return Err((
+            "textures".into(),
+            format!(
+                "{} textures: expected at most {}",
+                f.textures.len(),
+                frame::MAX_TEXTURES
+            ),
+        ));
+    }
+    for (i, t) in f.textures.iter().enumerate() {
+        if f.textures[..i].iter().any(|u| u.name == t.name) {
+            return Err((
+                format!("textures[{i}].name"),
+                format!("{:?} is named twice: expected distinct names", t.name),
+            ));
+        }
+        if let TextureSource::RadialPattern { width, height }
+        | TextureSource::RgbaPattern { width, height } = t.source
+        {
+            let max = frame::MAX_TEXTURE_SIDE;
+            let even = matches!(t.source, TextureSource::RadialPattern { .. });
+            if !(2..=max).contains(&width)
+                || !(2..=max).contains(&height)
+                || (even && (width % 2 == 1 || height % 2 == 1))
+            {
+                return Err((
+                    format!("textures[{i}].source"),
+                    format!(
+                        "{width} x {height}: expected 2 to {max} texels a side{}",
+                        if even {
+                            ", even (the radial pattern halves them)"
+                        } else {
+                            ""
+                        }
+                    ),
+                ));
+            }
+        }
+    }
     for (i, q) in f.quads.iter().enumerate() {
         q.region
             .check()
             .map_err(|m| (format!("quads[{i}].region"), m))?;
+        if q.texcoords.len() > 4 {
+            return Err((
+                format!("quads[{i}].texcoords"),
+                format!("{} stages: expected at most 4", q.texcoords.len()),
+            ));
+        }
+        let in_range = |v: &&f32| v.is_finite() && v.abs() <= 32768.0;
+        if let Some(v) = q
+            .texcoords
+            .iter()
+            .flatten()
+            .flatten()
+            .find(|v| !in_range(v))
+        {
+            return Err((
+                format!("quads[{i}].texcoords"),
+                format!("{v}: expected finite coordinates of at most 32768 (the s16.16 range)"),
+            ));
+        }
+        let shaded = q.passes.iter().any(|p| p.shader.is_some());
+        if shaded && !matches!(q.region, Region::Screen { .. }) {
+            return Err((
+                format!("quads[{i}].region"),
+                "a World quad with a shader pass: expected a Screen region (texture coordinates \
+                 are interpolated over screen rectangles only)"
+                    .into(),
+            ));
+        }
         if q.passes.is_empty() || q.passes.len() > frame::MAX_PASSES {
             return Err((
                 format!("quads[{i}].passes"),
@@ -111,18 +207,6 @@ fn check(f: &Frame) -> Result<(), (String, String)> {
                     frame::MAX_PASSES
                 ),
             ));
-        }
-        for (j, p) in q.passes.iter().enumerate() {
-            // the program's errors start with its field ("stages[0].rgb.a.source: ...")
-            Combiner::new(params(f.combiner_width)?, p.program.clone()).map_err(|m| {
-                let at = format!("quads[{i}].passes[{j}].program");
-                match m.split_once(": ") {
-                    Some((sub, rest)) if !sub.contains(' ') => {
-                        (format!("{at}.{sub}"), rest.to_string())
-                    }
-                    _ => (at, m),
-                }
-            })?;
         }
     }
     Ok(())
@@ -142,59 +226,17 @@ fn params(width: u32) -> Result<CombinerParams, String> {
     Combiner::new(p, nop).map(|_| p)
 }
 
-/// The ROP's blend of the NV2A frames: SRC_ALPHA, ONE_MINUS_SRC_ALPHA on all four channels,
-/// `(s a + d (255 - a)) / 255` rounded to nearest (what the Combiner frames settle).
-pub fn blend(s: [u8; 4], d: [u8; 4]) -> [u8; 4] {
-    let a = s[3] as u32;
-    std::array::from_fn(|c| {
-        let t = s[c] as u32 * a + d[c] as u32 * (255 - a);
-        ((2 * t + 255) / 510) as u8
-    })
-}
-
-/// The colour one pass's program computes, in `mode`.
-pub fn shade(width: u32, pass: &Pass, mode: Mode) -> Result<[u8; 4], String> {
-    let u = Combiner::new(params(width)?, pass.program.clone())?;
-    let e8 = Encoding::texel(Codec::UnitUnsigned, false, 8);
-    let w = |c: [u8; 4]| Word::from_raw(&e8, &c.map(i64::from));
-    let t = w(pass.texture);
-    let ins = [w(pass.primary), w(pass.secondary), w(pass.fog), t, t, t, t];
-    let mut o = [Word::default()];
-    u.eval(mode, &ins, &mut o);
-    Ok(o[0].raws::<4>().map(|r| r.clamp(0, 255) as u8))
-}
-
-/// The colours a quad may end as, one per colour that may lie under it: its passes blended
-/// in order.
-pub fn quad_colours(f: &Frame, q: &Quad, mode: Mode) -> Result<Vec<[u8; 4]>, String> {
-    let shaded = q
-        .passes
-        .iter()
-        .map(|p| shade(f.combiner_width, p, mode))
-        .collect::<Result<Vec<_>, _>>()?;
-    Ok(q.under
-        .colours()
-        .into_iter()
-        .map(|mut d| {
-            for s in &shaded {
-                d = blend(*s, d);
-            }
-            d
-        })
-        .collect())
-}
-
-/// The model's picture of the frame: each quad's covered pixels in its colour over the first
-/// colour under it, in order; the rest transparent black.
-pub fn render(f: &Frame, mode: Mode) -> Result<image::RgbaImage, String> {
+/// The model's picture of the frame: each quad's covered pixels over the first colour under
+/// it, in order; the rest transparent black.
+pub fn render(l: &Loaded, mode: Mode) -> Result<image::RgbaImage, String> {
     let mut img = image::RgbaImage::new(WIDTH, HEIGHT);
-    for q in &f.quads {
-        let c = quad_colours(f, q, mode)?[0];
+    for q in &l.frame.quads {
+        let m = QuadModel::new(&l.frame, q, &l.textures, mode).map_err(|(_, m)| m)?;
         let (x0, y0, x1, y1) = q.region.bounds();
         for y in y0..y1 {
             for x in x0..x1 {
                 if q.region.covers(x, y) {
-                    img.put_pixel(x, y, image::Rgba(c));
+                    img.put_pixel(x, y, image::Rgba(m.colours_at(x, y)[0]));
                 }
             }
         }
@@ -203,9 +245,9 @@ pub fn render(f: &Frame, mode: Mode) -> Result<image::RgbaImage, String> {
 }
 
 /// [`render`] encoded as PNG.
-pub fn render_png(f: &Frame, mode: Mode) -> Result<Vec<u8>, String> {
+pub fn render_png(l: &Loaded, mode: Mode) -> Result<Vec<u8>, String> {
     let mut png = Vec::new();
-    render(f, mode)?
+    render(l, mode)?
         .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
         .map_err(|e| e.to_string())?;
     Ok(png)

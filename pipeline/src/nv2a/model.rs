@@ -1,0 +1,305 @@
+//! The model of a frame: the host's textures, each pass's units built once, and the colour
+//! each pass leaves at a pixel (the quad's interpolated texture coordinates through the
+//! texture-shader unit, the register-combiner unit, the ROP's blend).
+
+use super::frame::{Frame, Pass, Quad, Region, Sample, TextureDef, TextureSource};
+use bumpsim_hw::sampler::Sampler;
+use bumpsim_hw::units::combiner::{Combiner, CombinerParams};
+use bumpsim_hw::units::texture_shader::{ShaderParams, StageSpec, TextureShader};
+use bumpsim_hw::{Codec, Encoding, Mode, Quant, Texels, Texture, Unit, Word};
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::sync::Arc;
+
+const U8: Encoding = Encoding::texel(Codec::UnitUnsigned, false, 8);
+
+/// The ROP's blend of the NV2A frames: SRC_ALPHA, ONE_MINUS_SRC_ALPHA on all four channels,
+/// `(s a + d (255 - a)) / 255` rounded to nearest (what the Combiner frames settle).
+pub fn blend(s: [u8; 4], d: [u8; 4]) -> [u8; 4] {
+    let a = s[3] as u32;
+    std::array::from_fn(|c| {
+        let t = s[c] as u32 * a + d[c] as u32 * (255 - a);
+        ((2 * t + 255) / 510) as u8
+    })
+}
+
+/// The host's `GenerateRGBTestPattern` channel value of `v` in `0..n` (f32, truncated).
+fn normal(v: u32, n: u32) -> u32 {
+    (v as f32 * 255.0f32 / n as f32) as u32
+}
+
+/// The texture's RGBA codes at (x, y).
+fn texel(src: &TextureSource, x: u32, y: u32) -> [u32; 4] {
+    match *src {
+        TextureSource::RadialPattern { width, height } => {
+            // four copies of the RGB pattern, alpha falling off from the centre; the host
+            // measures dy from cx (its own slip, kept: the frames show it)
+            let (hw, hh) = (width / 2, height / 2);
+            let (yn, xn) = (normal(y % hh, hh), normal(x % hw, hw));
+            let (cx, cy) = (hw as f32, hh as f32);
+            let max = cx * cx + cy * cy;
+            let (dx, dy) = (x as f32 - cx, y as f32 - cx);
+            let a = (255.0f32 * (1.0f32 - (dx * dx + dy * dy) / max)) as u32;
+            [yn, xn, 255 - yn, a & 0xff]
+        }
+        TextureSource::RgbaPattern { width, height } => {
+            let (yn, xn) = (normal(y, height), normal(x, width));
+            [yn, xn, 255 - yn, (xn + yn) & 0xff]
+        }
+        TextureSource::Png(_) => unreachable!("a PNG is read, not generated"),
+    }
+}
+
+/// Build one texture: generated, or read from a PNG beside the frame config.
+fn build_texture(def: &TextureDef, base: &Path) -> Result<Texture, String> {
+    let rows: Vec<[f64; 4]>;
+    let (width, height) = match &def.source {
+        TextureSource::Png(p) => {
+            let path = base.join(p);
+            let img = crate::scene::files::read_png(&path, super::frame::MAX_TEXTURE_SIDE)
+                .map_err(|e| e.to_string())?
+                .to_rgb8();
+            rows = img
+                .pixels()
+                .map(|px| {
+                    let [r, g, b] = px.0;
+                    [r, g, b, 255].map(|c| c as f64 / 255.0)
+                })
+                .collect();
+            img.dimensions()
+        }
+        src @ (TextureSource::RadialPattern { width, height }
+        | TextureSource::RgbaPattern { width, height }) => {
+            let (w, h) = (*width, *height);
+            rows = (0..w as u64 * h as u64)
+                .map(|k| {
+                    let (x, y) = ((k % w as u64) as u32, (k / w as u64) as u32);
+                    texel(src, x, y).map(|c| c as f64 / 255.0)
+                })
+                .collect();
+            (w, h)
+        }
+    };
+    let t = Texels {
+        width,
+        height,
+        lanes: 4,
+        values: rows,
+    };
+    Texture::new(&def.name, U8, t)
+}
+
+/// The frame's textures by name.
+pub fn textures(f: &Frame, base: &Path) -> Result<BTreeMap<String, Arc<Texture>>, String> {
+    let mut out = BTreeMap::new();
+    for (i, def) in f.textures.iter().enumerate() {
+        let t = build_texture(def, base).map_err(|m| format!("textures[{i}].source: {m}"))?;
+        out.insert(def.name.clone(), Arc::new(t));
+    }
+    Ok(out)
+}
+
+/// One pass as built.
+enum PassModel {
+    /// No shader: the same colour at every pixel.
+    Flat([u8; 4]),
+    /// A texture shader feeding the combiners, and the other registers' words.
+    Shaded {
+        shader: Box<TextureShader>,
+        combiner: Box<Combiner>,
+        regs: Box<[Word; 3]>,
+    },
+}
+
+/// A quad's passes as built, and the colours that may lie under it.
+pub struct QuadModel<'a> {
+    quad: &'a Quad,
+    sample: Sample,
+    mode: Mode,
+    passes: Vec<PassModel>,
+}
+
+fn combiner_params(width: u32, shader: Option<&TextureShader>) -> CombinerParams {
+    let mut p = CombinerParams {
+        width,
+        ..CombinerParams::default()
+    };
+    if let Some(u) = shader {
+        for i in 0..4 {
+            p.inputs[3 + i] = u.result_encoding(i).unwrap_or(U8);
+        }
+    }
+    p
+}
+
+/// The texture-shader unit of a pass.
+fn build_shader(
+    pass: &Pass,
+    textures: &BTreeMap<String, Arc<Texture>>,
+) -> Result<Option<TextureShader>, String> {
+    let Some(s) = &pass.shader else {
+        return Ok(None);
+    };
+    let mut stages = Vec::with_capacity(s.stages.len());
+    for (i, st) in s.stages.iter().enumerate() {
+        let tex = match &st.texture {
+            None => None,
+            Some(n) => Some(textures.get(n).cloned().ok_or_else(|| {
+                format!(
+                    "shader.stages[{i}].texture: {n:?}: expected one of the frame's textures ({})",
+                    textures.keys().cloned().collect::<Vec<_>>().join(", ")
+                )
+            })?),
+        };
+        let sampler = Sampler::new(st.filter, st.weight_bits)
+            .map_err(|m| format!("shader.stages[{i}].weight_bits: {m}"))?
+            .with_address(st.address, st.address);
+        stages.push(StageSpec::new(st.program, tex).with_sampler(sampler));
+    }
+    let d = ShaderParams::default();
+    let params = ShaderParams {
+        coord: Encoding {
+            quant: Quant::Trn,
+            ..d.coord
+        },
+        dot_frac: s.dot_frac,
+        offset_frac: s.offset_frac,
+        convert_frac: s.convert_frac,
+        ..d
+    };
+    TextureShader::new(params, stages)
+        .map(Some)
+        .map_err(|m| format!("shader.{m}"))
+}
+
+impl<'a> QuadModel<'a> {
+    /// Build every pass of `quad`. Errors name the field under the pass.
+    pub fn new(
+        f: &Frame,
+        quad: &'a Quad,
+        textures: &BTreeMap<String, Arc<Texture>>,
+        mode: Mode,
+    ) -> Result<QuadModel<'a>, (usize, String)> {
+        let w = |c: [u8; 4]| Word::from_raw(&U8, &c.map(i64::from));
+        let mut passes = Vec::with_capacity(quad.passes.len());
+        for (j, p) in quad.passes.iter().enumerate() {
+            let shader = build_shader(p, textures).map_err(|m| (j, m))?;
+            let params = combiner_params(f.combiner_width, shader.as_ref());
+            let combiner = Combiner::new(params, p.program.clone())
+                .map_err(|m| (j, format!("program.{m}")))?;
+            let regs = [w(p.primary), w(p.secondary), w(p.fog)];
+            passes.push(match shader {
+                None => {
+                    let t = w(p.texture);
+                    let ins = [regs[0], regs[1], regs[2], t, t, t, t];
+                    let mut o = [Word::default()];
+                    combiner.eval(mode, &ins, &mut o);
+                    PassModel::Flat(o[0].raws::<4>().map(|r| r.clamp(0, 255) as u8))
+                }
+                Some(u) => PassModel::Shaded {
+                    shader: Box::new(u),
+                    combiner: Box::new(combiner),
+                    regs: Box::new(regs),
+                },
+            });
+        }
+        Ok(QuadModel {
+            quad,
+            sample: f.sample,
+            mode,
+            passes,
+        })
+    }
+
+    /// The colours the quad may end as at (x, y), one per colour that may lie under it.
+    pub fn colours_at(&self, x: u32, y: u32) -> Vec<[u8; 4]> {
+        let mut shaded: Vec<Option<[u8; 4]>> = Vec::with_capacity(self.passes.len());
+        for p in &self.passes {
+            shaded.push(match p {
+                PassModel::Flat(c) => Some(*c),
+                PassModel::Shaded {
+                    shader,
+                    combiner,
+                    regs,
+                } => self.shade(shader, combiner, regs, x, y),
+            });
+        }
+        self.quad
+            .under
+            .colours()
+            .into_iter()
+            .map(|mut d| {
+                for s in shaded.iter().flatten() {
+                    d = blend(*s, d);
+                }
+                d
+            })
+            .collect()
+    }
+
+    /// One shaded pass at (x, y): the colour, or `None` where the shader culls.
+    fn shade(
+        &self,
+        u: &TextureShader,
+        c: &Combiner,
+        regs: &[Word; 3],
+        x: u32,
+        y: u32,
+    ) -> Option<[u8; 4]> {
+        let enc = u.params().coord;
+        let coords = self.coords_at(x, y);
+        let ins: Vec<Word> = coords
+            .iter()
+            .map(|cs| Word::for_mode(self.mode, &enc, cs))
+            .collect();
+        let mut outs = vec![Word::default(); u.outputs().len()];
+        u.eval(self.mode, &ins, &mut outs);
+        if !u.live(self.mode, &ins, &outs) {
+            return None;
+        }
+        let cins = [
+            regs[0], regs[1], regs[2], outs[0], outs[1], outs[2], outs[3],
+        ];
+        let mut o = [Word::default()];
+        c.eval(self.mode, &cins, &mut o);
+        Some(o[0].raws::<4>().map(|r| r.clamp(0, 255) as u8))
+    }
+
+    /// Every stage's texture coordinates at (x, y): the plane of the pixel's triangle
+    /// through its vertices' values, at the sample point.
+    fn coords_at(&self, x: u32, y: u32) -> [[f64; 4]; 4] {
+        let Region::Screen {
+            left,
+            top,
+            right,
+            bottom,
+        } = self.quad.region
+        else {
+            return [[0.0; 4]; 4];
+        };
+        let o = match self.sample {
+            Sample::Centre => 0.5,
+            Sample::Corner => 0.0,
+        };
+        let (px, py) = (x as f64 + o, y as f64 + o);
+        let (l, t, r, b) = (left as f64, top as f64, right as f64, bottom as f64);
+        let c = [(l, t), (r, t), (r, b), (l, b)];
+        // above the v0-v2 diagonal: (v0, v1, v2); below: (v0, v2, v3)
+        let cross = (c[2].0 - c[0].0) * (py - c[0].1) - (c[2].1 - c[0].1) * (px - c[0].0);
+        let tri = if cross <= 0.0 { [0, 1, 2] } else { [0, 2, 3] };
+        let [a, bb, d] = tri.map(|k| c[k]);
+        let det = (bb.0 - a.0) * (d.1 - a.1) - (d.0 - a.0) * (bb.1 - a.1);
+        let wb = ((px - a.0) * (d.1 - a.1) - (d.0 - a.0) * (py - a.1)) / det;
+        let wd = ((bb.0 - a.0) * (py - a.1) - (px - a.0) * (bb.1 - a.1)) / det;
+        let wa = 1.0 - wb - wd;
+        let tc = &self.quad.texcoords;
+        std::array::from_fn(|s| {
+            let Some(v) = tc.get(s) else {
+                return [0.0; 4];
+            };
+            std::array::from_fn(|k| {
+                wa * v[tri[0]][k] as f64 + wb * v[tri[1]][k] as f64 + wd * v[tri[2]][k] as f64
+            })
+        })
+    }
+}
