@@ -69,18 +69,55 @@ pub enum Sample {
 pub struct TextureDef {
     pub name: String,
     pub source: TextureSource,
+    /// The codes are two's complement (the host's per-channel signed flags, set for the
+    /// channels a quad reads signed: the filter interpolates signed values). Default false.
+    #[serde(default)]
+    pub signed: bool,
 }
 
-/// How the host makes a texture (A8R8G8B8, read as RGBA 8-bit codes).
+/// How the host makes a texture: RGBA 8-bit codes, or (`Quadrants` read as `R16b16`) HILO
+/// 16-bit words.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub enum TextureSource {
+    /// `GenerateCheckerboardSurface(width, height, first, second)`: cells of `cell` texels,
+    /// the colours as ABGR8888 words (R in the low byte); texel (x, y) is `first` where
+    /// x / cell + y / cell is even.
+    Checkerboard {
+        width: u32,
+        height: u32,
+        cell: u32,
+        first: u32,
+        second: u32,
+    },
+    /// The bump-map tests' surface: `size` x `size` texels of four RGBA8888 colours (SDL's,
+    /// R in the high byte), split at texel `split` on both axes, in the order top-left,
+    /// top-right, bottom-left, bottom-right; read as `reading`.
+    Quadrants {
+        size: u32,
+        split: u32,
+        colours: [u32; 4],
+        reading: Reading,
+    },
     /// `GenerateRGBRadialATestPattern(width, height)` of the host's texture generator.
     RadialPattern { width: u32, height: u32 },
     /// `GenerateRGBATestPattern(width, height)` (alpha wraps at 8 bits).
     RgbaPattern { width: u32, height: u32 },
     /// A host resource PNG (RGB) relative to this file, as `LoadPNG` uploads it: alpha 255.
     Png(String),
+}
+
+/// How the texture unit reads a [`TextureSource::Quadrants`] surface.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Reading {
+    /// Four 8-bit lanes R, G, B, A (every 8-bit format the host converts the colours to).
+    Rgba8,
+    /// R16B16 as HILO: two 16-bit lanes, HI = R * 257 and LO = B * 257 (the host writes the
+    /// bytes B, B, R, R; docs/units/texture-shader.md, hypothesis 10).
+    R16b16,
+    /// The R16B16 words read as A8R8G8B8 bytes: R = HI & 0xff, G = LO >> 8, B = LO & 0xff,
+    /// A = HI >> 8 (what BUMPENVMAP reads of a 16-bit texel, hypothesis 22).
+    R16b16Bytes,
 }
 
 fn nine() -> u32 {

@@ -14,9 +14,11 @@
 //! pixel. The comparison ([`compare`]) visits every compared pixel of every quad, minus the
 //! host's text cells.
 //!
-//! Configs exist for the `Combiner` suite (`configs/nv2a/combiner/`: constants, flat vertex
-//! colours, unbound textures) and the `Pixel_shader` suite (`configs/nv2a/pixel-shader/`). The
-//! `Bump_map` suite is checked by the unit library's test (`hw/tests/nv2a_bump_map.rs`).
+//! Every shared frame is a config: the `Combiner` suite (`configs/nv2a/combiner/`: constants,
+//! flat vertex colours, unbound textures), the `Pixel_shader` suite
+//! (`configs/nv2a/pixel-shader/`) and the `Bump_map` suite (`configs/nv2a/bump-map/`). The
+//! unit library's tests (`hw/tests/nv2a_*.rs`) keep the hypotheses' alternatives that are not
+//! config fields.
 
 mod compare;
 mod frame;
@@ -24,8 +26,8 @@ mod model;
 
 pub use compare::{compare, Comparison, QuadResult};
 pub use frame::{
-    Frame, Pass, Quad, Region, Sample, Shader, ShaderStage, Text, TextureDef, TextureSource, Under,
-    HEIGHT, WIDTH, WORLD_INSET,
+    Frame, Pass, Quad, Reading, Region, Sample, Shader, ShaderStage, Text, TextureDef,
+    TextureSource, Under, HEIGHT, WIDTH, WORLD_INSET,
 };
 pub use model::{blend, QuadModel};
 
@@ -143,8 +145,26 @@ fn check(f: &Frame) -> Result<(), (String, String)> {
                 format!("{:?} is named twice: expected distinct names", t.name),
             ));
         }
+        if let TextureSource::Checkerboard { cell: 0, .. } = t.source {
+            return Err((
+                format!("textures[{i}].source.cell"),
+                "0: expected cells of at least 1 texel".into(),
+            ));
+        }
+        if let TextureSource::Quadrants { size, split, .. } = t.source {
+            let max = frame::MAX_TEXTURE_SIDE;
+            if !(1..=max).contains(&size) || split > size {
+                return Err((
+                    format!("textures[{i}].source"),
+                    format!(
+                        "size {size}, split {split}: expected 1 <= size <= {max}, split <= size"
+                    ),
+                ));
+            }
+        }
         if let TextureSource::RadialPattern { width, height }
-        | TextureSource::RgbaPattern { width, height } = t.source
+        | TextureSource::RgbaPattern { width, height }
+        | TextureSource::Checkerboard { width, height, .. } = t.source
         {
             let max = frame::MAX_TEXTURE_SIDE;
             let even = matches!(t.source, TextureSource::RadialPattern { .. });

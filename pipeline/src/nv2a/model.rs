@@ -2,7 +2,7 @@
 //! each pass leaves at a pixel (the quad's interpolated texture coordinates through the
 //! texture-shader unit, the register-combiner unit, the ROP's blend).
 
-use super::frame::{Frame, Pass, Quad, Region, Sample, TextureDef, TextureSource};
+use super::frame::{Frame, Pass, Quad, Reading, Region, Sample, TextureDef, TextureSource};
 use bumpsim_hw::sampler::Sampler;
 use bumpsim_hw::units::combiner::{Combiner, CombinerParams};
 use bumpsim_hw::units::texture_shader::{ShaderParams, StageSpec, TextureShader};
@@ -28,7 +28,7 @@ fn normal(v: u32, n: u32) -> u32 {
     (v as f32 * 255.0f32 / n as f32) as u32
 }
 
-/// The texture's RGBA codes at (x, y).
+/// The texture's codes at (x, y), of `bits` each.
 fn texel(src: &TextureSource, x: u32, y: u32) -> [u32; 4] {
     match *src {
         TextureSource::RadialPattern { width, height } => {
@@ -46,47 +46,97 @@ fn texel(src: &TextureSource, x: u32, y: u32) -> [u32; 4] {
             let (yn, xn) = (normal(y, height), normal(x, width));
             [yn, xn, 255 - yn, (xn + yn) & 0xff]
         }
+        TextureSource::Checkerboard {
+            cell,
+            first,
+            second,
+            ..
+        } => {
+            let c = if (x / cell + y / cell) % 2 == 0 {
+                first
+            } else {
+                second
+            };
+            [c & 0xff, (c >> 8) & 0xff, (c >> 16) & 0xff, c >> 24]
+        }
+        TextureSource::Quadrants {
+            split,
+            colours,
+            reading,
+            ..
+        } => {
+            let c = colours[(y >= split) as usize * 2 + (x >= split) as usize];
+            let (r, g, b, a) = (c >> 24, (c >> 16) & 0xff, (c >> 8) & 0xff, c & 0xff);
+            let (hi, lo) = (r * 257, b * 257);
+            match reading {
+                Reading::Rgba8 => [r, g, b, a],
+                Reading::R16b16 => [hi, lo, 0, 0],
+                Reading::R16b16Bytes => [hi & 0xff, lo >> 8, lo & 0xff, hi >> 8],
+            }
+        }
         TextureSource::Png(_) => unreachable!("a PNG is read, not generated"),
     }
 }
 
-/// Build one texture: generated, or read from a PNG beside the frame config.
+/// (width, height, lanes, bits per code) of a generated texture.
+fn shape(src: &TextureSource) -> (u32, u32, u8, u32) {
+    match *src {
+        TextureSource::RadialPattern { width, height }
+        | TextureSource::RgbaPattern { width, height }
+        | TextureSource::Checkerboard { width, height, .. } => (width, height, 4, 8),
+        TextureSource::Quadrants { size, reading, .. } => match reading {
+            Reading::R16b16 => (size, size, 2, 16),
+            Reading::Rgba8 | Reading::R16b16Bytes => (size, size, 4, 8),
+        },
+        TextureSource::Png(_) => (0, 0, 4, 8),
+    }
+}
+
+/// Build one texture: generated, or read from a PNG beside the frame config. Codes of `bits`
+/// become values `c / (2^bits - 1)`, or as two's complement `c / 2^(bits-1)` when `signed`.
 fn build_texture(def: &TextureDef, base: &Path) -> Result<Texture, String> {
-    let rows: Vec<[f64; 4]>;
-    let (width, height) = match &def.source {
+    let (mut width, mut height, lanes, bits) = shape(&def.source);
+    let codes: Vec<[u32; 4]> = match &def.source {
         TextureSource::Png(p) => {
             let path = base.join(p);
             let img = crate::scene::files::read_png(&path, super::frame::MAX_TEXTURE_SIDE)
                 .map_err(|e| e.to_string())?
                 .to_rgb8();
-            rows = img
-                .pixels()
+            (width, height) = img.dimensions();
+            img.pixels()
                 .map(|px| {
-                    let [r, g, b] = px.0;
-                    [r, g, b, 255].map(|c| c as f64 / 255.0)
+                    let [r, g, b] = px.0.map(u32::from);
+                    [r, g, b, 255]
                 })
-                .collect();
-            img.dimensions()
+                .collect()
         }
-        src @ (TextureSource::RadialPattern { width, height }
-        | TextureSource::RgbaPattern { width, height }) => {
-            let (w, h) = (*width, *height);
-            rows = (0..w as u64 * h as u64)
-                .map(|k| {
-                    let (x, y) = ((k % w as u64) as u32, (k / w as u64) as u32);
-                    texel(src, x, y).map(|c| c as f64 / 255.0)
-                })
-                .collect();
-            (w, h)
+        src => (0..width as u64 * height as u64)
+            .map(|k| texel(src, (k % width as u64) as u32, (k / width as u64) as u32))
+            .collect(),
+    };
+    let half = (1u64 << (bits - 1)) as f64;
+    let max = ((1u64 << bits) - 1) as f64;
+    let value = |c: u32| {
+        if def.signed && c as f64 >= half {
+            (c as f64 - 2.0 * half) / half
+        } else if def.signed {
+            c as f64 / half
+        } else {
+            c as f64 / max
         }
     };
     let t = Texels {
         width,
         height,
-        lanes: 4,
-        values: rows,
+        lanes,
+        values: codes.into_iter().map(|c| c.map(value)).collect(),
     };
-    Texture::new(&def.name, U8, t)
+    let codec = if def.signed {
+        Codec::UnitSigned
+    } else {
+        Codec::UnitUnsigned
+    };
+    Texture::new(&def.name, Encoding::texel(codec, def.signed, bits as u8), t)
 }
 
 /// The frame's textures by name.
@@ -265,8 +315,9 @@ impl<'a> QuadModel<'a> {
         Some(o[0].raws::<4>().map(|r| r.clamp(0, 255) as u8))
     }
 
-    /// Every stage's texture coordinates at (x, y): the plane of the pixel's triangle
-    /// through its vertices' values, at the sample point.
+    /// Every stage's texture coordinates at (x, y), at the sample point: bilinear over the
+    /// corners where a stage's coordinates are affine over the quad (both triangles in one
+    /// plane), otherwise the plane of the pixel's triangle through its three vertices.
     fn coords_at(&self, x: u32, y: u32) -> [[f64; 4]; 4] {
         let Region::Screen {
             left,
@@ -292,13 +343,22 @@ impl<'a> QuadModel<'a> {
         let wb = ((px - a.0) * (d.1 - a.1) - (d.0 - a.0) * (py - a.1)) / det;
         let wd = ((bb.0 - a.0) * (py - a.1) - (px - a.0) * (bb.1 - a.1)) / det;
         let wa = 1.0 - wb - wd;
+        let (u, v) = ((px - l) / (r - l), (py - t) / (b - t));
         let tc = &self.quad.texcoords;
         std::array::from_fn(|s| {
-            let Some(v) = tc.get(s) else {
+            let Some(cs) = tc.get(s) else {
                 return [0.0; 4];
             };
+            let cs = cs.map(|v| v.map(f64::from));
+            let affine = (0..4).all(|k| cs[0][k] + cs[2][k] == cs[1][k] + cs[3][k]);
             std::array::from_fn(|k| {
-                wa * v[tri[0]][k] as f64 + wb * v[tri[1]][k] as f64 + wd * v[tri[2]][k] as f64
+                if affine {
+                    let top = cs[0][k] + (cs[1][k] - cs[0][k]) * u;
+                    let bot = cs[3][k] + (cs[2][k] - cs[3][k]) * u;
+                    top + (bot - top) * v
+                } else {
+                    wa * cs[tri[0]][k] + wb * cs[tri[1]][k] + wd * cs[tri[2]][k]
+                }
             })
         })
     }
