@@ -52,7 +52,7 @@ fn texel(src: &TextureSource, x: u32, y: u32) -> [u32; 4] {
             second,
             ..
         } => {
-            let c = if (x / cell + y / cell) % 2 == 0 {
+            let c = if (x / cell + y / cell).is_multiple_of(2) {
                 first
             } else {
                 second
