@@ -18,7 +18,7 @@
 # 110 dependencies: the longest part of this script); BUMPSIM_FUZZ_OPT_LEVEL=3 for long runs.
 #
 #   BUMPSIM_FUZZ_SECONDS  per target (default 45)
-#   BUMPSIM_FUZZ_TARGETS  default "config set obj ply png"
+#   BUMPSIM_FUZZ_TARGETS  default "config set obj ply png nv2a"
 #   BUMPSIM_FUZZ_JOBS     targets run at once (default: the number of cores, at most 2)
 #   BUMPSIM_FUZZ_KEEP     a directory to keep each target's grown corpus and findings in
 #   BUMPSIM_FUZZ_TARGET_DIR  the build's target directory (default target/fuzz)
@@ -34,7 +34,7 @@ rss=${BUMPSIM_FUZZ_RSS_MB:-4096}
 for v in "$secs" "$timeout" "$rss"; do
     [[ "$v" =~ ^[1-9][0-9]*$ ]] || { echo "fuzz.sh: expected a positive number, got '$v'" >&2; exit 1; }
 done
-targets=${BUMPSIM_FUZZ_TARGETS:-"config set obj ply png"}
+targets=${BUMPSIM_FUZZ_TARGETS:-"config set obj ply png nv2a"}
 jobs=${BUMPSIM_FUZZ_JOBS:-$(nproc)}
 [ "$jobs" -gt 2 ] && [ -z "${BUMPSIM_FUZZ_JOBS:-}" ] && jobs=2
 triple=$(rustc -vV | sed -n 's/^host: //p')

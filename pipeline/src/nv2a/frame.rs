@@ -16,6 +16,11 @@ pub const MAX_QUADS: usize = 1024;
 pub const MAX_PASSES: usize = 16;
 /// Largest text row and column of a `pb_printat` cell (the frame holds 18 rows, 62 columns).
 pub const MAX_TEXT_CELL: u32 = 64;
+/// Most text cells of a frame.
+pub const MAX_TEXTS: usize = 256;
+/// Most pixels times shaded passes a frame may ask for (about ten seconds of shading; the
+/// bundled frames ask for at most 0.2 M).
+pub const MAX_SHADED: u64 = 1 << 24;
 /// Most textures of a frame, and their largest side.
 pub const MAX_TEXTURES: usize = 16;
 pub const MAX_TEXTURE_SIDE: u32 = 1024;

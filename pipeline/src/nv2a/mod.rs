@@ -119,6 +119,16 @@ fn check(f: &Frame) -> Result<(), (String, String)> {
             ),
         ));
     }
+    if f.text.len() > frame::MAX_TEXTS {
+        return Err((
+            "text".into(),
+            format!(
+                "{} cells: expected at most {}",
+                f.text.len(),
+                frame::MAX_TEXTS
+            ),
+        ));
+    }
     for (i, t) in f.text.iter().enumerate() {
         let m = frame::MAX_TEXT_CELL;
         if t.row > m || t.col > m || t.text.chars().count() as u32 > m {
@@ -229,7 +239,31 @@ fn check(f: &Frame) -> Result<(), (String, String)> {
             ));
         }
     }
+    let shaded = shaded_pixels(f);
+    if shaded > frame::MAX_SHADED {
+        return Err((
+            "quads".into(),
+            format!(
+                "the quads shade {shaded} pixels with a texture shader (pixels times shaded \
+                 passes): expected at most {} (about ten seconds)",
+                frame::MAX_SHADED
+            ),
+        ));
+    }
     Ok(())
+}
+
+/// The work of a frame: every pixel of each quad's bounds, once per pass with a shader (at
+/// most [`frame::MAX_SHADED`] in a frame that loads).
+pub fn shaded_pixels(f: &Frame) -> u64 {
+    f.quads
+        .iter()
+        .map(|q| {
+            let (x0, y0, x1, y1) = q.region.bounds();
+            let passes = q.passes.iter().filter(|p| p.shader.is_some()).count() as u64;
+            (x1 - x0) as u64 * (y1 - y0) as u64 * passes
+        })
+        .sum()
 }
 
 fn params(width: u32) -> Result<CombinerParams, String> {

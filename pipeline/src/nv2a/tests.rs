@@ -145,3 +145,23 @@ fn bad_fields_are_named() {
     .unwrap_err();
     assert!(e.message.contains("colour"), "{e:?}");
 }
+
+#[test]
+fn the_work_of_a_frame_is_bounded() {
+    let pass = "(shader: Some((stages: [(program: PassThrough)])), program: (stages: [()]))";
+    let quad = "(label: \"q\", region: Screen(left: 0, top: 0, right: 640, bottom: 480), \
+                under: Clear((0, 0, 0, 255)), passes: [P])";
+    let quads = vec![quad.replace('P', &vec![pass; 16].join(", ")); 8].join(", ");
+    let text = format!("(name: \"t\", golden: \"x.png\", quads: [{quads}])");
+    let f: Frame = crate::config::parse_as(&text, "t.ron").unwrap();
+    let (field, m) = check(&f).unwrap_err();
+    assert_eq!(field, "quads");
+    assert!(m.contains("39321600") && m.contains("16777216"), "{m}");
+    let cells = vec!["(row: 0, col: 0, text: \"a\")"; 257].join(", ");
+    let text = format!(
+        "(name: \"t\", golden: \"x.png\", text: [{cells}], quads: [{}])",
+        quad.replace('P', pass)
+    );
+    let f: Frame = crate::config::parse_as(&text, "t.ron").unwrap();
+    assert_eq!(check(&f).unwrap_err().0, "text");
+}
