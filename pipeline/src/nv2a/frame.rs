@@ -345,6 +345,12 @@ pub struct Pass {
     /// What TEXTURE0 to TEXTURE3 read without a shader (an unbound stage's value).
     #[serde(default)]
     pub texture: [u8; 4],
+    /// The host's `DrawZBuffer` after this pass: the pixel shows the depth the shader
+    /// replaced (DOT_PRODUCT_DEPTH_REPLACE) as the Z16 buffer holds it, `clamp(floor(z), 0,
+    /// 65535)`, read back as an R5G6B5 texel one to one and drawn without blending (each
+    /// field widened to 8 bits by repeating its top bits). Default false.
+    #[serde(default)]
+    pub show_depth: bool,
 }
 
 /// A pass's texture-shader program: 1 to 4 stages (the rest NONE) and the unit's precision
@@ -362,6 +368,20 @@ pub struct Shader {
     /// The colour converter's fraction bits (`None`: rounding; the NV2A's 12).
     #[serde(default = "convert_frac")]
     pub convert_frac: Option<u32>,
+    /// Width of the coordinate words, 24 to 32 bits with 16 fraction bits (default 32:
+    /// s16.16); the dot products and the depth divide are held in the same format.
+    #[serde(default = "coord_width")]
+    pub coord_width: u32,
+    /// Run this pass's texture shader in the unit's exact (f64) mode whatever the command's
+    /// mode: for values beyond any fixed-point coordinate format of the unit (at most 32
+    /// bits), e.g. DotZW's dot products of 40,000 and depths up to 65,535, which the NV2A
+    /// computes in floating point. Default false.
+    #[serde(default)]
+    pub exact: bool,
+}
+
+fn coord_width() -> u32 {
+    32
 }
 
 fn dot_frac() -> u32 {

@@ -206,7 +206,7 @@ fn check(f: &Frame) -> Result<(), (String, String)> {
                 format!("{} stages: expected at most 4", q.texcoords.len()),
             ));
         }
-        let in_range = |v: &&f32| v.is_finite() && v.abs() <= 32768.0;
+        let in_range = |v: &&f32| v.is_finite() && v.abs() <= 16777216.0;
         if let Some(v) = q
             .texcoords
             .iter()
@@ -216,7 +216,19 @@ fn check(f: &Frame) -> Result<(), (String, String)> {
         {
             return Err((
                 format!("quads[{i}].texcoords"),
-                format!("{v}: expected finite coordinates of at most 32768 (the s16.16 range)"),
+                format!("{v}: expected finite coordinates of at most 2^24 = 16777216"),
+            ));
+        }
+        if let Some(j) = q
+            .passes
+            .iter()
+            .position(|p| p.show_depth && p.shader.is_none())
+        {
+            return Err((
+                format!("quads[{i}].passes[{j}].show_depth"),
+                "true on a pass without a shader: expected a shader whose last stage replaces \
+                 the depth (DotProductDepthReplace)"
+                    .into(),
             ));
         }
         let shaded = q.passes.iter().any(|p| p.shader.is_some());

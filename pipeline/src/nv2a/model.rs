@@ -6,7 +6,7 @@ use super::frame::{Frame, Pass, Quad, Reading, Region, Sample, TextureDef, Textu
 use bumpsim_hw::sampler::Sampler;
 use bumpsim_hw::units::combiner::{Combiner, CombinerParams};
 use bumpsim_hw::units::texture_shader::{ShaderParams, StageSpec, TextureShader};
-use bumpsim_hw::{Codec, Encoding, Mode, Quant, Texels, Texture, Unit, Word};
+use bumpsim_hw::{Codec, Encoding, Format, Mode, Quant, Texels, Texture, Unit, Word};
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::sync::Arc;
@@ -21,6 +21,18 @@ pub fn blend(s: [u8; 4], d: [u8; 4]) -> [u8; 4] {
         let t = s[c] as u32 * a + d[c] as u32 * (255 - a);
         ((2 * t + 255) / 510) as u8
     })
+}
+
+/// A 16-bit word read as an R5G6B5 texel: each field widened to 8 bits by repeating its top
+/// bits; alpha 1.
+fn r5g6b5(v: u32) -> [u8; 4] {
+    let (r, g, b) = ((v >> 11) & 31, (v >> 5) & 63, v & 31);
+    [
+        (r << 3 | r >> 2) as u8,
+        (g << 2 | g >> 4) as u8,
+        (b << 3 | b >> 2) as u8,
+        255,
+    ]
 }
 
 /// The host's `GenerateRGBTestPattern` channel value of `v` in `0..n` (f32, truncated).
@@ -153,11 +165,15 @@ pub fn textures(f: &Frame, base: &Path) -> Result<BTreeMap<String, Arc<Texture>>
 enum PassModel {
     /// No shader: the same colour at every pixel.
     Flat([u8; 4]),
-    /// A texture shader feeding the combiners, and the other registers' words.
+    /// A texture shader feeding the combiners, and the other registers' words; `show_depth`:
+    /// the pixel shows the replaced depth ([`super::Pass::show_depth`]).
     Shaded {
         shader: Box<TextureShader>,
         combiner: Box<Combiner>,
         regs: Box<[Word; 3]>,
+        show_depth: bool,
+        /// The shader's mode ([`super::Shader::exact`], else the frame's).
+        mode: Mode,
     },
 }
 
@@ -206,10 +222,19 @@ fn build_shader(
             .with_address(st.address, st.address);
         stages.push(StageSpec::new(st.program, tex).with_sampler(sampler));
     }
+    let max = bumpsim_hw::format::MAX_WIDTH as u32;
+    if !(24..=max).contains(&s.coord_width) {
+        return Err(format!(
+            "shader.coord_width: {}: expected 24 to {max} bits (16 of them fraction bits; \
+             wider values: `exact: true`)",
+            s.coord_width
+        ));
+    }
     let d = ShaderParams::default();
     let params = ShaderParams {
         coord: Encoding {
             quant: Quant::Trn,
+            format: Format::s(s.coord_width as u8, 16),
             ..d.coord
         },
         dot_frac: s.dot_frac,
@@ -250,6 +275,11 @@ impl<'a> QuadModel<'a> {
                     shader: Box::new(u),
                     combiner: Box::new(combiner),
                     regs: Box::new(regs),
+                    show_depth: p.show_depth,
+                    mode: match &p.shader {
+                        Some(s) if s.exact => Mode::Exact,
+                        _ => mode,
+                    },
                 },
             });
         }
@@ -263,15 +293,20 @@ impl<'a> QuadModel<'a> {
 
     /// The colours the quad may end as at (x, y), one per colour that may lie under it.
     pub fn colours_at(&self, x: u32, y: u32) -> Vec<[u8; 4]> {
-        let mut shaded: Vec<Option<[u8; 4]>> = Vec::with_capacity(self.passes.len());
+        // (colour, replaces what lies there) per pass that leaves one
+        let mut shaded: Vec<Option<([u8; 4], bool)>> = Vec::with_capacity(self.passes.len());
         for p in &self.passes {
             shaded.push(match p {
-                PassModel::Flat(c) => Some(*c),
+                PassModel::Flat(c) => Some((*c, false)),
                 PassModel::Shaded {
                     shader,
                     combiner,
                     regs,
-                } => self.shade(shader, combiner, regs, x, y),
+                    show_depth,
+                    mode,
+                } => self
+                    .shade((shader, *mode), combiner, regs, *show_depth, x, y)
+                    .map(|c| (c, *show_depth)),
             });
         }
         self.quad
@@ -279,20 +314,22 @@ impl<'a> QuadModel<'a> {
             .colours()
             .into_iter()
             .map(|mut d| {
-                for s in shaded.iter().flatten() {
-                    d = blend(*s, d);
+                for &(s, replace) in shaded.iter().flatten() {
+                    d = if replace { s } else { blend(s, d) };
                 }
                 d
             })
             .collect()
     }
 
-    /// One shaded pass at (x, y): the colour, or `None` where the shader culls.
+    /// One shaded pass at (x, y): the colour (with `show_depth`, the depth as `DrawZBuffer`
+    /// shows it), or `None` where the shader culls.
     fn shade(
         &self,
-        u: &TextureShader,
+        (u, umode): (&TextureShader, Mode),
         c: &Combiner,
         regs: &[Word; 3],
+        show_depth: bool,
         x: u32,
         y: u32,
     ) -> Option<[u8; 4]> {
@@ -300,12 +337,16 @@ impl<'a> QuadModel<'a> {
         let coords = self.coords_at(x, y);
         let ins: Vec<Word> = coords
             .iter()
-            .map(|cs| Word::for_mode(self.mode, &enc, cs))
+            .map(|cs| Word::for_mode(umode, &enc, cs))
             .collect();
         let mut outs = vec![Word::default(); u.outputs().len()];
-        u.eval(self.mode, &ins, &mut outs);
-        if !u.live(self.mode, &ins, &outs) {
+        u.eval(umode, &ins, &mut outs);
+        if !u.live(umode, &ins, &outs) {
             return None;
+        }
+        if show_depth {
+            let z = outs[outs.len() - 1].lanes[0].x.floor().clamp(0.0, 65535.0) as u32;
+            return Some(r5g6b5(z));
         }
         let cins = [
             regs[0], regs[1], regs[2], outs[0], outs[1], outs[2], outs[3],
