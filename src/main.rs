@@ -184,7 +184,8 @@ enum Command {
         /// Print the comparisons as JSON.
         #[arg(long)]
         json: bool,
-        /// Write the model's picture of each frame (NAME.png) and nv2a.json into DIR.
+        /// Write the model's picture of each frame (NAME.png), where it differs from the
+        /// hardware's (NAME-diff.png: misses magenta) and nv2a.json into DIR.
         #[arg(long)]
         out: Option<PathBuf>,
     },

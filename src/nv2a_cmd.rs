@@ -2,8 +2,9 @@
 //! configs (`configs/nv2a/`) with the model's units and compare them with the frames real
 //! hardware rendered (`bumpsim_pipeline::nv2a`, `docs/nv2a.md`). Prints per frame the pixels
 //! compared, the exact ones, their share, the largest difference and where the mismatches
-//! sit; with `--out`, writes the model's picture of each frame (`NAME.png`) and the
-//! comparisons (`nv2a.json`), all or nothing.
+//! sit; with `--out`, writes the model's picture of each frame (`NAME.png`), where it differs
+//! from the hardware's (`NAME-diff.png`: misses magenta) and the comparisons (`nv2a.json`),
+//! all or nothing.
 
 use crate::Failure;
 use bumpsim_hw::Mode;
@@ -43,6 +44,11 @@ pub fn execute(
                 )));
             }
             set.add(&name, nv2a::render_png(&l, mode).map_err(internal)?);
+            let diff = nv2a::diff(&l, mode).and_then(|d| nv2a::png(&d));
+            set.add(
+                &format!("{}-diff.png", l.frame.name),
+                diff.map_err(internal)?,
+            );
         }
         results.push(c);
     }

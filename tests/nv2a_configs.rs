@@ -347,7 +347,10 @@ fn out_writes_the_model_pictures_and_the_comparisons() {
     ];
     args.extend(files.iter().map(|p| p.display().to_string()));
     bumpsim(&args).expect_code(0, "--out");
-    let mut want: Vec<String> = COMBINER.iter().map(|c| format!("{}.png", c.0)).collect();
+    let mut want: Vec<String> = COMBINER
+        .iter()
+        .flat_map(|c| [format!("{}.png", c.0), format!("{}-diff.png", c.0)])
+        .collect();
     want.push("nv2a.json".into());
     want.sort();
     assert_eq!(listing(&out), want);
@@ -368,6 +371,40 @@ fn out_writes_the_model_pictures_and_the_comparisons() {
         .collect();
     assert_eq!(img.get_pixel(150, 150).0.to_vec(), model);
     assert_eq!(img.get_pixel(5, 5).0, [0, 0, 0, 0]);
+    // every compared pixel of an exact frame shows the frame; the rest is dimmed
+    let diff = image::open(out.join("Mux-diff.png")).unwrap().to_rgba8();
+    let frame = image::open(root().join("hw/tests/nv2a/golden/Combiner/Mux.png"))
+        .unwrap()
+        .to_rgba8();
+    // (150, 150) is in a text cell ("LSB 0x82"): dimmed, not compared
+    let f = frame.get_pixel(150, 180).0;
+    assert_eq!(diff.get_pixel(150, 180).0, [f[0], f[1], f[2], 255]);
+    let f = frame.get_pixel(150, 150).0;
+    assert_eq!(
+        diff.get_pixel(150, 150).0,
+        [f[0] / 4, f[1] / 4, f[2] / 4, 255]
+    );
+    let f = frame.get_pixel(5, 5).0;
+    assert_eq!(diff.get_pixel(5, 5).0, [f[0] / 4, f[1] / 4, f[2] / 4, 255]);
+}
+
+#[test]
+fn the_diff_picture_marks_the_misses() {
+    let s = Scratch::new("nv2a-diff");
+    let out = s.join("out");
+    let f = root().join("configs/nv2a/pixel-shader/dot-st.ron");
+    bumpsim(&["nv2a", f.to_str().unwrap(), "--out", out.to_str().unwrap()]).expect_code(0, "--out");
+    let diff = image::open(out.join("DotST-diff.png")).unwrap().to_rgba8();
+    let magenta = diff.pixels().filter(|p| p.0 == [255, 0, 255, 255]).count();
+    assert_eq!(magenta, 65536 - 65456);
+    // the first miss the comparison names is one of them
+    let c = &compare(&[f], &[])[0];
+    let at = &c["quads"][0]["first_miss"][0];
+    let (x, y) = (
+        at[0].as_u64().unwrap() as u32,
+        at[1].as_u64().unwrap() as u32,
+    );
+    assert_eq!(diff.get_pixel(x, y).0, [255, 0, 255, 255]);
 }
 
 #[test]

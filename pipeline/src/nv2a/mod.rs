@@ -310,13 +310,46 @@ pub fn render(l: &Loaded, mode: Mode) -> Result<image::RgbaImage, String> {
     Ok(img)
 }
 
-/// [`render`] encoded as PNG.
-pub fn render_png(l: &Loaded, mode: Mode) -> Result<Vec<u8>, String> {
+/// Where the model and the frame differ: the frame dimmed to a quarter outside the compared
+/// pixels, at full brightness where the model matches it exactly, and magenta
+/// (255, 0, 255) where it does not; opaque.
+pub fn diff(l: &Loaded, mode: Mode) -> Result<image::RgbaImage, String> {
+    let mut img = image::RgbaImage::from_fn(WIDTH, HEIGHT, |x, y| {
+        let [r, g, b, _] = l.golden.get_pixel(x, y).0;
+        image::Rgba([r / 4, g / 4, b / 4, 255])
+    });
+    for q in &l.frame.quads {
+        let m = QuadModel::new(&l.frame, q, &l.textures, mode).map_err(|(_, m)| m)?;
+        let (x0, y0, x1, y1) = q.region.bounds();
+        for y in y0..y1 {
+            for x in x0..x1 {
+                if !q.region.compares(x, y) || l.frame.text.iter().any(|t| t.covers(x, y)) {
+                    continue;
+                }
+                let got = l.golden.get_pixel(x, y).0;
+                let c = if m.colours_at(x, y).contains(&got) {
+                    [got[0], got[1], got[2], 255]
+                } else {
+                    [255, 0, 255, 255]
+                };
+                img.put_pixel(x, y, image::Rgba(c));
+            }
+        }
+    }
+    Ok(img)
+}
+
+/// An image encoded as PNG.
+pub fn png(img: &image::RgbaImage) -> Result<Vec<u8>, String> {
     let mut png = Vec::new();
-    render(l, mode)?
-        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+    img.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
         .map_err(|e| e.to_string())?;
     Ok(png)
+}
+
+/// [`render`] encoded as PNG.
+pub fn render_png(l: &Loaded, mode: Mode) -> Result<Vec<u8>, String> {
+    png(&render(l, mode)?)
 }
 
 #[cfg(test)]
