@@ -195,7 +195,7 @@ pub const WORLD_INSET: f64 = 1.53125;
 
 impl Region {
     /// The projected rectangle (x0, y0, x1, y1) in pixels.
-    fn projected(&self) -> (f64, f64, f64, f64) {
+    pub(super) fn projected(&self) -> (f64, f64, f64, f64) {
         match *self {
             Region::Screen {
                 left,
@@ -232,19 +232,13 @@ impl Region {
     }
 
     fn inside(&self, x: u32, y: u32, inset: f64) -> bool {
-        match *self {
-            Region::Screen {
-                left,
-                top,
-                right,
-                bottom,
-            } => x >= left && x < right && y >= top && y < bottom,
-            Region::World { .. } => {
-                let (x0, y0, x1, y1) = self.projected();
-                let (cx, cy) = (x as f64 + 0.5, y as f64 + 0.5);
-                cx >= x0 + inset && cx <= x1 - inset && cy >= y0 + inset && cy <= y1 - inset
-            }
+        let (x0, y0, x1, y1) = self.projected();
+        if let Region::Screen { .. } = self {
+            let (px, py) = (x as f64, y as f64);
+            return px >= x0 && px < x1 && py >= y0 && py < y1;
         }
+        let (cx, cy) = (x as f64 + 0.5, y as f64 + 0.5);
+        cx >= x0 + inset && cx <= x1 - inset && cy >= y0 + inset && cy <= y1 - inset
     }
 
     /// The pixels to visit, clipped to the frame: (x0, y0, x1, y1), half-open.

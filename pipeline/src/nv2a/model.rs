@@ -360,21 +360,15 @@ impl<'a> QuadModel<'a> {
     /// corners where a stage's coordinates are affine over the quad (both triangles in one
     /// plane), otherwise the plane of the pixel's triangle through its three vertices.
     fn coords_at(&self, x: u32, y: u32) -> [[f64; 4]; 4] {
-        let Region::Screen {
-            left,
-            top,
-            right,
-            bottom,
-        } = self.quad.region
-        else {
+        if !matches!(self.quad.region, Region::Screen { .. }) {
             return [[0.0; 4]; 4];
-        };
+        }
+        let (l, t, r, b) = self.quad.region.projected();
         let o = match self.sample {
             Sample::Centre => 0.5,
             Sample::Corner => 0.0,
         };
         let (px, py) = (x as f64 + o, y as f64 + o);
-        let (l, t, r, b) = (left as f64, top as f64, right as f64, bottom as f64);
         let c = [(l, t), (r, t), (r, b), (l, b)];
         // above the v0-v2 diagonal: (v0, v1, v2); below: (v0, v2, v3)
         let cross = (c[2].0 - c[0].0) * (py - c[0].1) - (c[2].1 - c[0].1) * (px - c[0].0);
