@@ -123,7 +123,14 @@ fn text(l: &Loaded, g: &Gates, rows: Option<&[Row]>) -> String {
         g.tables,
         g.per_unit
             .iter()
-            .filter_map(|(name, u)| u.tables.map(|t| format!(", {name}'s as {t}")))
+            .flat_map(|(name, u)| {
+                let unit = u.tables.map(|t| format!(", {name}'s as {t}"));
+                let roles = u
+                    .table_kinds
+                    .iter()
+                    .map(move |(r, k)| format!(", {name}'s {r} table as {k}"));
+                unit.into_iter().chain(roles)
+            })
             .collect::<String>()
     );
     if rows.is_some() {

@@ -116,6 +116,54 @@ fn a_units_tables_kind_overrides_the_configs() {
 }
 
 #[test]
+fn each_table_of_a_unit_is_built_as_its_role_says() {
+    let set = "engine.units.qnm.table_kinds={Colours: LatchRam, Power: FlopRam}";
+    let g = gates_json("quantized-sphere", &["--set", set]);
+    let u = at(&g, "gates.per_unit.qnm");
+    let item = |what: &str| {
+        let items = u["items"].as_array().expect("items");
+        let i = items
+            .iter()
+            .find(|i| i["what"].as_str().is_some_and(|w| w.contains(what)))
+            .unwrap_or_else(|| panic!("no item {what}: {items:?}"));
+        assert_eq!(i["memory"], Value::Bool(true), "{i}");
+        num(i, "ge")
+    };
+    // 256 colours of 4 x 8 bits in latches, 1024 x 12 power words in flip-flops, the
+    // 256 x 36 normal table in SRAM as cost.tables says
+    assert!((item("colour table 256x32") - 256.0 * 32.0 * 5.66).abs() < 0.01);
+    assert!((item("power table 0 1024x12") - 1024.0 * 12.0 * 10.33).abs() < 0.01);
+    assert!((item("normal table 256x36") - 256.0 * 36.0 * 1.5).abs() < 0.01);
+    assert_eq!(
+        at(&g, "gates.per_unit.qnm.table_kinds.colours").as_str(),
+        Some("latch RAM")
+    );
+    assert_eq!(
+        at(&g, "gates.per_unit.qnm.table_kinds.power").as_str(),
+        Some("flip-flop RAM")
+    );
+    let base = gates_json("quantized-sphere", &[]);
+    assert!(at(&base, "gates.per_unit.qnm").get("table_kinds").is_none());
+    assert_ne!(at(&g, "config_hash"), at(&base, "config_hash"));
+    // a role the unit has no table of is an error naming the field and the unit's roles
+    let path = config("sgi-teapot");
+    let o = bumpsim(&[
+        "gates",
+        path.to_str().unwrap(),
+        "--set",
+        "engine.units.spec.table_kinds={Colours: Rom}",
+    ]);
+    o.expect_code(2, "a role the unit has no table of");
+    assert!(
+        o.stderr.contains("engine.units[2].table_kinds")
+            && o.stderr.contains("no colours table")
+            && o.stderr.contains("Power"),
+        "{}",
+        o.stderr
+    );
+}
+
+#[test]
 fn synth_puts_yosys_beside_the_model_for_every_generated_unit() {
     if skip_yosys() {
         println!("gates --synth: skipped (BUMPSIM_SKIP_YOSYS is set)");

@@ -44,6 +44,49 @@ pub struct CostTable {
     /// table's bits priced at `sram_bit`, `latch_ram_bit` or `flop_ram_bit`, or, for a table
     /// fixed at design time, its contents ([`CostTable::table_of`]).
     pub tables: MemoryKind,
+    /// Per table role, a kind that replaces `tables` for the tables of that role (a unit's
+    /// `table_kinds` in the config, [`CostTable::for_table`]); not a config field of `cost`.
+    #[serde(skip)]
+    pub by_role: [Option<MemoryKind>; TableRole::COUNT],
+}
+
+/// Which table of a unit a price is for, so that a config can build each table as its own
+/// kind (a unit's `table_kinds`, docs/gates.md "Memory"): a quantized engine's colour table in
+/// latches beside its normal table in SRAM, one unit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+pub enum TableRole {
+    /// Power (shininess) tables: `PowerTable`, `SpecGen`, the specular blend, the palette
+    /// builder's specular tables.
+    Power,
+    /// The colour table of the palette LUT (`PaletteLut`, a quantized engine's entries).
+    Colours,
+    /// The palette builder's normal table.
+    Normals,
+    /// The palette builder's environment images (the `EnvMap` lighting function).
+    EnvMap,
+    /// The bump palette of a paletted texture (`TexFetch`).
+    BumpPalette,
+}
+
+impl TableRole {
+    pub const COUNT: usize = 5;
+    pub const ALL: [TableRole; TableRole::COUNT] = [
+        TableRole::Power,
+        TableRole::Colours,
+        TableRole::Normals,
+        TableRole::EnvMap,
+        TableRole::BumpPalette,
+    ];
+    /// The name the reports print.
+    pub fn name(self) -> &'static str {
+        match self {
+            TableRole::Power => "power",
+            TableRole::Colours => "colours",
+            TableRole::Normals => "normals",
+            TableRole::EnvMap => "env_map",
+            TableRole::BumpPalette => "bump_palette",
+        }
+    }
 }
 
 /// How a table is built, and so priced per bit (`CostTable::tables`).
@@ -93,6 +136,7 @@ impl Default for CostTable {
             latch_ram_bit: 5.66,
             flop_ram_bit: 10.33,
             tables: MemoryKind::Sram,
+            by_role: [None; TableRole::COUNT],
         }
     }
 }
@@ -266,6 +310,14 @@ impl CostTable {
             .ge()
             .min(rom_bdd(words, bits, false).ge());
         self.rom_bit / DEFAULT_ROM_BIT * ge
+    }
+    /// The table for the tables of `role`: `tables` replaced by the role's own kind when the
+    /// config gives one (a unit's `table_kinds`).
+    pub fn for_table(&self, role: TableRole) -> CostTable {
+        match self.by_role[role as usize] {
+            Some(tables) => CostTable { tables, ..*self },
+            None => *self,
+        }
     }
     /// A table of the given contents as the engine builds its tables (`self.tables`): a
     /// loadable memory priced by its bits ([`CostTable::table`]), or, for

@@ -119,6 +119,9 @@ pub struct UnitGates {
     /// from `cost.tables` (the unit's `tables`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub tables: Option<&'static str>,
+    /// What each table of a role in the unit's `table_kinds` is built as (role -> kind).
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    pub table_kinds: BTreeMap<&'static str, &'static str>,
     pub items: Vec<bumpsim_hw::gates::GateItem>,
 }
 
@@ -156,6 +159,7 @@ impl Gates {
                         total: round2(b.total()),
                         memory: round2(b.memory()),
                         tables: None,
+                        table_kinds: BTreeMap::new(),
                         items: b.items.clone(),
                     },
                 )
@@ -172,6 +176,7 @@ impl Gates {
                 total: round2(rop.total()),
                 memory: round2(rop.memory()),
                 tables: None,
+                table_kinds: BTreeMap::new(),
                 items: rop.items.clone(),
             },
         }

@@ -429,8 +429,13 @@ fn engine_gates(cfg: &crate::config::Config, engine: &Engine) -> Gates {
     }
     let mut g = Gates::new(&units, &engine.rop.gates(&cfg.cost), cfg.cost.tables);
     for uc in &cfg.engine.units {
-        if let (Some(k), Some(u)) = (uc.tables, g.per_unit.get_mut(&uc.name)) {
-            u.tables = Some(k.name());
+        if let Some(u) = g.per_unit.get_mut(&uc.name) {
+            u.tables = uc.tables.map(|k| k.name());
+            u.table_kinds = uc
+                .table_kinds
+                .iter()
+                .map(|(r, k)| (r.name(), k.name()))
+                .collect();
         }
     }
     g

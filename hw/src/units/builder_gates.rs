@@ -24,7 +24,7 @@
 use super::palette_builder::{LightingFn, PaletteBuilder};
 use super::specgen::SpecGen;
 use crate::format::{Codec, Encoding};
-use crate::gates::{CostTable, GateBudget};
+use crate::gates::{CostTable, GateBudget, TableRole};
 
 fn bits(hi: u128) -> u32 {
     (128 - hi.leading_zeros()).max(1)
@@ -223,7 +223,8 @@ pub(crate) fn pipelined(b: &PaletteBuilder, t: &CostTable) -> Option<GateBudget>
     g.add_memory(
         format!("normal table {n}x{} (loadable)", 3 * wn),
         1,
-        t.table_of(&b.normal_words(), 3 * wn),
+        t.for_table(TableRole::Normals)
+            .table_of(&b.normal_words(), 3 * wn),
     );
     g.add(
         format!("slot vector registers 3x{wv}"),
@@ -435,7 +436,7 @@ pub(crate) fn pipelined(b: &PaletteBuilder, t: &CostTable) -> Option<GateBudget>
             g.add_memory(
                 format!("power table {k} {}x{value_bits} (loadable)", tab.len()),
                 1,
-                t.table_of(tab, value_bits),
+                t.for_table(TableRole::Power).table_of(tab, value_bits),
             );
         }
         if tables.len() > 1 {

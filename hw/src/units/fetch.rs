@@ -17,7 +17,7 @@
 //! clocks. Exact mode reads the unquantized texels with exact weights.
 
 use crate::format::{Codec, Encoding};
-use crate::gates::{CostTable, GateBudget};
+use crate::gates::{CostTable, GateBudget, TableRole};
 use crate::sampler::Sampler;
 pub use crate::sampler::{Address, Filter};
 pub use crate::texture::Texels;
@@ -306,8 +306,12 @@ impl Unit for TexFetch {
         if let Some(n) = self.tex.palette() {
             // by its contents where the texture knows them (`cost.tables = Rom`), else by size
             let ge = match self.tex.palette_words() {
-                Some(words) => t.table_of(words, wt * lanes),
-                None => t.table(n as u64, wt * lanes),
+                Some(words) => t
+                    .for_table(TableRole::BumpPalette)
+                    .table_of(words, wt * lanes),
+                None => t
+                    .for_table(TableRole::BumpPalette)
+                    .table(n as u64, wt * lanes),
             };
             g.add_memory(
                 format!("bump palette {n}x{} (loadable)", wt * lanes),

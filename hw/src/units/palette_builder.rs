@@ -77,7 +77,7 @@ use std::ops::Range;
 
 use crate::arith::Acc;
 use crate::format::Encoding;
-use crate::gates::{CostTable, GateBudget};
+use crate::gates::{CostTable, GateBudget, TableRole};
 use crate::unit::Mode;
 use crate::units::palette_lut::PaletteTable;
 use crate::units::specgen::{SpecGen, SpecularGenerator};
@@ -565,7 +565,8 @@ impl PaletteBuilder {
         g.add_memory(
             format!("normal table {n}x{} (loadable)", 3 * wn),
             1,
-            t.table_of(&self.normal_words(), 3 * wn),
+            t.for_table(TableRole::Normals)
+                .table_of(&self.normal_words(), 3 * wn),
         );
         // host-loaded registers: every vector and colour of every material
         let (mut vecs, mut cols) = (0u32, 0u32);
@@ -614,7 +615,7 @@ impl PaletteBuilder {
             g.add_memory(
                 format!("environment map {env_bits} bits (loadable)"),
                 1,
-                t.table(env_bits, 1),
+                t.for_table(TableRole::EnvMap).table(env_bits, 1),
             );
         }
         let wd = wn + wv + 2; // exact dot-product width

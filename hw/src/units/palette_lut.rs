@@ -28,7 +28,7 @@
 //!   output register (4 x width), plus the range compare when the table is not full.
 
 use crate::format::{Codec, Encoding};
-use crate::gates::{CostTable, GateBudget};
+use crate::gates::{CostTable, GateBudget, TableRole};
 use crate::unit::{Mode, PortSpec, Unit, Word};
 
 /// A colour table in both forms: real values (authoritative in exact mode) and the entry
@@ -193,7 +193,8 @@ impl Unit for PaletteLut {
             format!("colour table {n}x{} (loadable)", 4 * w),
             1,
             // as a ROM (`cost.tables = Rom`), the colours it holds now
-            t.table_of(&crate::gates::packed_words(&self.table.codes, w), 4 * w),
+            t.for_table(TableRole::Colours)
+                .table_of(&crate::gates::packed_words(&self.table.codes, w), 4 * w),
         );
         g.add(
             format!("index register {}", self.index_bits),

@@ -12,7 +12,7 @@
 //! and repeated-squaring generators.
 
 use crate::format::{Codec, Encoding};
-use crate::gates::{CostTable, GateBudget};
+use crate::gates::{CostTable, GateBudget, TableRole};
 use crate::unit::{Mode, PortSpec, Unit, Word};
 use crate::units::specgen::{nearest_index, power_table_codes};
 
@@ -91,7 +91,7 @@ impl Unit for PowerTable {
         g.add_memory(
             format!("power table {}x{vb} (loadable)", self.table.len()),
             self.parallel,
-            t.table_of(&self.table, vb),
+            t.for_table(TableRole::Power).table_of(&self.table, vb),
         );
         // the index: `(x << n) - x` of the input word rounded to n bits (`rtl::power`): a
         // subtractor where the two copies overlap (the input bits beyond n), a borrow and

@@ -39,7 +39,7 @@
 
 use crate::arith::Acc;
 use crate::format::{shift_round, Codec, Encoding, Quant};
-use crate::gates::{CostTable, GateBudget};
+use crate::gates::{CostTable, GateBudget, TableRole};
 
 /// Which specular intensity generator, and its widths.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -327,7 +327,8 @@ impl SpecularGenerator {
                 g.add_memory(
                     format!("power table {}x{value_bits} (loadable)", self.table.len()),
                     1,
-                    t.table_of(&self.table, value_bits),
+                    t.for_table(TableRole::Power)
+                        .table_of(&self.table, value_bits),
                 );
                 g.add(
                     format!("index rounding {wi}"),
@@ -347,7 +348,7 @@ impl SpecularGenerator {
                         self.table.len()
                     ),
                     1,
-                    t.table_of(&self.table, v),
+                    t.for_table(TableRole::Power).table_of(&self.table, v),
                 );
                 g.add(
                     format!("index scaling x(2^{b}-1) {}", wi + b),

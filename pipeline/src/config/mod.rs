@@ -430,16 +430,26 @@ pub struct UnitConfig {
     /// canonical config, and so of the config hash, when absent.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tables: Option<bumpsim_hw::gates::MemoryKind>,
+    /// Per table of the unit, what it is built as, over `tables` and `cost.tables`: e.g.
+    /// `{Colours: LatchRam, Normals: Sram, Power: Rom}` (roles: `Power`, `Colours`,
+    /// `Normals`, `EnvMap`, `BumpPalette`; a role the unit has no table of is an error).
+    /// Left out of the canonical config, and so of the hash, when empty.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub table_kinds: BTreeMap<bumpsim_hw::gates::TableRole, bumpsim_hw::gates::MemoryKind>,
 }
 
 impl UnitConfig {
     /// The cost table this unit is priced with: the config's, its tables built as the unit's
-    /// `tables` says when it says.
+    /// `tables` says when it says, and each role in `table_kinds` as it says.
     pub fn cost(&self, config: &CostTable) -> CostTable {
-        match self.tables {
+        let mut t = match self.tables {
             Some(tables) => CostTable { tables, ..*config },
             None => *config,
+        };
+        for (&role, &kind) in &self.table_kinds {
+            t.by_role[role as usize] = Some(kind);
         }
+        t
     }
 }
 

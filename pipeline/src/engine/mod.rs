@@ -262,6 +262,7 @@ pub fn build(l: &Loaded, scene: &Scene) -> Result<Engine, InputError> {
         if let Some(r) = unit.textures().first() {
             texels.push((u.name.clone(), r.texture.bits_per_texel()));
         }
+        check_table_kinds(u, unit.as_ref(), &l.config.cost).map_err(|m| err("table_kinds", m))?;
         gates.push((u.name.clone(), unit.gates(&u.cost(&l.config.cost))));
         stages.push(Stage::new(u.name.clone(), unit, in_wires, out_slots));
     }
@@ -352,4 +353,45 @@ fn topo_order(l: &Loaded) -> Result<Vec<usize>, InputError> {
         }
     }
     Ok(order)
+}
+
+/// Every role of a unit's `table_kinds` names a table the unit has: its memory is priced
+/// differently as SRAM and as flip-flop RAM (a unit without such a table prices both alike).
+fn check_table_kinds(
+    u: &crate::config::UnitConfig,
+    unit: &dyn bumpsim_hw::Unit,
+    cost: &bumpsim_hw::gates::CostTable,
+) -> Result<(), String> {
+    use bumpsim_hw::gates::{MemoryKind, TableRole};
+    for &role in u.table_kinds.keys() {
+        let priced = |k: MemoryKind| {
+            let mut t = *cost;
+            t.by_role[role as usize] = Some(k);
+            unit.gates(&t).memory()
+        };
+        if priced(MemoryKind::Sram) == priced(MemoryKind::FlopRam) {
+            let has: Vec<String> = TableRole::ALL
+                .iter()
+                .filter(|&&r| {
+                    let mut a = *cost;
+                    let mut b = *cost;
+                    a.by_role[r as usize] = Some(MemoryKind::Sram);
+                    b.by_role[r as usize] = Some(MemoryKind::FlopRam);
+                    unit.gates(&a).memory() != unit.gates(&b).memory()
+                })
+                .map(|r| format!("{r:?}"))
+                .collect();
+            return Err(format!(
+                "{role:?}: a {} unit has no {} table; the roles of its tables: {}",
+                unit.kind(),
+                role.name(),
+                if has.is_empty() {
+                    "none".to_string()
+                } else {
+                    has.join(", ")
+                }
+            ));
+        }
+    }
+    Ok(())
 }
