@@ -10,7 +10,9 @@
 //!   3x3 box blur (gradient discontinuities such as triangle edges of Gouraud shading);
 //! * `ringing_lsb`: mean overshoot beyond the reference's local range near strong edges;
 //! * `lowpass_psnr_db`: PSNR after a 5x5 binomial blur of both images;
-//! * `half_ssim`: mean SSIM of the luma at half resolution (2x2 box), 7x7 windows.
+//! * `half_ssim`: mean SSIM of the luma at half resolution (2x2 box), 7x7 windows;
+//! * `ms_ssim`: multi-scale SSIM of the luma (Wang, Simoncelli and Bovik 2003), five scales
+//!   of 7x7 windows.
 //!
 //! Every sum runs in a fixed pixel order, so the figures are the same at any thread count.
 
@@ -61,6 +63,10 @@ pub struct ArtifactStats {
     /// Mean SSIM of the luma at half resolution (1 for identical images or no window).
     #[serde(serialize_with = "ser_finite")]
     pub half_ssim: f64,
+    /// Multi-scale SSIM of the luma over up to five scales (1 for identical images or no
+    /// window).
+    #[serde(serialize_with = "ser_finite")]
+    pub ms_ssim: f64,
 }
 
 /// Two images on a common grid with the pixels covered in both. The values are read from
@@ -154,6 +160,7 @@ pub fn measure(a: &Rgb64, a_mask: &[bool], r: &Rgb64, r_mask: &[bool]) -> Artifa
         .sum::<u64>();
     let banding_edges = contour_steps(&mut steps, p.w, p.h);
     let (ringing_lsb, ringing_pixels) = ringing(&p);
+    let (half_ssim, ms_ssim) = ssim_pair(&p);
     ArtifactStats {
         banding: per_px(banding_edges),
         banding_edges,
@@ -163,7 +170,8 @@ pub fn measure(a: &Rgb64, a_mask: &[bool], r: &Rgb64, r_mask: &[bool]) -> Artifa
         ringing_lsb,
         ringing_pixels,
         lowpass_psnr_db: lowpass_psnr(&p),
-        half_ssim: half_ssim(&p),
+        half_ssim,
+        ms_ssim,
     }
 }
 
@@ -524,48 +532,107 @@ fn lowpass_psnr(p: &Pair) -> f64 {
     psnr_db((sum / n as f64).sqrt())
 }
 
-/// Mean SSIM of the luma `Y = 0.299 R + 0.587 G + 0.114 B` (on [0, 1]) at half resolution:
-/// each half-resolution pixel the mean of a 2x2 block whose four pixels are all covered;
-/// every 7x7 window of defined pixels (stride 1) gives
-/// `(2 mu_a mu_r + C1)(2 cov + C2) / ((mu_a^2 + mu_r^2 + C1)(var_a + var_r + C2))` with
-/// sample (co)variances (divisor 48), `C1 = 0.01^2`, `C2 = 0.03^2`. 1 when there is no window.
-/// The half-resolution lumas are kept as the window's 7 rows.
-fn half_ssim(p: &Pair) -> f64 {
-    let (hw, hh) = (p.w / 2, p.h / 2);
-    let win = SSIM_WINDOW;
-    if hw < win || hh < win {
-        return 1.0;
+/// Lumas `(test, reference)` of a row, `None` where a pixel is not defined.
+type LumaRow = Vec<Option<(f64, f64)>>;
+
+/// One scale of the SSIM pyramid: its rows, made as the windows need them.
+trait Scale {
+    fn w(&self) -> usize;
+    fn h(&self) -> usize;
+    /// Row `y` into `out` (`w` long).
+    fn row(&self, y: usize, out: &mut [Option<(f64, f64)>]);
+}
+
+/// The full-resolution luma `Y = 0.299 R + 0.587 G + 0.114 B` (on [0, 1]) of the covered
+/// pixels, read from the images as it is needed.
+struct FullScale<'a, 'b>(&'b Pair<'a>);
+
+impl Scale for FullScale<'_, '_> {
+    fn w(&self) -> usize {
+        self.0.w
     }
-    let luma = |c: [f64; 3]| (0.299 * c[0] + 0.587 * c[1] + 0.114 * c[2]) / 255.0;
-    // half-resolution row y into `out`: (test, reference) lumas where the block is covered
-    let half_row = |y: usize, out: &mut [Option<(f64, f64)>]| {
+    fn h(&self) -> usize {
+        self.0.h
+    }
+    fn row(&self, y: usize, out: &mut [Option<(f64, f64)>]) {
+        let p = self.0;
         for (x, o) in out.iter_mut().enumerate() {
-            let idx: Option<[usize; 4]> = (|| {
-                let at = |dx: usize, dy: usize| p.at((2 * x + dx) as i64, (2 * y + dy) as i64);
-                Some([at(0, 0)?, at(1, 0)?, at(0, 1)?, at(1, 1)?])
-            })();
-            *o = idx.map(|idx| {
-                (
-                    idx.iter().map(|&j| luma(p.pa(j))).sum::<f64>() / 4.0,
-                    idx.iter().map(|&j| luma(p.pr(j))).sum::<f64>() / 4.0,
-                )
-            });
+            *o = p
+                .at(x as i64, y as i64)
+                .map(|j| (luma(p.pa(j)), luma(p.pr(j))));
         }
-    };
-    // row y of the half-resolution image lives in rows[y % win]
-    let mut rows = vec![vec![None; hw]; win];
+    }
+}
+
+fn luma(c: [f64; 3]) -> f64 {
+    (0.299 * c[0] + 0.587 * c[1] + 0.114 * c[2]) / 255.0
+}
+
+/// A coarser scale, kept: each pixel the mean of a 2x2 block of the finer scale whose four
+/// pixels are all defined (summed in the order (0,0), (1,0), (0,1), (1,1)).
+struct HalfScale {
+    w: usize,
+    h: usize,
+    px: LumaRow,
+}
+
+impl HalfScale {
+    fn of(fine: &dyn Scale) -> HalfScale {
+        let (w, h) = (fine.w() / 2, fine.h() / 2);
+        let mut px = Vec::with_capacity(w * h);
+        let (mut r0, mut r1) = (vec![None; fine.w()], vec![None; fine.w()]);
+        for y in 0..h {
+            fine.row(2 * y, &mut r0);
+            fine.row(2 * y + 1, &mut r1);
+            px.extend((0..w).map(|x| {
+                let q = [r0[2 * x]?, r0[2 * x + 1]?, r1[2 * x]?, r1[2 * x + 1]?];
+                Some((
+                    q.iter().map(|v| v.0).sum::<f64>() / 4.0,
+                    q.iter().map(|v| v.1).sum::<f64>() / 4.0,
+                ))
+            }));
+        }
+        HalfScale { w, h, px }
+    }
+}
+
+impl Scale for HalfScale {
+    fn w(&self) -> usize {
+        self.w
+    }
+    fn h(&self) -> usize {
+        self.h
+    }
+    fn row(&self, y: usize, out: &mut [Option<(f64, f64)>]) {
+        out.copy_from_slice(&self.px[y * self.w..(y + 1) * self.w]);
+    }
+}
+
+/// Over every 7x7 window of defined pixels of a scale (stride 1): the means of SSIM
+/// `(2 mu_a mu_r + C1)(2 cov + C2) / ((mu_a^2 + mu_r^2 + C1)(var_a + var_r + C2))` and of its
+/// contrast-structure term `(2 cov + C2) / (var_a + var_r + C2)`, with sample (co)variances
+/// (divisor 48), `C1 = 0.01^2`, `C2 = 0.03^2`; `None` when there is no window. The window's 7
+/// rows are kept.
+fn window_means(sc: &dyn Scale) -> Option<(f64, f64)> {
+    let (w, h) = (sc.w(), sc.h());
+    let win = SSIM_WINDOW;
+    if w < win || h < win {
+        return None;
+    }
+    // row y of the scale lives in rows[y % win]
+    let mut rows = vec![vec![None; w]; win];
     for (y, row) in rows.iter_mut().enumerate() {
-        half_row(y, row);
+        sc.row(y, row);
     }
     let (c1, c2) = (0.01f64.powi(2), 0.03f64.powi(2));
     let nwin = (win * win) as f64;
-    let (mut sum, mut count) = (0.0, 0u64);
-    for y0 in 0..=hh - win {
+    let (mut sum, mut sum_cs, mut count) = (0.0, 0.0, 0u64);
+    for y0 in 0..=h - win {
         if y0 > 0 {
             // the window moved down one row: the row above it makes room for the new one
-            half_row(y0 + win - 1, &mut rows[(y0 + win - 1) % win]);
+            sc.row(y0 + win - 1, &mut rows[(y0 + win - 1) % win]);
         }
-        'win: for x0 in 0..=hw - win {
+        'win: for x0 in 0..=w - win {
             let (mut sa, mut sr, mut saa, mut srr, mut sar) = (0.0, 0.0, 0.0, 0.0, 0.0);
             for y in y0..y0 + win {
                 let row = &rows[y % win];
@@ -586,14 +653,52 @@ fn half_ssim(p: &Pair) -> f64 {
             let cov = (sar - nwin * ma * mr) / (nwin - 1.0);
             sum += (2.0 * ma * mr + c1) * (2.0 * cov + c2)
                 / ((ma * ma + mr * mr + c1) * (va + vr + c2));
+            sum_cs += (2.0 * cov + c2) / (va + vr + c2);
             count += 1;
         }
     }
-    if count == 0 {
-        1.0
-    } else {
-        sum / count as f64
+    (count > 0).then(|| (sum / count as f64, sum_cs / count as f64))
+}
+
+/// The weights of the five scales of MS-SSIM (Wang, Simoncelli and Bovik 2003, Table 1's
+/// fit), finest first.
+pub const MS_SSIM_WEIGHTS: [f64; 5] = [0.0448, 0.2856, 0.3001, 0.2363, 0.1333];
+
+/// `half_ssim` and `ms_ssim` of the luma (the module documentation; `docs/metrics.md`).
+///
+/// `half_ssim`: the mean SSIM at half resolution ([`HalfScale`] of the full scale), 1 when
+/// there is no window. `ms_ssim`: multi-scale SSIM over the scales 1, 1/2, 1/4, ... (each a
+/// [`HalfScale`] of the one before) that have a window, at most five:
+/// `prod_{j < M} cs_j^{w_j} * ssim_M^{w_M}`, `cs_j` the scale's mean contrast-structure term,
+/// `ssim_M` the coarsest scale's mean SSIM, each clamped at 0 (a negative correlation is no
+/// similarity), the weights [`MS_SSIM_WEIGHTS`] of the scales used, normalised to sum 1. 1
+/// when the full scale has no window.
+fn ssim_pair(p: &Pair) -> (f64, f64) {
+    let full = FullScale(p);
+    let mut stats = vec![window_means(&full)];
+    let mut scale = HalfScale::of(&full);
+    let half = window_means(&scale);
+    stats.push(half);
+    while stats.len() < MS_SSIM_WEIGHTS.len() && stats.last().is_some_and(|s| s.is_some()) {
+        scale = HalfScale::of(&scale);
+        stats.push(window_means(&scale));
     }
+    let used: Vec<(f64, f64)> = stats.into_iter().map_while(|s| s).collect();
+    let ms = match used.len() {
+        0 => 1.0,
+        m => {
+            let wsum: f64 = MS_SSIM_WEIGHTS[..m].iter().sum();
+            used.iter()
+                .zip(MS_SSIM_WEIGHTS)
+                .enumerate()
+                .map(|(j, (&(ssim, cs), wj))| {
+                    let v = if j + 1 == m { ssim } else { cs };
+                    v.max(0.0).powf(wj / wsum)
+                })
+                .product()
+        }
+    };
+    (half.map_or(1.0, |s| s.0), ms)
 }
 
 #[cfg(test)]
@@ -878,6 +983,72 @@ mod tests {
         assert!(sn > 0.999, "{sn}");
     }
 
+    /// A `w x h` grey image of constant value `v` (LSB).
+    fn flat(w: u32, h: u32, v: f64) -> Rgb64 {
+        let mut m = Rgb64::new(w, h);
+        for y in 0..h {
+            for x in 0..w {
+                m.set(x, y, [v / 255.0; 3]);
+            }
+        }
+        m
+    }
+
+    #[test]
+    fn ms_ssim_of_flat_images_is_the_coarsest_luminance_term_to_its_weight() {
+        // flat images: every window's contrast-structure term is C2 / C2 = 1, so MS-SSIM is
+        // the luminance term l = (2 a r + C1) / (a^2 + r^2 + C1) to the coarsest scale's
+        // normalised weight: five scales at 128 (128, 64, 32, 16, 8), 0.1333 / 1.0001
+        let (a, r): (f64, f64) = (100.0 / 255.0, 140.0 / 255.0);
+        let l = (2.0 * a * r + 1e-4) / (a * a + r * r + 1e-4);
+        let sq = |n: u32| {
+            let mask = vec![true; (n * n) as usize];
+            measure(&flat(n, n, 100.0), &mask, &flat(n, n, 140.0), &mask)
+        };
+        let s = sq(128);
+        // (the published weights sum to 1.0001)
+        let w5 = 0.1333 / MS_SSIM_WEIGHTS.iter().sum::<f64>();
+        assert!((s.ms_ssim - l.powf(w5)).abs() < 1e-12, "{} {l}", s.ms_ssim);
+        assert!((s.half_ssim - l).abs() < 1e-12, "{}", s.half_ssim);
+        // three scales at 32 (32, 16, 8): the weights of the three used, normalised
+        let s3 = sq(32);
+        let w3: f64 = 0.3001 / (0.0448 + 0.2856 + 0.3001);
+        assert!(
+            (s3.ms_ssim - l.powf(w3)).abs() < 1e-12,
+            "{} {}",
+            s3.ms_ssim,
+            l.powf(w3)
+        );
+        // no window at all: 1
+        assert_eq!(sq(6).ms_ssim, 1.0);
+        // identical images: 1
+        let t = img(|x, y| 128.0 + 40.0 * ((x as f64) / 5.0).sin() * ((y as f64) / 7.0).cos());
+        assert!((m(&t, &t).ms_ssim - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn ms_ssim_sees_what_half_resolution_ssim_averages_away() {
+        // a 1-pixel checkerboard of +-4 LSB on a textured image: invisible at half resolution
+        // (SSIM/2 above 0.999), but the full scale's structure term falls, and with it MS-SSIM
+        let r = img(|x, y| 128.0 + 40.0 * ((x as f64) / 5.0).sin() * ((y as f64) / 7.0).cos());
+        let noisy = img(|x, y| {
+            128.0
+                + 40.0 * ((x as f64) / 5.0).sin() * ((y as f64) / 7.0).cos()
+                + if (x + y) % 2 == 0 { 12.0 } else { -12.0 }
+        });
+        let s = m(&noisy, &r);
+        assert!(s.half_ssim > 0.999, "{}", s.half_ssim);
+        assert!(
+            s.ms_ssim < s.half_ssim - 0.005,
+            "{} {}",
+            s.ms_ssim,
+            s.half_ssim
+        );
+        // a contrast-reversed image: negative correlation at every scale, clamped: 0
+        let inv = img(|x, y| 128.0 - 40.0 * ((x as f64) / 5.0).sin() * ((y as f64) / 7.0).cos());
+        assert_eq!(m(&inv, &r).ms_ssim, 0.0);
+    }
+
     #[test]
     fn only_pixels_covered_in_both_count() {
         let r = img(ramp);
@@ -895,5 +1066,6 @@ mod tests {
         assert_eq!(empty.banding, 0.0);
         assert_eq!(empty.lowpass_psnr_db, PSNR_CAP_DB);
         assert_eq!(empty.half_ssim, 1.0);
+        assert_eq!(empty.ms_ssim, 1.0);
     }
 }

@@ -364,8 +364,8 @@ impl Report {
         }
         let _ = writeln!(
             s,
-            "\nartifacts      {:>9} {:>9} {:>9} {:>9} {:>9}",
-            "banding", "facet LSB", "ring LSB", "LP PSNR", "SSIM/2"
+            "\nartifacts      {:>9} {:>9} {:>9} {:>9} {:>9} {:>9}",
+            "banding", "facet LSB", "ring LSB", "LP PSNR", "SSIM/2", "MS-SSIM"
         );
         for (name, a) in [
             ("total", &self.artifacts.total),
@@ -373,8 +373,14 @@ impl Report {
         ] {
             let _ = writeln!(
                 s,
-                "  {:<12} {:>9.5} {:>9.3} {:>9.3} {:>9.2} {:>9.5}",
-                name, a.banding, a.faceting_lsb, a.ringing_lsb, a.lowpass_psnr_db, a.half_ssim
+                "  {:<12} {:>9.5} {:>9.3} {:>9.3} {:>9.2} {:>9.5} {:>9.5}",
+                name,
+                a.banding,
+                a.faceting_lsb,
+                a.ringing_lsb,
+                a.lowpass_psnr_db,
+                a.half_ssim,
+                a.ms_ssim
             );
         }
         let _ = writeln!(

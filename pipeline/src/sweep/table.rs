@@ -61,13 +61,20 @@ impl Cell {
 /// The error figures of one comparison, in column order ([`errors`]).
 pub(crate) const ERRORS: [&str; 3] = ["psnr_db", "max_lsb", "mean_lsb"];
 /// The artifact figures of one comparison, in column order ([`artifacts`]).
-pub(crate) const ARTIFACTS: [&str; 6] = [
+pub(crate) const ARTIFACTS: [&str; 7] = [
     "banding",
     "blockiness",
     "faceting_lsb",
     "ringing_lsb",
     "lowpass_psnr_db",
     "half_ssim",
+    "ms_ssim",
+];
+/// The animation's temporal figures (`animation.*`), empty for a single frame.
+pub(crate) const TEMPORAL: [&str; 3] = [
+    "max_flicker_lsb",
+    "temporal_ringing_lsb",
+    "temporal_ringing_share_4lsb",
 ];
 
 /// The report columns after the axes, in order.
@@ -100,6 +107,7 @@ pub fn report_columns() -> Vec<String> {
             c.push(format!("{k}_{s}"));
         }
     }
+    c.extend(TEMPORAL.map(String::from));
     c
 }
 
@@ -121,7 +129,7 @@ pub(crate) fn errors(e: &ErrorStats) -> [Cell; 3] {
     ]
 }
 
-pub(crate) fn artifacts(a: &ArtifactStats) -> [Cell; 6] {
+pub(crate) fn artifacts(a: &ArtifactStats) -> [Cell; 7] {
     [
         Cell::Float(a.banding),
         Cell::Float(a.blockiness),
@@ -129,6 +137,7 @@ pub(crate) fn artifacts(a: &ArtifactStats) -> [Cell; 6] {
         Cell::Float(a.ringing_lsb),
         Cell::Float(a.lowpass_psnr_db),
         Cell::Float(a.half_ssim),
+        Cell::Float(a.ms_ssim),
     ]
 }
 
@@ -166,6 +175,14 @@ impl Row {
                 Cell::Float(e.edge_p99_lsb),
                 Cell::Float(e.worst_seam_lsb),
             ]);
+        }
+        match &r.animation {
+            Some(a) => c.extend([
+                Cell::Float(a.max_flicker_lsb),
+                Cell::Float(a.ringing.mean_lsb),
+                Cell::Float(a.ringing.share_4lsb),
+            ]),
+            None => c.extend([Cell::Empty, Cell::Empty, Cell::Empty]),
         }
         c.extend(extra);
         for u in units {
