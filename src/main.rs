@@ -96,8 +96,9 @@ enum Command {
         /// Run only the points whose index is i modulo n (0 <= i < n).
         #[arg(long, value_name = "i/n", conflicts_with = "merge")]
         shard: Option<String>,
-        /// Join the rows of these shard directories (in point order) into --out.
-        #[arg(long, num_args = 1.., value_name = "DIR", conflicts_with = "sweep")]
+        /// Join the rows of these shard directories (in point order) into --out; with the
+        /// sweep file, check that they are its rows and draw its plots and tables.
+        #[arg(long, num_args = 1.., value_name = "DIR")]
         merge: Vec<PathBuf>,
         /// Worker threads (default: RAYON_NUM_THREADS or one per core).
         #[arg(long)]
@@ -362,6 +363,17 @@ fn execute(cmd: Command) -> Result<(), Failure> {
                 let dirs: Vec<&std::path::Path> = merge.iter().map(|d| d.as_path()).collect();
                 let files = sweep::merge(&dirs)
                     .map_err(|e| Failure::Input(InputError::new("--merge", "", e)))?;
+                let s = sweep.as_deref().map(sweep::load).transpose()?;
+                let csv = files
+                    .iter()
+                    .find(|f| f.0 == "sweep.csv")
+                    .map(|f| String::from_utf8_lossy(&f.1).into_owned())
+                    .unwrap_or_default();
+                if let (Some(s), Some(path)) = (&s, &sweep) {
+                    s.check_merged(&csv).map_err(|e| {
+                        Failure::Input(InputError::new(path.display().to_string(), "--merge", e))
+                    })?;
+                }
                 let mut set = OutputSet::new(&out);
                 for (name, bytes) in files {
                     set.add(name, bytes);
@@ -372,6 +384,9 @@ fn execute(cmd: Command) -> Result<(), Failure> {
                     merge.len(),
                     out.display()
                 );
+                if let Some(s) = &s {
+                    draw_sweep(s, &csv, &out);
+                }
             } else {
                 let path = sweep.expect("clap requires a sweep file without --merge");
                 let shard = shard.as_deref().map(sweep::Shard::parse).transpose()?;
@@ -418,14 +433,16 @@ fn execute(cmd: Command) -> Result<(), Failure> {
                     bad,
                     out.display()
                 );
-                if !s.file.plots.is_empty() {
-                    for line in plot::sweep_plots(&s.file.plots, &o.table.to_csv(), &out)? {
-                        println!("plot: {line}");
+                if shard.is_some() {
+                    if !(s.file.plots.is_empty() && s.file.tables.is_empty()) {
+                        println!(
+                            "plots and tables: not drawn from a shard's rows (`bumpsim sweep \
+                             {} --merge SHARD_DIRS... --out DIR` draws them from all rows)",
+                            path.display()
+                        );
                     }
-                }
-                let tables = &s.file.tables;
-                for line in plot::table::sweep_tables(tables, &o.table.to_csv(), &out)? {
-                    println!("table: {line}");
+                } else {
+                    draw_sweep(&s, &o.table.to_csv(), &out);
                 }
             }
         }
@@ -526,6 +543,24 @@ fn main() -> ExitCode {
         Err(_) => {
             eprintln!("internal error: bumpsim panicked (a bug: please report it with the config)");
             ExitCode::from(1)
+        }
+    }
+}
+
+/// The plots and tables of sweep `s` from its rows (`csv`) into `out`. The rows are written
+/// already: a plot or table that cannot be drawn from them (no numeric values, every point
+/// an error) is a warning, not a failure of the sweep.
+fn draw_sweep(s: &sweep::Sweep, csv: &str, out: &std::path::Path) {
+    if !s.file.plots.is_empty() {
+        match plot::sweep_plots(&s.file.plots, csv, out) {
+            Ok(lines) => lines.iter().for_each(|l| println!("plot: {l}")),
+            Err(e) => eprintln!("warning: plots not drawn: {e}"),
+        }
+    }
+    if !s.file.tables.is_empty() {
+        match plot::table::sweep_tables(&s.file.tables, csv, out) {
+            Ok(lines) => lines.iter().for_each(|l| println!("table: {l}")),
+            Err(e) => eprintln!("warning: tables not written: {e}"),
         }
     }
 }

@@ -284,6 +284,16 @@ fn bad_sweep_files_and_arguments_exit_2() {
             "(base: \"x.ron\", axes: [(path: \"a\", values: Grid(\"a\", 1, 2))])",
             "numbers",
         ),
+        // an axis named as a column the sweep writes anyway, or as another axis
+        (
+            "(base: \"x.ron\", axes: [(path: \"a\", name: \"cycles\", values: List([1]))])",
+            "axes[0].name: \"cycles\": another column of the output has this name",
+        ),
+        (
+            "(base: \"x.ron\", axes: [(path: \"a\", name: \"k\", values: List([1])), \
+             (path: \"b\", name: \"k\", values: List([2]))])",
+            "axes[0].name: \"k\": another column",
+        ),
     ];
     for (text, needle) in cases {
         let file = s.join("s.ron");
@@ -442,4 +452,89 @@ fn a_table_column_of_names_joined_by_plus_is_their_sum() {
         "{}",
         o.stderr
     );
+}
+
+/// A sweep with a plot and a table, sharded: the shards draw neither (a shard's rows are
+/// part of the front and of the table); `--merge` with the sweep file checks that the rows
+/// are its own and draws both as the unsharded run does, byte for byte; a shard without a
+/// point is no failure.
+#[test]
+fn merged_shards_draw_the_plots_and_tables_of_the_unsharded_run() {
+    let s = Scratch::new("sweep-merge-draws");
+    let file = s.join("drawn.ron");
+    let base = root().join("configs/sgi-teapot.ron");
+    std::fs::write(
+        &file,
+        format!(
+            r#"(
+    base: {:?},
+    sets: ["scene.width=32", "scene.height=32"],
+    axes: [(path: "engine.units.spec.unit.index_bits", name: "index_bits", values: Grid(4, 6, 3))],
+    plots: [(x: "gates_total", y: "quantization_psnr_db", name: "front",
+             pareto: ["gates_total:min", "quantization_psnr_db:max"])],
+    tables: [(name: "bits", columns: ["index_bits", "gates_total"],
+              headings: ["index bits", "gates"])],
+)"#,
+            base.display().to_string()
+        ),
+    )
+    .unwrap();
+    let f = file.to_str().unwrap();
+    let (all, s0, s1, s2) = (s.join("all"), s.join("s0"), s.join("s1"), s.join("s2"));
+    sweep(&[f, "--out", all.to_str().unwrap()]).expect_code(0, "unsharded");
+    for (d, k) in [(&s0, "0/4"), (&s1, "1/4"), (&s2, "2/4")] {
+        let o = sweep(&[f, "--out", d.to_str().unwrap(), "--shard", k]);
+        o.expect_code(0, k);
+        assert!(
+            o.stdout.contains("not drawn from a shard's rows"),
+            "{}",
+            o.stdout
+        );
+        assert!(!d.join("front.png").exists() && !d.join("bits.md").exists());
+    }
+    // shard 3/4 of 3 points holds none: its files hold no row, and it succeeds
+    let s3 = s.join("s3");
+    let o = sweep(&[f, "--out", s3.to_str().unwrap(), "--shard", "3/4"]);
+    o.expect_code(0, "an empty shard");
+    assert!(o.stdout.contains("0 of 3 points run"), "{}", o.stdout);
+    let dirs = [&s0, &s1, &s2, &s3].map(|d| d.to_str().unwrap().to_string());
+    let m = s.join("merged");
+    let mut args = vec![f, "--merge"];
+    args.extend(dirs.iter().map(|d| d.as_str()));
+    args.extend(["--out", m.to_str().unwrap()]);
+    sweep(&args).expect_code(0, "merge with the sweep file");
+    for name in [
+        "sweep.csv",
+        "sweep.jsonl",
+        "sweep.json",
+        "front.png",
+        "front.svg",
+        "front.pareto.csv",
+        "bits.md",
+    ] {
+        assert_eq!(read(&m.join(name)), read(&all.join(name)), "{name}");
+    }
+    // shards of another sweep (other sets, the same shape): refused, naming the difference
+    let other = s.join("other.ron");
+    std::fs::write(
+        &other,
+        std::fs::read_to_string(&file)
+            .unwrap()
+            .replace("Grid(4, 6, 3)", "Grid(5, 7, 3)"),
+    )
+    .unwrap();
+    let m2 = s.join("merged-other");
+    let mut args = vec![other.to_str().unwrap(), "--merge"];
+    args.extend(dirs.iter().map(|d| d.as_str()));
+    args.extend(["--out", m2.to_str().unwrap()]);
+    let o = sweep(&args);
+    o.expect_code(2, "merge against another sweep file");
+    assert!(
+        o.stderr.contains("--merge")
+            && o.stderr
+                .contains("point 0: the shards' index_bits is \"4\""),
+        "{}",
+        o.stderr
+    );
+    assert!(!m2.exists(), "nothing is written");
 }

@@ -371,6 +371,7 @@ pub fn load(path: &Path) -> Result<Sweep, InputError> {
         points,
         units,
     };
+    sweep.check_columns()?;
     sweep.check_plots()?;
     share::check(&sweep.file.shares, &name)?;
     crate::plot::table::check_specs(&sweep.file.tables, &sweep.columns(), &name)?;
@@ -667,6 +668,47 @@ impl Sweep {
             .collect()
     }
 
+    /// Whether merged rows (`csv_text`, a merged `sweep.csv`) are this sweep's: its columns,
+    /// one row per point, and each row's axis cells those of its point. The message names
+    /// the first difference.
+    pub fn check_merged(&self, csv_text: &str) -> Result<(), String> {
+        let csv = crate::plot::csv::Csv::parse(csv_text)
+            .map_err(|(l, m)| format!("the merged sweep.csv, line {l}: {m}"))?;
+        let columns = self.columns();
+        if csv.header != columns {
+            return Err(format!(
+                "the shards' columns are not this sweep file's: {} against {}",
+                csv.header.join(","),
+                columns.join(",")
+            ));
+        }
+        if csv.rows.len() != self.points.len() {
+            return Err(format!(
+                "the shards hold a sweep of {} points, this sweep file has {}",
+                csv.rows.len(),
+                self.points.len()
+            ));
+        }
+        for (row, p) in csv.rows.iter().zip(&self.points) {
+            for (j, c) in self.cells(p).iter().enumerate() {
+                let want = crate::plot::csv::Csv::parse(&format!("x\n{}\n", c.csv()))
+                    .ok()
+                    .and_then(|t| t.rows.into_iter().next())
+                    .and_then(|r| r.into_iter().next())
+                    .unwrap_or_default();
+                if row.get(1 + j) != Some(&want) {
+                    return Err(format!(
+                        "point {}: the shards' {} is {:?}, this sweep file's {want:?}",
+                        p.index,
+                        columns[1 + j],
+                        row.get(1 + j).map_or("", |s| s.as_str())
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// The `--set` list of point `p`'s baseline, if the file has one: the point's sets,
     /// then the baseline's overrides.
     pub fn baseline_sets(&self, p: &Point) -> Option<Vec<String>> {
@@ -726,6 +768,29 @@ impl Sweep {
         c.extend(self.file.report.iter().map(|p| format!("report.{p}")));
         c.extend(self.file.shares.iter().map(|s| format!("share.{}", s.name)));
         c
+    }
+
+    /// No two columns share a name: an axis named as another axis or as a column the sweep
+    /// writes anyway (`index`, `cycles`, ...) would write a header twice and JSON lines
+    /// with one key overwritten.
+    fn check_columns(&self) -> Result<(), InputError> {
+        let columns = self.columns();
+        for (k, a) in self.file.axes.iter().enumerate() {
+            let c = a.column();
+            if columns.iter().filter(|x| **x == c).count() > 1 {
+                let field = if a.name.is_empty() { "path" } else { "name" };
+                return Err(InputError::new(
+                    self.path.display().to_string(),
+                    format!("axes[{k}].{field}"),
+                    format!(
+                        "{c:?}: another column of the output has this name; expected a name \
+                         that is not index, another axis' or a report column's ({})",
+                        columns.join(", ")
+                    ),
+                ));
+            }
+        }
+        Ok(())
     }
 
     /// The plots name columns of the output and objectives with a direction.

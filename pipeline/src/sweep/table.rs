@@ -42,7 +42,7 @@ impl Cell {
     }
 
     /// The CSV field (numbers as in JSON, text quoted when it needs to be).
-    fn csv(&self) -> String {
+    pub(crate) fn csv(&self) -> String {
         match self {
             Cell::Empty => String::new(),
             Cell::Text(t) => {
