@@ -8,6 +8,7 @@ use common::*;
 
 /// Each study sweep, the directory its generator runs it into, and the page quoting it.
 const STUDY_SWEEPS: &[(&str, &str, &str)] = &[
+    ("lingard-scale", "lingard/scale", "blinn-scale.md"),
     (
         "tarini-quantization",
         "quantized/sweep",
