@@ -425,11 +425,11 @@ fn execute(cmd: Command) -> Result<(), Failure> {
                         o.stale
                     );
                 }
-                let bad = o.table.rows.iter().filter(|r| !r.is_ok()).count();
+                let bad = o.errors;
                 println!(
                     "{} of {} points run, {} with errors; wrote {}/sweep.{{csv,jsonl,json}}",
                     o.ran,
-                    o.table.points,
+                    o.points,
                     bad,
                     out.display()
                 );
@@ -441,8 +441,12 @@ fn execute(cmd: Command) -> Result<(), Failure> {
                             path.display()
                         );
                     }
-                } else {
-                    draw_sweep(&s, &o.table.to_csv(), &out);
+                } else if !(s.file.plots.is_empty() && s.file.tables.is_empty()) {
+                    // the rows went to the file as they came: read back for the drawing
+                    match std::fs::read_to_string(out.join("sweep.csv")) {
+                        Ok(csv) => draw_sweep(&s, &csv, &out),
+                        Err(e) => eprintln!("warning: plots and tables not drawn: {e}"),
+                    }
                 }
             }
         }

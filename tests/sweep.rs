@@ -538,3 +538,68 @@ fn merged_shards_draw_the_plots_and_tables_of_the_unsharded_run() {
     );
     assert!(!m2.exists(), "nothing is written");
 }
+
+/// More points than one chunk of rows (`sweep::CHUNK`, 256): the rows stream to the files a
+/// chunk at a time, in point order, the same bytes at any thread count and after a resume
+/// that keeps every second row (the kept rows go in between the chunks' rows).
+#[test]
+fn rows_stream_in_point_order_across_chunks() {
+    let s = Scratch::new("sweep-chunks");
+    let file = s.join("many.ron");
+    let base = root().join("tests/fixtures/gouraud-tiny.ron");
+    std::fs::write(
+        &file,
+        format!(
+            r#"(
+    base: {:?},
+    axes: [(path: "scene.material.shininess", name: "shininess", values: Grid(2.0, 64.0, 600))],
+)"#,
+            base.display().to_string()
+        ),
+    )
+    .unwrap();
+    let f = file.to_str().unwrap();
+    let (a, b) = (s.join("a"), s.join("b"));
+    sweep(&[f, "--out", a.to_str().unwrap(), "--threads", "1"]).expect_code(0, "1 thread");
+    sweep(&[f, "--out", b.to_str().unwrap(), "--threads", "3"]).expect_code(0, "3 threads");
+    let rows = csv_rows(&a.join("sweep.csv"));
+    assert_eq!(rows.len(), 600);
+    for (k, r) in rows.iter().enumerate() {
+        assert_eq!(r["index"], k.to_string());
+    }
+    for name in ["sweep.csv", "sweep.jsonl", "sweep.json"] {
+        assert_eq!(read(&a.join(name)), read(&b.join(name)), "{name}");
+    }
+    // no temporary file is left
+    let left: Vec<String> = std::fs::read_dir(&a)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(left.len(), 3, "{left:?}");
+    // resume from the odd rows only: the even points run, the files are the same
+    let jl = std::fs::read_to_string(b.join("sweep.jsonl")).unwrap();
+    let odd: String = jl
+        .lines()
+        .skip(1)
+        .step_by(2)
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::write(b.join("sweep.jsonl"), odd).unwrap();
+    let o = sweep(&[
+        f,
+        "--out",
+        b.to_str().unwrap(),
+        "--resume",
+        "--threads",
+        "2",
+    ]);
+    o.expect_code(0, "resume");
+    assert!(o.stdout.contains("300 points kept"), "{}", o.stdout);
+    for name in ["sweep.csv", "sweep.jsonl", "sweep.json"] {
+        assert_eq!(
+            read(&a.join(name)),
+            read(&b.join(name)),
+            "{name} after resume"
+        );
+    }
+}

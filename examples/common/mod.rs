@@ -109,9 +109,9 @@ fn sweep_into(
     let file = PathBuf::from(format!("docs/studies/sweeps/{name}.ron"));
     let s = sweep::load(&file).unwrap_or_else(|e| panic!("{e}"));
     let dir = PathBuf::from("docs/studies").join(out);
-    let o =
-        sweep::run_into(&s, &dir, RunOptions::default(), false).unwrap_or_else(|e| panic!("{e}"));
-    let csv = o.table.to_csv();
+    sweep::run_into(&s, &dir, RunOptions::default(), false).unwrap_or_else(|e| panic!("{e}"));
+    let table = s.read_table(&dir).unwrap_or_else(|e| panic!("{e}"));
+    let csv = table.to_csv();
     plot::sweep_plots(&s.file.plots, &csv, &dir).unwrap_or_else(|e| panic!("{e}"));
     plot::table::sweep_tables(&s.file.tables, &csv, &dir).unwrap_or_else(|e| panic!("{e}"));
     let tables = s
@@ -124,7 +124,7 @@ fn sweep_into(
             (t.name.clone(), md.trim_end().to_string())
         })
         .collect();
-    (o.table, tables)
+    (table, tables)
 }
 
 /// A study's sweep, run ([`study_sweep`]): its rows and tables, read by the prose.

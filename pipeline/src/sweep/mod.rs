@@ -878,6 +878,25 @@ impl Sweep {
         done: Vec<Row>,
         journal: Option<&journal::Journal>,
     ) -> Result<(Table, Option<String>), DirError> {
+        let mut rows = Vec::new();
+        let failed = self.run_streamed(opts, done, journal, &mut |r| {
+            rows.push(r);
+            Ok(())
+        })?;
+        Ok((self.table(rows), failed))
+    }
+
+    /// [`Sweep::run_with`], each row handed to `emit` in point order instead of kept: the
+    /// points run [`CHUNK`] at a time (in parallel within a chunk, chunks in point order),
+    /// so the memory the rows take is that of one chunk, whatever the number of points.
+    /// An `emit` error ends the sweep (an internal error naming it).
+    pub fn run_streamed(
+        &self,
+        opts: RunOptions,
+        done: Vec<Row>,
+        journal: Option<&journal::Journal>,
+        emit: &mut dyn FnMut(Row) -> Result<(), String>,
+    ) -> Result<Option<String>, DirError> {
         let have: std::collections::HashSet<usize> = done.iter().map(|r| r.index).collect();
         let todo: Vec<&Point> = self
             .points
@@ -892,28 +911,57 @@ impl Sweep {
             .map_err(DirError::Internal)?;
         let failed = std::sync::Mutex::new(None::<String>);
         let progress = crate::progress::bar(todo.len() as u64, "sweep");
-        let work = || -> Vec<Row> {
-            todo.par_iter()
-                .map(|p| {
-                    let row = self.run_point(p, opts.force, bases.of(p.index));
-                    if let Some(j) = journal {
-                        if let Err(e) = j.append(&row.json_line(&columns)) {
-                            let mut f = failed.lock().unwrap_or_else(|e| e.into_inner());
-                            f.get_or_insert_with(|| format!("{}: {e}", j.path().display()));
+        let mut done = done;
+        done.sort_by_key(|r| r.index);
+        let mut done = done.into_iter().peekable();
+        for chunk in todo.chunks(CHUNK) {
+            let work = || -> Vec<Row> {
+                chunk
+                    .par_iter()
+                    .map(|p| {
+                        let row = self.run_point(p, opts.force, bases.of(p.index));
+                        if let Some(j) = journal {
+                            if let Err(e) = j.append(&row.json_line(&columns)) {
+                                let mut f = failed.lock().unwrap_or_else(|e| e.into_inner());
+                                f.get_or_insert_with(|| format!("{}: {e}", j.path().display()));
+                            }
                         }
-                    }
-                    progress.inc(1);
-                    row
-                })
-                .collect()
-        };
-        let mut rows = self.on_pool(&opts, work).map_err(DirError::Internal)?;
-        rows.extend(done);
-        rows.sort_by_key(|r| r.index);
-        let failed = failed.into_inner().unwrap_or_else(|e| e.into_inner());
-        Ok((self.table(rows), failed))
+                        progress.inc(1);
+                        row
+                    })
+                    .collect()
+            };
+            // rows in point order: the points are, and the kept rows go in between
+            for row in self.on_pool(&opts, work).map_err(DirError::Internal)? {
+                while let Some(d) = done.next_if(|d| d.index < row.index) {
+                    emit(d).map_err(DirError::Internal)?;
+                }
+                emit(row).map_err(DirError::Internal)?;
+            }
+        }
+        for d in done {
+            emit(d).map_err(DirError::Internal)?;
+        }
+        Ok(failed.into_inner().unwrap_or_else(|e| e.into_inner()))
+    }
+
+    /// The rows a run wrote into `dir` (its `sweep.jsonl`), as a table.
+    pub fn read_table(&self, dir: &Path) -> Result<Table, InputError> {
+        let rows = journal::read(
+            &dir.join("sweep.jsonl"),
+            &self.columns(),
+            self.file.axes.len(),
+            false,
+        )?
+        .into_iter()
+        .filter_map(|e| e.row)
+        .collect();
+        Ok(self.table(rows))
     }
 }
+
+/// Points run together in [`Sweep::run_streamed`] (their rows are held until the chunk ends).
+pub const CHUNK: usize = 256;
 
 #[cfg(test)]
 mod tests {

@@ -12,9 +12,9 @@
 use super::journal::{self, Journal, JOURNAL};
 use super::{RunOptions, Sweep};
 use crate::config::{self, InputError};
-use crate::output::OutputSet;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
 /// Why a sweep into a directory failed: bad input (exit 2) or an internal error.
@@ -36,7 +36,12 @@ impl std::fmt::Display for DirError {
 /// What a sweep into a directory did.
 #[derive(Debug)]
 pub struct Outcome {
-    pub table: super::Table,
+    /// Points in the whole sweep (all shards).
+    pub points: usize,
+    /// Rows written (run now or kept).
+    pub rows: usize,
+    /// Of them, error rows.
+    pub errors: usize,
     /// Points run now.
     pub ran: usize,
     /// Rows kept from an earlier run.
@@ -53,6 +58,75 @@ pub struct Outcome {
     pub written: Vec<PathBuf>,
 }
 
+/// The final files as the rows arrive: `sweep.csv` and `sweep.jsonl` written through to
+/// temporary files beside them (so a sweep's memory does not grow with its rows), renamed
+/// into place with `sweep.json` when the sweep ends, removed if it fails.
+struct Stream {
+    dir: PathBuf,
+    csv: std::io::BufWriter<std::fs::File>,
+    jsonl: std::io::BufWriter<std::fs::File>,
+    columns: Vec<String>,
+    indices: Vec<usize>,
+    errors: usize,
+}
+
+const TMP_CSV: &str = ".sweep.csv.tmp";
+const TMP_JSONL: &str = ".sweep.jsonl.tmp";
+const TMP_JSON: &str = ".sweep.json.tmp";
+
+impl Stream {
+    fn create(dir: &Path, columns: Vec<String>) -> std::io::Result<Stream> {
+        let open = |n: &str| std::fs::File::create(dir.join(n)).map(std::io::BufWriter::new);
+        let mut csv = open(TMP_CSV)?;
+        csv.write_all(super::table::csv_header(&columns).as_bytes())?;
+        Ok(Stream {
+            dir: dir.to_path_buf(),
+            csv,
+            jsonl: open(TMP_JSONL)?,
+            columns,
+            indices: Vec::new(),
+            errors: 0,
+        })
+    }
+
+    fn push(&mut self, r: &super::Row) -> std::io::Result<()> {
+        self.csv.write_all(r.csv_line().as_bytes())?;
+        self.jsonl
+            .write_all(r.json_line(&self.columns).as_bytes())?;
+        self.jsonl.write_all(b"\n")?;
+        self.indices.push(r.index);
+        self.errors += usize::from(!r.is_ok());
+        Ok(())
+    }
+
+    /// Flush and sync the rows, write `sweep.json`, and rename the three into place.
+    fn finish(mut self, points: usize) -> std::io::Result<Vec<PathBuf>> {
+        let summary = super::table::summary(points, &self.columns, &self.indices, self.errors);
+        std::fs::write(self.dir.join(TMP_JSON), summary)?;
+        for w in [&mut self.csv, &mut self.jsonl] {
+            w.flush()?;
+            w.get_ref().sync_all()?;
+        }
+        let mut written = Vec::new();
+        for (tmp, name) in [
+            (TMP_CSV, "sweep.csv"),
+            (TMP_JSONL, "sweep.jsonl"),
+            (TMP_JSON, "sweep.json"),
+        ] {
+            std::fs::rename(self.dir.join(tmp), self.dir.join(name))?;
+            written.push(self.dir.join(name));
+        }
+        Ok(written)
+    }
+
+    /// Remove the temporary files (a failed sweep).
+    fn discard(dir: &Path) {
+        for t in [TMP_CSV, TMP_JSONL, TMP_JSON] {
+            let _ = std::fs::remove_file(dir.join(t));
+        }
+    }
+}
+
 /// Run `sweep` into `out` (see the module doc).
 pub fn run_into(
     sweep: &Sweep,
@@ -64,6 +138,14 @@ pub fn run_into(
         |e: String| DirError::Input(InputError::new(out.display().to_string(), "--out", e));
     std::fs::create_dir_all(out)
         .map_err(|e| out_err(format!("cannot create the output directory: {e}")))?;
+    for name in ["sweep.csv", "sweep.jsonl", "sweep.json"] {
+        if out.join(name).is_dir() {
+            return Err(out_err(format!(
+                "cannot write {}: it is a directory",
+                out.join(name).display()
+            )));
+        }
+    }
     let journal_path = out.join(JOURNAL);
     let replaced_journal = !resume && journal_path.exists();
     let (kept, stale) = if resume {
@@ -76,22 +158,38 @@ pub fn run_into(
     let journal = Journal::create(&journal_path, &lines)
         .map_err(|e| out_err(format!("cannot write {}: {e}", journal_path.display())))?;
     let n_kept = kept.len();
-    let (table, journal_failure) = sweep.run_with(opts, kept, Some(&journal))?;
+    let mut stream = Stream::create(out, columns)
+        .map_err(|e| out_err(format!("cannot write in {}: {e}", out.display())))?;
+    let mut write_failed = None;
+    let run = sweep.run_streamed(opts, kept, Some(&journal), &mut |r| {
+        stream.push(&r).map_err(|e| {
+            let m = format!("cannot write the rows in {}: {e}", out.display());
+            write_failed = Some(m.clone());
+            m
+        })
+    });
     drop(journal);
-    let mut set = OutputSet::new(out);
-    for (name, bytes) in table.files() {
-        set.add(name, bytes);
-    }
-    let written = set.commit().map_err(out_err)?;
+    let (rows, errors) = (stream.indices.len(), stream.errors);
+    let finished = match (run, write_failed) {
+        (_, Some(m)) => Err(out_err(m)),
+        (Err(e), None) => Err(e),
+        (Ok(journal_failure), None) => stream
+            .finish(sweep.points.len())
+            .map(|w| (w, journal_failure))
+            .map_err(|e| out_err(format!("cannot write the rows in {}: {e}", out.display()))),
+    };
+    let (written, journal_failure) = finished.inspect_err(|_| Stream::discard(out))?;
     let _ = std::fs::remove_file(&journal_path);
     Ok(Outcome {
-        ran: table.rows.len() - n_kept,
+        points: sweep.points.len(),
+        rows,
+        errors,
+        ran: rows - n_kept,
         kept: n_kept,
         stale,
         replaced_journal,
         journal_failure,
         written,
-        table,
     })
 }
 

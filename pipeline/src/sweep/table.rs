@@ -227,6 +227,12 @@ impl Row {
 
     /// The row as one JSON object, keys `columns` (a [`Table::columns`]) in order, no line
     /// break.
+    /// The row's CSV line (with its line break).
+    pub fn csv_line(&self) -> String {
+        let line: Vec<String> = self.cells().map(|c| c.csv()).collect();
+        line.join(",") + "\n"
+    }
+
     pub fn json_line(&self, columns: &[String]) -> String {
         let fields: Vec<String> = columns
             .iter()
@@ -344,16 +350,9 @@ impl Table {
     }
 
     pub fn to_csv(&self) -> String {
-        let mut s = String::new();
-        let head: Vec<String> = self
-            .columns()
-            .iter()
-            .map(|c| Cell::Text(c.clone()).csv())
-            .collect();
-        let _ = writeln!(s, "{}", head.join(","));
+        let mut s = csv_header(&self.columns());
         for r in &self.rows {
-            let line: Vec<String> = r.cells().map(|c| c.csv()).collect();
-            let _ = writeln!(s, "{}", line.join(","));
+            s.push_str(&r.csv_line());
         }
         s
     }
@@ -369,13 +368,9 @@ impl Table {
 
     /// `sweep.json`: the number of points, the columns and the rows' indices.
     pub fn summary(&self) -> String {
-        let v = serde_json::json!({
-            "points": self.points,
-            "columns": self.columns(),
-            "rows": self.rows.iter().map(|r| r.index).collect::<Vec<_>>(),
-            "errors": self.rows.iter().filter(|r| !r.is_ok()).count(),
-        });
-        serde_json::to_string_pretty(&v).unwrap() + "\n"
+        let rows: Vec<usize> = self.rows.iter().map(|r| r.index).collect();
+        let errors = self.rows.iter().filter(|r| !r.is_ok()).count();
+        summary(self.points, &self.columns(), &rows, errors)
     }
 
     /// The output files: `sweep.csv`, `sweep.jsonl` and `sweep.json`.
@@ -386,6 +381,26 @@ impl Table {
             ("sweep.json", self.summary().into_bytes()),
         ]
     }
+}
+
+/// The CSV header line of a table with these columns (with its line break).
+pub fn csv_header(columns: &[String]) -> String {
+    let head: Vec<String> = columns
+        .iter()
+        .map(|c| Cell::Text(c.clone()).csv())
+        .collect();
+    head.join(",") + "\n"
+}
+
+/// `sweep.json`: the number of points, the columns, the rows' indices and the error rows.
+pub fn summary(points: usize, columns: &[String], rows: &[usize], errors: usize) -> String {
+    let v = serde_json::json!({
+        "points": points,
+        "columns": columns,
+        "rows": rows,
+        "errors": errors,
+    });
+    serde_json::to_string_pretty(&v).unwrap() + "\n"
 }
 
 /// The merged files of several shard directories (each with `sweep.csv`, `sweep.jsonl` and
