@@ -2,10 +2,14 @@
 //! of a sweep's CSV as a scatter or a line, PNG or SVG, with the Pareto front of chosen
 //! objectives ([`pareto`]) highlighted and its rows written beside the plot
 //! (`NAME.pareto.csv`). Error rows (`status` = `error`) and rows with a non-numeric cell in a
-//! column used are skipped and counted. Drawing is in [`draw`], reading the CSV in [`csv`].
+//! column used are skipped and counted; PSNR values at the cap of identical images (999 dB)
+//! are drawn at the axis' edge, outside its range. Drawing is in [`draw`] (axes and ticks in
+//! [`axis`], text from the bundled font in [`font`]), reading the CSV in [`csv`].
 
+pub mod axis;
 pub mod csv;
 pub mod draw;
+pub mod font;
 pub mod pareto;
 pub mod table;
 
@@ -86,19 +90,29 @@ pub struct Plot {
     pub on_front: usize,
     pub error_rows: usize,
     pub non_numeric: usize,
+    /// Rows at the PSNR cap (999 dB) left out of an axis and drawn at its edge.
+    pub capped: usize,
 }
 
 impl Plot {
     /// `plotted 7 rows (3 on the Pareto front); skipped 1 error row, 0 rows with a
-    /// non-numeric cell`.
+    /// non-numeric cell` (and `; N at the PSNR cap ...` when some are).
     pub fn summary(&self) -> String {
         let front = if self.pareto_csv.is_some() {
             format!(" ({} on the Pareto front)", self.on_front)
         } else {
             String::new()
         };
+        let capped = match self.capped {
+            0 => String::new(),
+            n => format!(
+                "; {n} at the PSNR cap ({} dB, identical images) drawn at the axis' edge",
+                crate::metrics::PSNR_CAP_DB
+            ),
+        };
         format!(
-            "plotted {} rows{front}; skipped {} error rows, {} rows with a non-numeric cell",
+            "plotted {} rows{front}; skipped {} error rows, {} rows with a non-numeric \
+             cell{capped}",
             self.plotted, self.error_rows, self.non_numeric
         )
     }
@@ -127,6 +141,15 @@ pub fn read_csv(path: &Path) -> Result<Csv, InputError> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| InputError::new(&name, "", format!("cannot read the CSV: {e}")))?;
     Csv::parse(&text).map_err(|(line, m)| InputError::new(&name, "", m).at(Some((line, 1))))
+}
+
+/// The cap of a PSNR column (`metrics::PSNR_CAP_DB`, the 999 dB of identical images), which
+/// the plot leaves out of the axis' range and draws at its edge.
+fn psnr_cap(column: &str) -> Option<f64> {
+    column
+        .to_ascii_lowercase()
+        .contains("psnr")
+        .then_some(crate::metrics::PSNR_CAP_DB)
 }
 
 /// Select the rows and columns of `req` from `csv` (named `name` in messages).
@@ -171,13 +194,17 @@ pub fn prepare(csv: &Csv, name: &str, req: &Request) -> Result<Plot, InputError>
         }
         let mut vals = Vec::with_capacity(cols.len());
         for (k, &c) in cols.iter().enumerate() {
+            // NaN, infinities and numbers beyond f64 ("1e999") are not plotted
             match row[c].trim().parse::<f64>() {
                 Ok(v) if v.is_finite() => {
                     numeric_seen[k] = true;
                     vals.push(v);
                 }
                 _ => {
-                    first_text[k].get_or_insert(&row[c]);
+                    let t = first_text[k].get_or_insert(&row[c]);
+                    if t.trim().is_empty() {
+                        *t = &row[c];
+                    }
                 }
             }
         }
@@ -189,14 +216,13 @@ pub fn prepare(csv: &Csv, name: &str, req: &Request) -> Result<Plot, InputError>
     }
     if error_rows < csv.rows.len() {
         if let Some(k) = numeric_seen.iter().position(|s| !s) {
-            return Err(InputError::new(
-                name,
-                used[k],
-                format!(
-                    "not a numeric column (e.g. {:?}): expected numbers",
-                    first_text[k].unwrap_or("")
-                ),
-            ));
+            let m = match first_text[k] {
+                Some(t) if !t.trim().is_empty() => {
+                    format!("not a numeric column (e.g. {t:?}): expected numbers")
+                }
+                _ => "every cell is empty: expected numbers".to_string(),
+            };
+            return Err(InputError::new(name, used[k], m));
         }
     }
     if kept.is_empty() {
@@ -249,19 +275,23 @@ pub fn prepare(csv: &Csv, name: &str, req: &Request) -> Result<Plot, InputError>
             .collect();
         title.push_str(&format!(" (front of {})", objs.join(", ")));
     }
+    let figure = Figure {
+        title,
+        x_label: req.x.clone(),
+        y_label: req.y.clone(),
+        points: kept
+            .iter()
+            .zip(&on)
+            .map(|((_, v), f)| (v[0], v[1], *f))
+            .collect(),
+        line: req.kind == Kind::Line,
+        pareto: !req.objectives.is_empty(),
+        x_cap: psnr_cap(&req.x),
+        y_cap: psnr_cap(&req.y),
+    };
     Ok(Plot {
-        figure: Figure {
-            title,
-            x_label: req.x.clone(),
-            y_label: req.y.clone(),
-            points: kept
-                .iter()
-                .zip(&on)
-                .map(|((_, v), f)| (v[0], v[1], *f))
-                .collect(),
-            line: req.kind == Kind::Line,
-            pareto: !req.objectives.is_empty(),
-        },
+        capped: draw::capped_points(&figure),
+        figure,
         on_front: on.iter().filter(|f| **f).count(),
         plotted: kept.len(),
         pareto_csv,
