@@ -983,6 +983,19 @@ mod tests {
         assert!(sn > 0.999, "{sn}");
     }
 
+    #[test]
+    fn lowpass_psnr_of_a_constant_offset_is_its_closed_form() {
+        // the blur of a constant difference is that constant, at the borders too (the
+        // masked blur is normalised): PSNR = 20 log10(255 / d) for an offset of d LSB
+        let r = img(|x, y| 60.0 + 1.5 * x as f64 + 0.5 * y as f64);
+        for d in [0.5, 3.0, 17.0] {
+            let a = img(|x, y| 60.0 + 1.5 * x as f64 + 0.5 * y as f64 + d);
+            let want = 20.0 * (255.0 / d).log10();
+            let got = m(&a, &r).lowpass_psnr_db;
+            assert!((got - want).abs() < 1e-9, "{d}: {got} {want}");
+        }
+    }
+
     /// A `w x h` grey image of constant value `v` (LSB).
     fn flat(w: u32, h: u32, v: f64) -> Rgb64 {
         let mut m = Rgb64::new(w, h);
