@@ -1041,8 +1041,8 @@ fn sweep_section(md: &mut String) -> SweepFacts {
         md,
         "With the 256 x 256 map, dithering raises the low-pass PSNR at {} of {} table sizes \
          (at 256: {:.2} against {:.2} dB plain), SSIM at half resolution at {} of {}, and \
-         shortens the false contours at {} of {}, by at most {:.0} % ({:.3} against {:.3} \
-         edges per pixel at 256{}), while it lowers the plain PSNR at {} of {} sizes. With the \
+         shortens the false contours at {} of {}, by at most {:.0} % over the sizes (at 256: \
+         {:.3} against {:.3} edges per pixel{}), while it lowers the plain PSNR at {} of {} sizes. With the \
          64 x 64 map, magnified on screen (a texel covers about 2.5 pixels down and 5 across \
          at the sphere's centre), it raises the low-pass PSNR at {} of {}, SSIM at {} of {}, \
          and shortens the contours at {} of {} ({:.3} against {:.3} at 256){}\n",
