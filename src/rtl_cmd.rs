@@ -325,6 +325,18 @@ pub(crate) fn generate(
                 model: None,
             }
         }
+        UnitSpec::TextureShader(_) => {
+            let u = unit
+                .as_any()
+                .downcast_ref::<bumpsim_hw::units::texture_shader::TextureShader>()
+                .ok_or("the engine's unit is not a texture shader")?;
+            Generated {
+                rtl: rtl::texture_shader::rtl(u, top)?,
+                model: None,
+            }
+        }
+        // every kind has a generator today; a new kind answers "not generated" until it has one
+        #[allow(unreachable_patterns)]
         _ => return Ok(None),
     };
     Ok(Some(g))

@@ -196,13 +196,14 @@ fn synth_puts_yosys_beside_the_model_for_every_generated_unit() {
         );
         assert!((num(s, "logic_model_ge") / num(s, "logic_synth_ge") - ratio).abs() < 1e-3);
     }
-    // a kind without a generator (the texture shader) is named with the reason
-    let g = gates_json("d3d6-embm-quad", &["--synth"]);
-    let why = at(&g, "gates.per_unit.shader.synth.none");
+    // a unit whose function has no generator (the palette builder's EnvMap) is named with
+    // the reason
+    let g = gates_json("quantized-vase-envmap", &["--synth"]);
+    let why = at(&g, "gates.per_unit.qnm.synth.none");
     assert!(
         why.as_str()
-            .is_some_and(|w| w.contains("no Verilog generator")),
-        "shader: {why}"
+            .is_some_and(|w| w.contains("not generated") && w.contains("EnvMap")),
+        "qnm: {why}"
     );
     // so is a configuration without one: an emboss filter of 6-bit heights (the model's f64
     // rescale by 255 / 63)

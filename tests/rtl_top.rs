@@ -88,7 +88,8 @@ fn a_wrong_expected_word_is_a_mismatch() {
 fn a_unit_without_a_generator_leaves_no_top() {
     let s = Scratch::new("rtl-top-none");
     let out = s.join("rtl");
-    let cfg = config("wang-bunny-rgb8");
+    // the texture shaders have a generator now: the EnvMap builder function has none
+    let cfg = config("quantized-vase-envmap");
     let o = bumpsim(&["rtl", cfg.to_str().unwrap(), "--out", out.to_str().unwrap()]);
     o.expect_code(0, "rtl");
     assert!(
@@ -98,4 +99,24 @@ fn a_unit_without_a_generator_leaves_no_top() {
         o.stdout
     );
     assert!(!listing(&out).iter().any(|f| f == "engine.v"));
+}
+
+#[test]
+fn a_texture_shader_engine_has_a_top() {
+    // wang-bunny-hilo: TEXTURE_2D of a HILO map, DOT_PRODUCT, DOT_PRODUCT_TEXTURE_2D
+    let Some((_s, out, o)) = rtl_cosim("wang-bunny-hilo", "150", "top-shader") else {
+        return;
+    };
+    let line = engine_line(&o.stdout);
+    assert!(
+        line.contains("latency 7  registers 0")
+            && line.contains("cosim 150 fragments of the frame, 0 mismatches"),
+        "{line}"
+    );
+    assert!(
+        o.stdout.contains("shader       texture_shader shader.v"),
+        "{}",
+        o.stdout
+    );
+    assert!(out.join("bumpsim_shader_tex0.hex").exists());
 }

@@ -381,3 +381,144 @@ fn ndf_turbulence_matches_the_model_over_every_octave_count() {
         .collect();
     cosim_on(&c, ins, "ndf_turbulence_octaves");
 }
+
+/// Vectors per texture-shader case.
+const SHADER_VECTORS: usize = 1500;
+
+/// The texture shader, one case per program family (`rtl_units::texture_shader`): TEXTURE_2D
+/// (projective, mip levels), PASS_THROUGH, DEPENDENT_AR / _GB, DOT_PRODUCT(_TEXTURE_2D) under
+/// every mapping, OFFSET_TEXTURE_2D(_SCALE) (the specified and the NV2A luminance), a broken
+/// stage run as NONE.
+#[test]
+fn texture_shader_programs_match_the_model_word_for_word() {
+    cosim(
+        rtl_units::texture_shader::cases(),
+        SHADER_VECTORS,
+        0x13_2001,
+    );
+}
+
+/// The `live` output of CULL_FRAGMENT as one more output lane, against `Unit::live`.
+fn with_live(c: &Case, ins: &[Vec<Word>], outs: &mut [Vec<Word>]) -> bumpsim_hw::rtl::RtlUnit {
+    let bit = bumpsim_hw::Encoding::fixed(bumpsim_hw::Format::u(1, 0));
+    let mut r = c.rtl.clone();
+    let port = c.unit.outputs().len();
+    r.outputs.push(bumpsim_hw::rtl::Lane {
+        name: "live".into(),
+        port,
+        lane: 0,
+        enc: bit,
+    });
+    for (w, o) in ins.iter().zip(outs.iter_mut()) {
+        let live = c.unit.live(Mode::BitAccurate, w, o);
+        o.push(Word::from_raw(&bit, &[live as i64]));
+    }
+    r
+}
+
+#[test]
+fn texture_shader_culls_as_the_model() {
+    if skip_requested() {
+        return;
+    }
+    assert!(iverilog_available(), "rtl_cosim: iverilog not found");
+    let c = rtl_units::texture_shader::cull();
+    let (ins, mut outs) = vectors::vectors(c.unit.as_ref(), SHADER_VECTORS, 0x13_2101);
+    let r = with_live(&c, &ins, &mut outs);
+    let killed = outs
+        .iter()
+        .filter(|o| o.last().unwrap().lanes[0].raw == 0)
+        .count();
+    // both outcomes occur (eight sign tests: few random fragments survive)
+    assert!(killed > 100 && killed + 5 <= ins.len(), "killed {killed}");
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("rtl_cosim/ts_cull");
+    testbench::write(&dir, &r, &ins, &outs).unwrap();
+    let res = testbench::run_iverilog(&dir).unwrap();
+    assert_eq!(
+        (res.vectors, res.mismatches, res.latency_errors),
+        (ins.len(), 0, 0),
+        "{res:?}"
+    );
+    // one flipped live bit is one mismatch
+    let last = outs[23].len() - 1;
+    outs[23][last].lanes[0].raw ^= 1;
+    testbench::write(&dir, &r, &ins, &outs).unwrap();
+    let res = testbench::run_iverilog(&dir).unwrap();
+    assert_eq!((res.mismatches, res.latency_errors), (1, 0), "{res:?}");
+    assert!(
+        res.first[0].contains("vector 23 lane live"),
+        "{:?}",
+        res.first
+    );
+}
+
+#[test]
+fn a_wrong_texture_shader_word_is_reported() {
+    if skip_requested() {
+        return;
+    }
+    assert!(iverilog_available(), "rtl_cosim: iverilog not found");
+    let c = rtl_units::texture_shader::cases()
+        .into_iter()
+        .find(|c| c.name == "ts_dot_hilo")
+        .unwrap();
+    let (ins, mut outs) = vectors::vectors(c.unit.as_ref(), 300, 11);
+    outs[41][2].lanes[1].raw ^= 4;
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("rtl_cosim/ts_corrupted");
+    testbench::write(&dir, &c.rtl, &ins, &outs).unwrap();
+    let r = testbench::run_iverilog(&dir).unwrap();
+    assert_eq!(
+        (r.vectors, r.mismatches, r.latency_errors),
+        (300, 1, 0),
+        "{r:?}"
+    );
+    assert!(
+        r.first[0].contains("vector 41 lane tex2_1"),
+        "{:?}",
+        r.first
+    );
+}
+
+#[test]
+fn texture_shader_programs_without_a_generator_say_so() {
+    use bumpsim_hw::units::texture_shader::{DotMapping, Program};
+    use rtl_units::texture_shader::{cube, flat, stage_spec, unit};
+    let u = unit(vec![stage_spec(Program::TextureCube, cube())]);
+    let e = bumpsim_hw::rtl::texture_shader::rtl(&u, "ts").unwrap_err();
+    assert_eq!(
+        e,
+        "texture shader: stage 0: TEXTURE_CUBE_MAP has no generator"
+    );
+    let u = unit(vec![
+        stage_spec(Program::Texture2d, flat()),
+        stage_spec(
+            Program::DotProduct {
+                prev: 0,
+                mapping: DotMapping::Minus1To1Gl,
+            },
+            None,
+        ),
+        stage_spec(
+            Program::DotProductDepthReplace {
+                prev: 0,
+                mapping: DotMapping::Minus1To1Gl,
+            },
+            None,
+        ),
+    ]);
+    let e = bumpsim_hw::rtl::texture_shader::rtl(&u, "ts").unwrap_err();
+    assert_eq!(
+        e,
+        "texture shader: stage 2: DOT_PRODUCT_DEPTH_REPLACE has no generator"
+    );
+}
+
+/// Same config, same text.
+#[test]
+fn texture_shader_verilog_is_deterministic() {
+    let a = rtl_units::texture_shader::cases();
+    let b = rtl_units::texture_shader::cases();
+    for (x, y) in a.iter().zip(&b) {
+        assert_eq!(x.rtl.verilog, y.rtl.verilog, "{}", x.name);
+    }
+}

@@ -37,7 +37,7 @@ use crate::units::TexFetch;
 /// one-texel axis) and the fraction bits that remain after the texel index.
 pub(crate) struct Axis {
     pub(crate) addr: [Option<String>; 2],
-    frac: Option<(String, u32)>,
+    pub(crate) frac: Option<(String, u32)>,
 }
 
 /// One axis of `2^log` texels of the coordinate `raw` at `frac` fraction bits
@@ -92,7 +92,7 @@ fn address(m: &mut Module, x: &Fx, log: u32, mode: Address) -> String {
 }
 
 /// The `wb`-bit weight from an axis fraction of `f` bits (the model's truncation).
-fn weight(m: &mut Module, fr: &Option<(String, u32)>, wb: u32) -> String {
+pub(crate) fn weight(m: &mut Module, fr: &Option<(String, u32)>, wb: u32) -> String {
     match fr {
         None => m.uwire("wt", wb, &format!("{wb}'d0")),
         Some((name, f)) if *f >= wb => m.uwire("wt", wb, &format!("{name}[{}:{}]", f - 1, f - wb)),

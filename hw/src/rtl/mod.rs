@@ -7,7 +7,9 @@
 //! read a built [`crate::units::BumpBlend`], [`crate::units::Normalize`],
 //! [`crate::units::Perturb`], [`crate::units::TexFetch`], [`crate::units::EmbossFilter`],
 //! [`crate::units::TexramFrame`], [`crate::units::QuatFrame`] or
-//! [`crate::units::QuantizedFetch`]) and writes the
+//! [`crate::units::QuantizedFetch`]; [`texture_shader::rtl`] reads a built
+//! [`crate::units::texture_shader::TextureShader`], specialised to its stages' programs) and
+//! writes the
 //! datapath with the twins of [`crate::arith::Acc`]'s operations in [`fixed`], so the widths,
 //! rounding, clamps and casts are those of the model's code. Co-simulation against the model
 //! (`hw/tests/rtl_cosim.rs`) checks every output word; [`synth`] prices the result with yosys.
@@ -45,6 +47,7 @@ pub mod shade;
 pub mod synth;
 pub mod testbench;
 pub mod texram;
+pub mod texture_shader;
 pub mod top;
 pub mod vectors;
 pub mod verilog;

@@ -6,6 +6,7 @@
 #![allow(dead_code)]
 
 pub mod quantized;
+pub mod texture_shader;
 
 use bumpsim_hw::rtl::{self, Dot3Rtl, ModulateRtl, PowerTableRtl, RtlUnit, ShadeRtl};
 use bumpsim_hw::units::{

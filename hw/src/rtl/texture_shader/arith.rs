@@ -1,0 +1,327 @@
+//! The texture shader's arithmetic beyond [`crate::rtl::fixed`]: the projective divide
+//! (`FixedArith::div`), the dot-product mappings ([`crate::units::texture_shader::mapping::
+//! vector_bits`]) and the HILO hemisphere's integer square root.
+
+use super::super::divide::div_round;
+use super::super::fixed::{from_code, make, raw_word, scale, shift_round, square, sub, Fx};
+use super::super::verilog::{signed_bits, Module};
+use crate::format::{Encoding, Format, Overflow, Quant};
+use crate::units::texture_shader::DotMapping;
+
+/// `a / b` of two coordinate raw words (`f` fraction bits, signed `w` bits) as the model's
+/// `FixedArith::div`: `p = a 2^f`, the signs moved into `p`, `floor((2 p + |b|) / (2 |b|))`
+/// (round half up), 0 when `b` is 0. Returns the exact quotient (0 fraction bits, the raw
+/// word before the overflow into the coordinate format; under a saturating `ov` a quotient
+/// beyond `2^w` is returned as `+-2^w`, which saturates alike). One unsigned divider of the
+/// magnitudes; the floor of a negative quotient is `-ceil(|N| / D)`.
+pub(super) fn divide(m: &mut Module, a: &str, b: &str, fmt: &Format, ov: Overflow) -> Fx {
+    let w = fmt.width as u32;
+    let f = fmt.frac as u32;
+    // |p| <= 2^(w - 1 + f); N = 2 p' + |b|: |N| <= 2^(w + f) + 2^(w - 1)
+    let nw = w + f + 2;
+    let neg = m.uwire("qneg", 1, &format!("{b}[{}]", w - 1));
+    let dmag = m.uwire("qd", w, &format!("{neg} ? (~{b} + {w}'d1) : {b}"));
+    let pn = m.swire(
+        "qp",
+        nw,
+        &format!("{neg} ? -($signed({a}) <<< {f}) : ($signed({a}) <<< {f})"),
+    );
+    let n = m.swire(
+        "qn",
+        nw,
+        &format!("({pn} <<< 1) + $signed({{{}'d0, {dmag}}})", nw - w),
+    );
+    let dd = m.uwire("qdd", nw, &format!("{{{}'d0, {dmag}, 1'b0}}", nw - w - 1));
+    let nabs = m.uwire("qna", nw, &format!("{n}[{}] ? -{n} : {n}", nw - 1));
+    let num = m.uwire(
+        "qnum",
+        nw,
+        &format!("{n}[{}] ? ({nabs} + {dd} - {nw}'d1) : {nabs}", nw - 1),
+    );
+    let d2 = m.uwire("qd2", w + 1, &format!("{{{dmag}, 1'b0}}"));
+    let db = w + 1;
+    let zero = m.uwire("qz", 1, &format!("{b} == {w}'d0"));
+    let sgn = format!("{n}[{}]", nw - 1);
+    if matches!(ov, Overflow::Sat | Overflow::SatSym) {
+        // saturating: a quotient of 2^w or more saturates whatever its low bits, so only
+        // the low w quotient bits are divided; the high part of the numerator is compared
+        // with the divisor once (below it, it is the first partial remainder)
+        let k = w;
+        let top = m.uwire("qhi", nw - k, &format!("{num}[{}:{k}]", nw - 1));
+        let ovf = m.uwire("qovf", 1, &format!("{top} >= {d2}"));
+        let r0 = if nw - k >= db {
+            m.uwire("qr", db, &format!("{top}[{}:0]", db - 1))
+        } else {
+            m.uwire("qr", db, &format!("{{{}'d0, {top}}}", db - (nw - k)))
+        };
+        let qa = restoring(m, &num, k, &d2, db, r0);
+        let hi = 1i128 << k;
+        let qw = signed_bits(-hi, hi);
+        let q = m.swire(
+            "qs",
+            qw,
+            &format!(
+                "{zero} ? {qw}'sd0 : {ovf} ? ({sgn} ? -{qw}'sd{hi} : {qw}'sd{hi}) : \
+                 ({sgn} ? -$signed({{1'b0, {qa}}}) : $signed({{1'b0, {qa}}}))"
+            ),
+        );
+        return Fx {
+            name: q,
+            lo: -hi,
+            hi,
+            frac: 0,
+            fac: Vec::new(),
+        };
+    }
+    let r0 = m.uwire("qr", db, &format!("{db}'d0"));
+    let qa = restoring(m, &num, nw, &d2, db, r0);
+    let hi = (1i128 << (w - 1 + f)) + 1;
+    let qw = signed_bits(-hi, hi);
+    let q = m.swire(
+        "qs",
+        qw,
+        &format!(
+            "{zero} ? {qw}'sd0 : ({sgn} ? -$signed({{1'b0, {qa}}}) : $signed({{1'b0, {qa}}}))"
+        ),
+    );
+    Fx {
+        name: q,
+        lo: -hi,
+        hi,
+        frac: 0,
+        fac: Vec::new(),
+    }
+}
+
+/// The unsigned quotient of the low `nb` bits of `num` by `d` (`db` bits), the partial
+/// remainder starting at `r0` (`< d`): `floor((r0 2^nb + num[nb-1:0]) / d)` mod `2^nb`, as a
+/// restoring array: per
+/// quotient bit, from the top, the partial remainder shifted in one numerator bit, compared
+/// with `d` and reduced (one `db + 1`-bit subtractor and a mux), so that each step is as
+/// wide as the divisor, not as the numerator. `d = 0` gives all ones (the caller masks it).
+fn restoring(m: &mut Module, num: &str, nb: u32, d: &str, db: u32, r0: String) -> String {
+    let mut r = r0;
+    let mut q = Vec::new();
+    for i in (0..nb).rev() {
+        let sh = m.uwire("qsh", db + 1, &format!("{{{r}, {num}[{i}]}}"));
+        let df = m.uwire("qdf", db + 2, &format!("{{1'b0, {sh}}} - {{2'b0, {d}}}"));
+        let ge = m.uwire("qge", 1, &format!("~{df}[{}]", db + 1));
+        q.push(ge.clone());
+        r = m.uwire(
+            "qr",
+            db,
+            &format!("{ge} ? {df}[{}:0] : {sh}[{}:0]", db - 1, db - 1),
+        );
+    }
+    m.uwire("qa", nb, &format!("{{{}}}", q.join(", ")))
+}
+
+/// An `n`-bit vector of the low bits of a lane code `bits` of `w` bits (sign- or
+/// zero-extended when `w < n`): the model's `raw & (2^n - 1)`.
+fn low_bits(m: &mut Module, bits: &str, w: u32, signed: bool, n: u32) -> String {
+    let e = if w >= n {
+        format!("{bits}[{}:0]", n - 1)
+    } else if signed {
+        format!("{{{{{}{{{bits}[{}]}}}}, {bits}}}", n - w, w - 1)
+    } else {
+        format!("{{{}'d0, {bits}}}", n - w)
+    };
+    m.uwire("lb", n, &e)
+}
+
+/// `div_round(x 2^frac, d)` of an integer wire `x`, as `mapping::div_round`.
+fn scaled_div(m: &mut Module, x: &Fx, frac: u32, d: i128) -> Fx {
+    let p = scale(m, x, 1i128 << frac);
+    div_round(m, &p, d)
+}
+
+/// `map8_bits`: an 8-bit channel code (unsigned 8-bit vector).
+fn map8(m: &mut Module, mp: DotMapping, x: &str, frac: u32) -> Fx {
+    match mp {
+        DotMapping::Minus1To1D3d => {
+            let u = raw_word(m, x, &Format::u(8, 0));
+            let c = make(
+                m,
+                "m8",
+                u.lo - 128,
+                u.hi - 128,
+                0,
+                &format!("{} - 9'sd128", u.name),
+            );
+            scaled_div(m, &c, frac, 127)
+        }
+        DotMapping::Minus1To1Gl => {
+            let u = raw_word(m, x, &Format::u(8, 0));
+            let c = make(
+                m,
+                "m8",
+                2 * u.lo - 254,
+                2 * u.hi - 254,
+                0,
+                &format!("({} <<< 1) - 10'sd254", u.name),
+            );
+            scaled_div(m, &c, frac, 255)
+        }
+        DotMapping::Minus1To1 => {
+            let sx = raw_word(m, x, &Format::s(8, 0));
+            scaled_div(m, &sx, frac, 127)
+        }
+        _ => {
+            let u = raw_word(m, x, &Format::u(8, 0));
+            scaled_div(m, &u, frac, 255)
+        }
+    }
+}
+
+/// `map16_bits`: a 16-bit HI or LO code (unsigned 16-bit vector).
+fn map16(m: &mut Module, mp: DotMapping, c: &str, frac: u32) -> Fx {
+    match mp {
+        DotMapping::HiloHemisphereD3d => {
+            let u = raw_word(m, c, &Format::u(16, 0));
+            let x = make(
+                m,
+                "m16",
+                u.lo - 32768,
+                u.hi - 32768,
+                0,
+                &format!("{} - 17'sd32768", u.name),
+            );
+            scaled_div(m, &x, frac, 32767)
+        }
+        DotMapping::HiloHemisphereGl => {
+            let u = raw_word(m, c, &Format::u(16, 0));
+            let x = make(
+                m,
+                "m16",
+                2 * u.lo - 65534,
+                2 * u.hi - 65534,
+                0,
+                &format!("({} <<< 1) - 18'sd65534", u.name),
+            );
+            scaled_div(m, &x, frac, 65535)
+        }
+        DotMapping::HiloHemisphere => {
+            let sc = raw_word(m, c, &Format::s(16, 0));
+            scaled_div(m, &sc, frac, 32767)
+        }
+        _ => {
+            let u = raw_word(m, c, &Format::u(16, 0));
+            scaled_div(m, &u, frac, 65535)
+        }
+    }
+}
+
+/// The floor of the square root of `v` (an integer wire; 0 when `v <= 0`): the digit-by-digit
+/// method, one bit of the root per step (a subtractor of the partial remainder).
+pub(super) fn isqrt(m: &mut Module, v: &Fx) -> Fx {
+    let hi = v.hi.max(0);
+    let root_hi = crate::units::texture_shader::mapping::isqrt(hi);
+    let mut bits = 128 - (hi as u128).leading_zeros();
+    bits += bits & 1;
+    let bits = bits.max(2);
+    let n = bits / 2;
+    let x = m.uwire(
+        "sq",
+        bits,
+        &format!("({0} < 0) ? {bits}'d0 : {0}[{1}:0]", v.name, bits - 1),
+    );
+    let (rw, tw) = (n + 4, n + 2);
+    let mut rem = m.uwire("sqm", rw, &format!("{rw}'d0"));
+    let mut root = m.uwire("sqo", n, &format!("{n}'d0"));
+    for i in (0..n).rev() {
+        let r2 = m.uwire(
+            "sqr",
+            rw,
+            &format!("{{{rem}[{}:0], {x}[{}:{}]}}", rw - 3, 2 * i + 1, 2 * i),
+        );
+        let tr = m.uwire("sqt", tw, &format!("{{{root}, 2'b01}}"));
+        let ge = m.uwire("sqg", 1, &format!("{r2} >= {{1'b0, {tr}}}"));
+        rem = m.uwire("sqm", rw, &format!("{ge} ? ({r2} - {{1'b0, {tr}}}) : {r2}"));
+        root = if n == 1 {
+            m.uwire("sqo", 1, &ge)
+        } else {
+            m.uwire("sqo", n, &format!("{{{root}[{}:0], {ge}}}", n - 2))
+        };
+    }
+    let name = m.swire("root", n + 1, &format!("$signed({{1'b0, {root}}})"));
+    Fx {
+        name,
+        lo: 0,
+        hi: root_hi,
+        frac: 0,
+        fac: Vec::new(),
+    }
+}
+
+/// The mapped vector N (three integer wires at `frac` fraction bits) of the previous
+/// stage's texel `codes` (4 lane code wires of encoding `enc`, `lanes` of them from the
+/// texture), as `vector_bits`.
+pub(super) fn vector(
+    m: &mut Module,
+    mp: DotMapping,
+    codes: &[String],
+    enc: &Encoding,
+    lanes: u8,
+    frac: u32,
+) -> [Fx; 3] {
+    let w = enc.width();
+    let signed = enc.format.signed;
+    if mp.is_hilo() {
+        let (hi, lo) = if lanes == 2 && w == 16 {
+            (codes[0].clone(), codes[1].clone())
+        } else {
+            let mut c = |k: usize| low_bits(m, &codes[k], w, signed, 8);
+            let (c0, c1, c2, c3) = (c(0), c(1), c(2), c(3));
+            (
+                m.uwire("hi", 16, &format!("{{{c3}, {c0}}}")),
+                m.uwire("lo", 16, &format!("{{{c1}, {c2}}}")),
+            )
+        };
+        let h = map16(m, mp, &hi, frac);
+        let l = map16(m, mp, &lo, frac);
+        let z = if mp == DotMapping::Hilo1 {
+            let one = 1i128 << frac;
+            make(m, "z", one, one, 0, &super::super::verilog::lit(one))
+        } else {
+            let h2 = square(m, &h);
+            let l2 = square(m, &l);
+            let one = 1i128 << (2 * frac);
+            let r = make(
+                m,
+                "zr",
+                one - h2.hi - l2.hi,
+                one - h2.lo - l2.lo,
+                0,
+                &format!(
+                    "{} - {} - {}",
+                    super::super::verilog::lit(one),
+                    h2.name,
+                    l2.name
+                ),
+            );
+            isqrt(m, &r)
+        };
+        return [h, l, z];
+    }
+    std::array::from_fn(|k| {
+        if w == 8 {
+            let x = low_bits(m, &codes[k], w, signed, 8);
+            map8(m, mp, &x, frac)
+        } else {
+            let v = from_code(m, &codes[k], enc);
+            let v = match mp {
+                DotMapping::Minus1To1D3d | DotMapping::Minus1To1Gl => {
+                    let two = scale(m, &v, 2);
+                    sub(m, &two, &super::super::fixed::constant(1, 0))
+                }
+                _ => v,
+            };
+            if v.frac > frac {
+                shift_round(m, &v, v.frac - frac, Quant::Rnd)
+            } else {
+                let p = scale(m, &v, 1i128 << (frac - v.frac));
+                p.at_frac(0)
+            }
+        }
+    })
+}
