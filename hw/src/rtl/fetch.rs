@@ -231,23 +231,46 @@ pub(crate) fn datapath(
             }
         })
         .collect();
+    let lanes = u.outputs()[0].lanes as usize;
+    let codes = filter(
+        m,
+        &tap_word,
+        lanes,
+        &texel,
+        weights.as_ref(),
+        &out_enc,
+        "lane",
+    );
+    Ok(codes)
+}
+
+/// Each lane of the tap words (`taps[k]`: tap `k` of `00, 10, 01, 11`, lanes packed from bit 0
+/// at the texel's width) read by the texel's codec, filtered (nearest: tap 0; bilinear: the
+/// lerps `a + (b - a) w` with the weights `[w_u, w_v]`, exactly the model's) and cast once into
+/// `out`: the texel fetch's filter, shared with the texture shaders' stages. `what` starts each
+/// lane's comment.
+pub(crate) fn filter(
+    m: &mut Module,
+    taps: &[String],
+    lanes: usize,
+    texel: &Encoding,
+    weights: Option<&[Fx; 2]>,
+    out: &Encoding,
+    what: &str,
+) -> Vec<String> {
+    let wt = texel.width();
     let mut codes = Vec::new();
-    for l in 0..u.outputs()[0].lanes as usize {
-        m.comment(&format!("lane {l}"));
+    for l in 0..lanes {
+        m.comment(&format!("{what} {l}"));
         let read = |m: &mut Module, k: usize| {
             let bits = m.uwire(
                 "tx",
                 wt,
-                &format!(
-                    "{}[{}:{}]",
-                    tap_word[k],
-                    (l as u32 + 1) * wt - 1,
-                    l as u32 * wt
-                ),
+                &format!("{}[{}:{}]", taps[k], (l as u32 + 1) * wt - 1, l as u32 * wt),
             );
-            from_code(m, &bits, &texel)
+            from_code(m, &bits, texel)
         };
-        let v = match &weights {
+        let v = match weights {
             None => read(m, 0),
             Some([wu, wv]) => {
                 let lerp = |m: &mut Module, a: &Fx, b: &Fx, w: &Fx| {
@@ -261,7 +284,7 @@ pub(crate) fn datapath(
                 lerp(m, &top, &bot, wv)
             }
         };
-        codes.push(super::fixed::to_code(m, &v, &out_enc));
+        codes.push(super::fixed::to_code(m, &v, out));
     }
-    Ok(codes)
+    codes
 }

@@ -8,9 +8,9 @@
 //! `lod` input, TEXTURE_2D only) picks each tap's offset in the level, the base and, when
 //! bilinear, the weights.
 
-use super::super::fetch::{axis, weight};
-use super::super::fixed::{add, from_code, mul, raw_word, sub, to_code, Fx};
-use super::super::verilog::{unsigned_bits, Module};
+use super::super::fetch::{axis, filter, weight};
+use super::super::fixed::raw_word;
+use super::super::verilog::unsigned_bits;
 use super::super::Shell;
 use crate::format::{Encoding, Format};
 use crate::sampler::{Filter, Sampler};
@@ -152,32 +152,13 @@ pub(super) fn fetch(
     });
     let data = sh.memory(mem, words, word, &addrs, 1);
     let m = &mut sh.m;
-    let mut codes = Vec::new();
-    for l in 0..lanes {
-        m.comment(&format!("filter, lane {l}"));
-        let read = |m: &mut Module, k: usize| {
-            let bits = m.uwire(
-                "tx",
-                wt,
-                &format!("{}[{}:{}]", data[k], (l as u32 + 1) * wt - 1, l as u32 * wt),
-            );
-            from_code(m, &bits, &texel)
-        };
-        let v = match &weights {
-            None => read(m, 0),
-            Some([wu, wv]) => {
-                let lerp = |m: &mut Module, a: &Fx, b: &Fx, w: &Fx| {
-                    let d = sub(m, b, a);
-                    let p = mul(m, &d, w);
-                    add(m, a, &p)
-                };
-                let (t00, t10, t01, t11) = (read(m, 0), read(m, 1), read(m, 2), read(m, 3));
-                let top = lerp(m, &t00, &t10, wu);
-                let bot = lerp(m, &t01, &t11, wu);
-                lerp(m, &top, &bot, wv)
-            }
-        };
-        codes.push(to_code(m, &v, &f.out));
-    }
-    Ok(codes)
+    Ok(filter(
+        m,
+        &data,
+        lanes,
+        &texel,
+        weights.as_ref(),
+        &f.out,
+        "filter, lane",
+    ))
 }
