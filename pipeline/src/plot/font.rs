@@ -1,16 +1,18 @@
-//! The plots' text, laid out and drawn from the bundled DejaVu Sans itself (`assets/fonts/`):
-//! the TrueType tables a left-to-right line of text needs (`cmap` format 4, `hmtx`, `kern`
-//! format 0, `glyf` with composite glyphs) read here, each glyph placed at its pen position
-//! with its side bearing and on the baseline, then either filled into pixels with an
-//! anti-aliased coverage rasterizer (PNG) or written as SVG path data (so an SVG depends on
-//! no installed font). plotters' own text drawing (through ab_glyph) drops the glyphs' left
-//! side bearings and rounds each glyph's baseline on its own, which set the decimal point of
-//! "18000.0" raised against the digits; this module replaces it.
+//! The plots' text, laid out and drawn from the bundled DejaVu Sans itself (`assets/fonts/`)
+//! through `ab_glyph` (the font's tables: glyph ids, advances, side bearings, `kern` pairs and
+//! glyph outlines; and its anti-aliased rasterizer): each glyph placed at its pen position
+//! with its side bearing and on the baseline, then either filled into pixels (PNG) or written
+//! as SVG path data (so an SVG depends on no installed font). plotters' own text drawing
+//! (also through ab_glyph) drops the glyphs' left side bearings and rounds each glyph's
+//! baseline on its own, which set the decimal point of "18000.0" raised against the digits;
+//! this module lays the glyphs out itself instead.
 //!
 //! Sizes are plotters' font sizes: a font of size `s` maps the font's ascent to descent
 //! (`hhea`) onto `s` pixels, as ab_glyph's `PxScale` does.
 
 use std::sync::OnceLock;
+
+use ab_glyph::{Font as _, FontRef, GlyphId, OutlineCurve};
 
 /// DejaVu Sans (fonts-dejavu-core 2.37, Bitstream Vera licence; `docs/assets.md`).
 pub static FONT_BYTES: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
@@ -25,45 +27,19 @@ pub enum Seg {
     Line(P),
     /// A quadratic Bézier: control point, end point.
     Quad(P, P),
+    /// A cubic Bézier: two control points, end point (CFF outlines; TrueType has none).
+    Cubic(P, P, P),
     Close,
 }
 
-/// The tables of a TrueType font that text layout and outlines need.
+/// A TrueType font (ab_glyph's) and its vertical metrics in font units.
 #[derive(Debug)]
 pub struct Font {
-    data: &'static [u8],
+    font: FontRef<'static>,
     /// Font units: ascent (positive), descent (negative), line gap.
     ascent: f64,
     descent: f64,
     line_gap: f64,
-    num_glyphs: u16,
-    n_hmetrics: u16,
-    hmtx: usize,
-    loca: usize,
-    long_loca: bool,
-    glyf: usize,
-    glyf_len: usize,
-    /// The `cmap` format 4 subtable.
-    cmap4: usize,
-    /// `kern` format 0: the pairs' offset and count.
-    kern: Option<(usize, usize)>,
-}
-
-fn u16_at(d: &[u8], o: usize) -> Option<u16> {
-    Some(u16::from_be_bytes([*d.get(o)?, *d.get(o + 1)?]))
-}
-
-fn i16_at(d: &[u8], o: usize) -> Option<i16> {
-    u16_at(d, o).map(|v| v as i16)
-}
-
-fn u32_at(d: &[u8], o: usize) -> Option<u32> {
-    Some(u32::from_be_bytes([
-        *d.get(o)?,
-        *d.get(o + 1)?,
-        *d.get(o + 2)?,
-        *d.get(o + 3)?,
-    ]))
 }
 
 /// The bundled font, parsed once.
@@ -75,67 +51,14 @@ pub fn font() -> &'static Font {
 }
 
 impl Font {
-    /// Read the tables of a TrueType font (None: a table is missing or malformed).
+    /// Read a TrueType font (None: it does not parse).
     pub fn parse(data: &'static [u8]) -> Option<Font> {
-        let n = u16_at(data, 4)? as usize;
-        let table = |tag: &[u8; 4]| -> Option<(usize, usize)> {
-            (0..n).find_map(|i| {
-                let r = 12 + 16 * i;
-                (data.get(r..r + 4)? == tag)
-                    .then(|| {
-                        Some((
-                            u32_at(data, r + 8)? as usize,
-                            u32_at(data, r + 12)? as usize,
-                        ))
-                    })
-                    .flatten()
-            })
-        };
-        let (head, _) = table(b"head")?;
-        let (hhea, _) = table(b"hhea")?;
-        let (maxp, _) = table(b"maxp")?;
-        let (hmtx, _) = table(b"hmtx")?;
-        let (loca, _) = table(b"loca")?;
-        let (glyf, glyf_len) = table(b"glyf")?;
-        let (cmap, _) = table(b"cmap")?;
-        // the Windows Unicode BMP subtable (3, 1), else any Unicode (0, _), in format 4
-        let subtables = u16_at(data, cmap + 2)? as usize;
-        let mut cmap4 = None;
-        for want in [(3u16, Some(1u16)), (0, None)] {
-            for i in 0..subtables {
-                let r = cmap + 4 + 8 * i;
-                let (pid, eid) = (u16_at(data, r)?, u16_at(data, r + 2)?);
-                let off = cmap + u32_at(data, r + 4)? as usize;
-                if pid == want.0
-                    && (want.1.is_none() || want.1 == Some(eid))
-                    && u16_at(data, off)? == 4
-                {
-                    cmap4.get_or_insert(off);
-                }
-            }
-        }
-        let kern = table(b"kern").and_then(|(k, _)| {
-            // version 0, the first subtable if horizontal kerning values in format 0
-            let (version, count) = (u16_at(data, k)?, u16_at(data, k + 2)?);
-            let coverage = u16_at(data, k + 8)?;
-            (version == 0 && count > 0 && coverage >> 8 == 0 && coverage & 0x7 == 1)
-                .then(|| Some((k + 18, u16_at(data, k + 10)? as usize)))
-                .flatten()
-        });
+        let font = FontRef::try_from_slice(data).ok()?;
         Some(Font {
-            data,
-            ascent: i16_at(data, hhea + 4)? as f64,
-            descent: i16_at(data, hhea + 6)? as f64,
-            line_gap: i16_at(data, hhea + 8)? as f64,
-            num_glyphs: u16_at(data, maxp + 4)?,
-            n_hmetrics: u16_at(data, hhea + 34)?,
-            hmtx,
-            loca,
-            long_loca: i16_at(data, head + 50)? == 1,
-            glyf,
-            glyf_len,
-            cmap4: cmap4?,
-            kern,
+            ascent: font.ascent_unscaled() as f64,
+            descent: font.descent_unscaled() as f64,
+            line_gap: font.line_gap_unscaled() as f64,
+            font,
         })
     }
 
@@ -151,218 +74,25 @@ impl Font {
 
     /// The glyph of a character (0, the missing glyph, outside the map).
     pub fn glyph(&self, c: char) -> u16 {
-        self.glyph_of(c as u32).unwrap_or(0)
-    }
-
-    fn glyph_of(&self, c: u32) -> Option<u16> {
-        if c > 0xFFFF {
-            return None;
-        }
-        let (d, t) = (self.data, self.cmap4);
-        let segs = u16_at(d, t + 6)? as usize / 2;
-        let ends = t + 14;
-        let starts = ends + 2 * segs + 2;
-        let deltas = starts + 2 * segs;
-        let ranges = deltas + 2 * segs;
-        // the first segment whose end is >= c (ends are sorted)
-        let (mut lo, mut hi) = (0, segs);
-        while lo < hi {
-            let mid = (lo + hi) / 2;
-            if (u16_at(d, ends + 2 * mid)? as u32) < c {
-                lo = mid + 1;
-            } else {
-                hi = mid;
-            }
-        }
-        let i = lo;
-        if i >= segs || (u16_at(d, starts + 2 * i)? as u32) > c {
-            return None;
-        }
-        let delta = u16_at(d, deltas + 2 * i)?;
-        let ro = u16_at(d, ranges + 2 * i)? as usize;
-        if ro == 0 {
-            return Some((c as u16).wrapping_add(delta));
-        }
-        let start = u16_at(d, starts + 2 * i)? as usize;
-        let g = u16_at(d, ranges + 2 * i + ro + 2 * (c as usize - start))?;
-        (g != 0).then(|| g.wrapping_add(delta))
+        self.font.glyph_id(c).0
     }
 
     /// The advance width of a glyph, in font units.
     pub fn advance(&self, g: u16) -> f64 {
-        let i = g.min(self.n_hmetrics.saturating_sub(1)) as usize;
-        u16_at(self.data, self.hmtx + 4 * i).unwrap_or(0) as f64
+        self.font.h_advance_unscaled(GlyphId(g)) as f64
     }
 
-    /// The kerning between two glyphs, in font units.
+    /// The kerning between two glyphs (the `kern` table), in font units.
     pub fn kern(&self, left: u16, right: u16) -> f64 {
-        let Some((pairs, n)) = self.kern else {
-            return 0.0;
-        };
-        let key = ((left as u32) << 16) | right as u32;
-        let (mut lo, mut hi) = (0, n);
-        while lo < hi {
-            let mid = (lo + hi) / 2;
-            let Some(k) = u32_at(self.data, pairs + 6 * mid) else {
-                return 0.0;
-            };
-            match k.cmp(&key) {
-                std::cmp::Ordering::Less => lo = mid + 1,
-                std::cmp::Ordering::Greater => hi = mid,
-                std::cmp::Ordering::Equal => {
-                    return i16_at(self.data, pairs + 6 * mid + 4).unwrap_or(0) as f64
-                }
-            }
-        }
-        0.0
+        self.font.kern_unscaled(GlyphId(left), GlyphId(right)) as f64
     }
 
-    /// The bytes of a glyph in `glyf` (empty for a glyph without outline).
-    fn glyph_data(&self, g: u16) -> Option<&'static [u8]> {
-        if g >= self.num_glyphs {
-            return None;
-        }
-        let (d, i) = (self.data, g as usize);
-        let (a, b) = if self.long_loca {
-            (
-                u32_at(d, self.loca + 4 * i)? as usize,
-                u32_at(d, self.loca + 4 * i + 4)? as usize,
-            )
-        } else {
-            (
-                u16_at(d, self.loca + 2 * i)? as usize * 2,
-                u16_at(d, self.loca + 2 * i + 2)? as usize * 2,
-            )
-        };
-        if a > b || b > self.glyf_len {
-            return None;
-        }
-        d.get(self.glyf + a..self.glyf + b)
-    }
-
-    /// The outline of a glyph in font units (y up): contours of points `(x, y, on curve)`.
-    pub fn outline(&self, g: u16) -> Vec<Vec<(f64, f64, bool)>> {
-        let mut out = Vec::new();
-        self.outline_into(g, [1.0, 0.0, 0.0, 1.0, 0.0, 0.0], 0, &mut out);
-        out
-    }
-
-    /// Append glyph `g`'s contours mapped by `m` (`x' = a x + c y + e`, `y' = b x + d y + f`).
-    fn outline_into(
-        &self,
-        g: u16,
-        m: [f64; 6],
-        depth: u32,
-        out: &mut Vec<Vec<(f64, f64, bool)>>,
-    ) -> Option<()> {
-        let d = self.glyph_data(g)?;
-        if d.is_empty() || depth > 8 {
-            return Some(());
-        }
-        let n = i16_at(d, 0)?;
-        let map = |x: f64, y: f64| (m[0] * x + m[2] * y + m[4], m[1] * x + m[3] * y + m[5]);
-        if n < 0 {
-            // a composite: components each moved (and scaled) by their own matrix
-            let mut o = 10;
-            loop {
-                let flags = u16_at(d, o)?;
-                let sub = u16_at(d, o + 2)?;
-                o += 4;
-                let (dx, dy) = if flags & 1 != 0 {
-                    o += 4;
-                    (i16_at(d, o - 4)? as f64, i16_at(d, o - 2)? as f64)
-                } else {
-                    o += 2;
-                    (*d.get(o - 2)? as i8 as f64, *d.get(o - 1)? as i8 as f64)
-                };
-                // point-matched components (flag 2 clear) are placed without an offset
-                let (dx, dy) = if flags & 2 != 0 { (dx, dy) } else { (0.0, 0.0) };
-                let f2 = |o: usize| i16_at(d, o).map(|v| v as f64 / 16384.0);
-                let (a, b, c, dd) = if flags & 0x8 != 0 {
-                    o += 2;
-                    let s = f2(o - 2)?;
-                    (s, 0.0, 0.0, s)
-                } else if flags & 0x40 != 0 {
-                    o += 4;
-                    (f2(o - 4)?, 0.0, 0.0, f2(o - 2)?)
-                } else if flags & 0x80 != 0 {
-                    o += 8;
-                    (f2(o - 8)?, f2(o - 6)?, f2(o - 4)?, f2(o - 2)?)
-                } else {
-                    (1.0, 0.0, 0.0, 1.0)
-                };
-                // component matrix, then this glyph's
-                let (e, f) = map(dx, dy);
-                let sm = [
-                    m[0] * a + m[2] * b,
-                    m[1] * a + m[3] * b,
-                    m[0] * c + m[2] * dd,
-                    m[1] * c + m[3] * dd,
-                    e,
-                    f,
-                ];
-                self.outline_into(sub, sm, depth + 1, out);
-                if flags & 0x20 == 0 {
-                    return Some(());
-                }
-            }
-        }
-        let n = n as usize;
-        let mut ends = Vec::with_capacity(n);
-        for i in 0..n {
-            ends.push(u16_at(d, 10 + 2 * i)? as usize);
-        }
-        let points = ends.last().map_or(0, |e| e + 1);
-        let mut o = 10 + 2 * n;
-        o += 2 + u16_at(d, o)? as usize;
-        let mut flags = Vec::with_capacity(points);
-        while flags.len() < points {
-            let f = *d.get(o)?;
-            o += 1;
-            flags.push(f);
-            if f & 8 != 0 {
-                let r = *d.get(o)?;
-                o += 1;
-                for _ in 0..r {
-                    flags.push(f);
-                }
-            }
-        }
-        flags.truncate(points);
-        let mut coords = |short: u8, same: u8| -> Option<Vec<f64>> {
-            let mut v = 0i32;
-            let mut out = Vec::with_capacity(points);
-            for &f in &flags {
-                if f & short != 0 {
-                    let b = *d.get(o)? as i32;
-                    o += 1;
-                    v += if f & same != 0 { b } else { -b };
-                } else if f & same == 0 {
-                    v += i16_at(d, o)? as i32;
-                    o += 2;
-                }
-                out.push(v as f64);
-            }
-            Some(out)
-        };
-        let xs = coords(2, 16)?;
-        let ys = coords(4, 32)?;
-        let mut start = 0;
-        for &e in &ends {
-            if e < start || e >= points {
-                return None;
-            }
-            out.push(
-                (start..=e)
-                    .map(|i| {
-                        let (x, y) = map(xs[i], ys[i]);
-                        (x, y, flags[i] & 1 != 0)
-                    })
-                    .collect(),
-            );
-            start = e + 1;
-        }
-        Some(())
+    /// The outline of a glyph in font units (y up), relative to its pen position (so with
+    /// its left side bearing): empty for a glyph without ink.
+    pub fn outline(&self, g: u16) -> Vec<OutlineCurve> {
+        self.font
+            .outline(GlyphId(g))
+            .map_or_else(Vec::new, |o| o.curves)
     }
 
     /// The width of one line of text at `size`, in pixels.
@@ -429,53 +159,47 @@ pub fn text_path(text: &str, size: f64, at: Placement, pos: P) -> Vec<Seg> {
                 pen += f.kern(p, g);
             }
             prev = Some(g);
-            let dev = |(x, y): (f64, f64)| turn((x0 + (pen + x) * s, baseline - y * s));
-            for contour in f.outline(g) {
-                contour_segs(&contour, &dev, &mut out);
-            }
+            let dev =
+                |p: ab_glyph::Point| turn((x0 + (pen + p.x as f64) * s, baseline - p.y as f64 * s));
+            curve_segs(&f.outline(g), &dev, &mut out);
             pen += f.advance(g);
         }
     }
     out
 }
 
-/// A TrueType contour (on- and off-curve points) as segments, mapped by `dev`.
-fn contour_segs(c: &[(f64, f64, bool)], dev: &dyn Fn((f64, f64)) -> P, out: &mut Vec<Seg>) {
-    let n = c.len();
-    if n == 0 {
-        return;
-    }
-    let mid = |a: (f64, f64, bool), b: (f64, f64, bool)| ((a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0);
-    // start at an on-curve point (or between two off-curve ones)
-    let first = c.iter().position(|p| p.2);
-    let (start, from) = match first {
-        Some(i) => ((c[i].0, c[i].1), i),
-        None => (mid(c[n - 1], c[0]), 0),
-    };
-    out.push(Seg::Move(dev(start)));
-    let mut ctrl: Option<(f64, f64)> = None;
-    let steps = if first.is_some() { n } else { n + 1 };
-    for k in 1..=steps {
-        let p = c[(from + k) % n];
-        let xy = (p.0, p.1);
-        match (p.2, ctrl) {
-            (true, None) => out.push(Seg::Line(dev(xy))),
-            (true, Some(q)) => {
-                out.push(Seg::Quad(dev(q), dev(xy)));
-                ctrl = None;
-            }
-            (false, None) => ctrl = Some(xy),
-            (false, Some(q)) => {
-                let m = ((q.0 + xy.0) / 2.0, (q.1 + xy.1) / 2.0);
-                out.push(Seg::Quad(dev(q), dev(m)));
-                ctrl = Some(xy);
+/// A glyph's outline curves (its contours one after another, each closed by a line back to
+/// its start) as segments, mapped by `dev`.
+fn curve_segs(curves: &[OutlineCurve], dev: &dyn Fn(ab_glyph::Point) -> P, out: &mut Vec<Seg>) {
+    let mut open: Option<(ab_glyph::Point, ab_glyph::Point)> = None; // (start, current)
+    for curve in curves {
+        let (a, b) = match *curve {
+            OutlineCurve::Line(a, b) | OutlineCurve::Quad(a, _, b) => (a, b),
+            OutlineCurve::Cubic(a, _, _, b) => (a, b),
+        };
+        match open {
+            Some((_, cur)) if cur == a => {}
+            _ => {
+                if open.is_some() {
+                    out.push(Seg::Close);
+                }
+                out.push(Seg::Move(dev(a)));
+                open = Some((a, a));
             }
         }
+        let start = open.map_or(a, |o| o.0);
+        match *curve {
+            // the line closing a contour is the `Close`
+            OutlineCurve::Line(..) if b == start => {}
+            OutlineCurve::Line(_, b) => out.push(Seg::Line(dev(b))),
+            OutlineCurve::Quad(_, c, b) => out.push(Seg::Quad(dev(c), dev(b))),
+            OutlineCurve::Cubic(_, c, d, b) => out.push(Seg::Cubic(dev(c), dev(d), dev(b))),
+        }
+        open = Some((start, b));
     }
-    if let Some(q) = ctrl {
-        out.push(Seg::Quad(dev(q), dev(start)));
+    if open.is_some() {
+        out.push(Seg::Close);
     }
-    out.push(Seg::Close);
 }
 
 /// SVG path data of segments (coordinates to 1/100 pixel).
@@ -496,114 +220,107 @@ pub fn svg_path(segs: &[Seg]) -> String {
             Seg::Move(p) => s += &format!("M{} {}", n(p.0), n(p.1)),
             Seg::Line(p) => s += &format!("L{} {}", n(p.0), n(p.1)),
             Seg::Quad(c, p) => s += &format!("Q{} {} {} {}", n(c.0), n(c.1), n(p.0), n(p.1)),
+            Seg::Cubic(c, d, p) => {
+                s += &format!(
+                    "C{} {} {} {} {} {}",
+                    n(c.0),
+                    n(c.1),
+                    n(d.0),
+                    n(d.1),
+                    n(p.0),
+                    n(p.1)
+                )
+            }
             Seg::Close => s += "Z",
         }
     }
     s
 }
 
-/// The pixels a path covers, filled with the non-zero rule and anti-aliased (16 rows of
-/// samples per pixel, exact coverage along each row), within a `w` x `h` canvas: `(x, y,
-/// coverage in 0..=1)`, in row order.
+/// The pixels a path covers within a `w` x `h` canvas, anti-aliased by ab_glyph's rasterizer
+/// (the area of each pixel the path's contours enclose): `(x, y, coverage in 0..=1)`, in row
+/// order.
 pub fn raster(segs: &[Seg], (w, h): (u32, u32)) -> Vec<(i32, i32, f64)> {
-    // flatten into edges
-    let mut edges: Vec<(P, P)> = Vec::new();
+    use ab_glyph::{point, Glyph, Outline, OutlinedGlyph, PxScaleFactor, Rect};
+    // the path as ab_glyph outline curves at one unit a pixel, y up as a font's
+    let pt = |(x, y): P| point(x as f32, -y as f32);
+    let mut curves = Vec::new();
     let (mut cur, mut start) = ((0.0, 0.0), (0.0, 0.0));
     for seg in segs {
         match *seg {
-            Seg::Move(p) => {
+            Seg::Move(_) | Seg::Close => {
                 if cur != start {
-                    edges.push((cur, start));
+                    curves.push(OutlineCurve::Line(pt(cur), pt(start)));
                 }
-                (cur, start) = (p, p);
-            }
-            Seg::Line(p) => {
-                edges.push((cur, p));
-                cur = p;
-            }
-            Seg::Quad(c, p) => {
-                const N: usize = 8;
-                let mut a = cur;
-                for i in 1..=N {
-                    let t = i as f64 / N as f64;
-                    let u = 1.0 - t;
-                    let b = (
-                        u * u * cur.0 + 2.0 * u * t * c.0 + t * t * p.0,
-                        u * u * cur.1 + 2.0 * u * t * c.1 + t * t * p.1,
-                    );
-                    edges.push((a, b));
-                    a = b;
-                }
-                cur = p;
-            }
-            Seg::Close => {
-                if cur != start {
-                    edges.push((cur, start));
+                if let Seg::Move(p) = *seg {
+                    start = p;
                 }
                 cur = start;
             }
+            Seg::Line(p) => {
+                curves.push(OutlineCurve::Line(pt(cur), pt(p)));
+                cur = p;
+            }
+            Seg::Quad(c, p) => {
+                curves.push(OutlineCurve::Quad(pt(cur), pt(c), pt(p)));
+                cur = p;
+            }
+            Seg::Cubic(c, d, p) => {
+                curves.push(OutlineCurve::Cubic(pt(cur), pt(c), pt(d), pt(p)));
+                cur = p;
+            }
         }
     }
-    edges.retain(|(a, b)| a.1 != b.1 && [a.0, a.1, b.0, b.1].iter().all(|v| v.is_finite()));
-    if edges.is_empty() {
+    if cur != start {
+        curves.push(OutlineCurve::Line(pt(cur), pt(start)));
+    }
+    let finite = |p: &ab_glyph::Point| p.x.is_finite() && p.y.is_finite();
+    let points = |c: &OutlineCurve| match c {
+        OutlineCurve::Line(a, b) => vec![*a, *b],
+        OutlineCurve::Quad(a, b, c) => vec![*a, *b, *c],
+        OutlineCurve::Cubic(a, b, c, d) => vec![*a, *b, *c, *d],
+    };
+    if curves.iter().flat_map(points).any(|p| !finite(&p)) {
         return Vec::new();
     }
-    let (mut y0, mut y1, mut x0, mut x1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-    for (a, b) in &edges {
-        y0 = y0.min(a.1).min(b.1);
-        y1 = y1.max(a.1).max(b.1);
-        x0 = x0.min(a.0).min(b.0);
-        x1 = x1.max(a.0).max(b.0);
+    // bounds as ab_glyph keeps a glyph's: min the left top, max the right bottom (y up)
+    let (mut x0, mut x1, mut y0, mut y1) = (f32::MAX, f32::MIN, f32::MAX, f32::MIN);
+    for p in curves.iter().flat_map(points) {
+        (x0, x1, y0, y1) = (x0.min(p.x), x1.max(p.x), y0.min(p.y), y1.max(p.y));
     }
-    let clamp = |v: f64, hi: u32| v.clamp(0.0, hi as f64) as i32;
-    let (ry0, ry1) = (clamp(y0.floor(), h), clamp(y1.ceil(), h));
-    let (cx0, cx1) = (clamp(x0.floor(), w), clamp(x1.ceil(), w));
-    if ry0 >= ry1 || cx0 >= cx1 {
+    if curves.is_empty() || x0 >= x1 || y0 >= y1 {
         return Vec::new();
     }
-    const S: usize = 16;
+    // the canvas (the path's pixels beyond it are dropped, not drawn)
+    if x1 <= 0.0 || x0 >= w as f32 || -y0 <= 0.0 || -y1 >= h as f32 {
+        return Vec::new();
+    }
+    let outline = Outline {
+        bounds: Rect {
+            min: point(x0, y1),
+            max: point(x1, y0),
+        },
+        curves,
+    };
+    let glyph = Glyph {
+        id: GlyphId(0),
+        scale: 1.0.into(),
+        position: point(0.0, 0.0),
+    };
+    let one = PxScaleFactor {
+        horizontal: 1.0,
+        vertical: 1.0,
+    };
+    let g = OutlinedGlyph::new(glyph, outline, one);
+    let b = g.px_bounds();
+    let (bx, by) = (b.min.x as i32, b.min.y as i32);
     let mut out = Vec::new();
-    let mut cov = vec![0.0f64; (cx1 - cx0) as usize];
-    let mut cross: Vec<(f64, i32)> = Vec::new();
-    for py in ry0..ry1 {
-        cov.iter_mut().for_each(|c| *c = 0.0);
-        for j in 0..S {
-            let sy = py as f64 + (j as f64 + 0.5) / S as f64;
-            cross.clear();
-            for &(a, b) in &edges {
-                let (lo, hi, dir) = if a.1 < b.1 { (a, b, 1) } else { (b, a, -1) };
-                if lo.1 <= sy && sy < hi.1 {
-                    let x = lo.0 + (sy - lo.1) / (hi.1 - lo.1) * (hi.0 - lo.0);
-                    cross.push((x, dir));
-                }
-            }
-            cross.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-            let mut wind = 0;
-            for k in 0..cross.len() {
-                wind += cross[k].1;
-                if wind == 0 || k + 1 == cross.len() {
-                    continue;
-                }
-                let xa = cross[k].0.max(cx0 as f64);
-                let xb = cross[k + 1].0.min(cx1 as f64);
-                if xb <= xa {
-                    continue;
-                }
-                let (pa, pb) = (xa.floor() as i32, (xb.ceil() as i32).min(cx1));
-                for px in pa..pb {
-                    let o = xb.min(px as f64 + 1.0) - xa.max(px as f64);
-                    if o > 0.0 {
-                        cov[(px - cx0) as usize] += o / S as f64;
-                    }
-                }
-            }
+    g.draw(|x, y, c| {
+        let (x, y) = (bx + x as i32, by + y as i32);
+        if c > 1e-6 && x >= 0 && y >= 0 && x < w as i32 && y < h as i32 {
+            out.push((x, y, (c as f64).min(1.0)));
         }
-        for (i, &c) in cov.iter().enumerate() {
-            if c > 1e-9 {
-                out.push((cx0 + i as i32, py, c.min(1.0)));
-            }
-        }
-    }
+    });
     out
 }
 
@@ -627,7 +344,7 @@ mod tests {
         let (a, v) = (f.glyph('A'), f.glyph('V'));
         assert!(f.kern(a, v) < 0.0, "{}", f.kern(a, v));
         assert_eq!(f.kern(zero, zero), 0.0);
-        // a composite glyph (é) has the contours of e and of the accent
+        // a composite glyph (é) has the curves of e and of the accent
         assert!(f.outline(f.glyph('é')).len() > f.outline(f.glyph('e')).len());
         assert!(f.outline(f.glyph(' ')).is_empty());
     }
