@@ -135,78 +135,77 @@ fn scaled_div(m: &mut Module, x: &Fx, frac: u32, d: i128) -> Fx {
     div_round(m, &p, d)
 }
 
+/// How a dot mapping reads an `n`-bit code `c` (`mapping::map8_bits`, `map16_bits`).
+#[derive(Clone, Copy)]
+enum Reading {
+    /// `(c - 2^(n-1)) / (2^(n-1) - 1)` (the D3D mappings).
+    Offset,
+    /// `(2c - (2^n - 2)) / (2^n - 1)` (the GL mappings).
+    Doubled,
+    /// two's complement `c / (2^(n-1) - 1)`.
+    Signed,
+    /// `c / (2^n - 1)`.
+    Unsigned,
+}
+
 /// `map8_bits`: an 8-bit channel code (unsigned 8-bit vector).
 fn map8(m: &mut Module, mp: DotMapping, x: &str, frac: u32) -> Fx {
-    match mp {
-        DotMapping::Minus1To1D3d => {
-            let u = raw_word(m, x, &Format::u(8, 0));
-            let c = make(
-                m,
-                "m8",
-                u.lo - 128,
-                u.hi - 128,
-                0,
-                &format!("{} - 9'sd128", u.name),
-            );
-            scaled_div(m, &c, frac, 127)
-        }
-        DotMapping::Minus1To1Gl => {
-            let u = raw_word(m, x, &Format::u(8, 0));
-            let c = make(
-                m,
-                "m8",
-                2 * u.lo - 254,
-                2 * u.hi - 254,
-                0,
-                &format!("({} <<< 1) - 10'sd254", u.name),
-            );
-            scaled_div(m, &c, frac, 255)
-        }
-        DotMapping::Minus1To1 => {
-            let sx = raw_word(m, x, &Format::s(8, 0));
-            scaled_div(m, &sx, frac, 127)
-        }
-        _ => {
-            let u = raw_word(m, x, &Format::u(8, 0));
-            scaled_div(m, &u, frac, 255)
-        }
-    }
+    let r = match mp {
+        DotMapping::Minus1To1D3d => Reading::Offset,
+        DotMapping::Minus1To1Gl => Reading::Doubled,
+        DotMapping::Minus1To1 => Reading::Signed,
+        _ => Reading::Unsigned,
+    };
+    map_code(m, r, x, 8, frac)
 }
 
 /// `map16_bits`: a 16-bit HI or LO code (unsigned 16-bit vector).
 fn map16(m: &mut Module, mp: DotMapping, c: &str, frac: u32) -> Fx {
-    match mp {
-        DotMapping::HiloHemisphereD3d => {
-            let u = raw_word(m, c, &Format::u(16, 0));
-            let x = make(
+    let r = match mp {
+        DotMapping::HiloHemisphereD3d => Reading::Offset,
+        DotMapping::HiloHemisphereGl => Reading::Doubled,
+        DotMapping::HiloHemisphere => Reading::Signed,
+        _ => Reading::Unsigned,
+    };
+    map_code(m, r, c, 16, frac)
+}
+
+/// The `n`-bit code `x` read as `r` says, at `frac` fraction bits (rounded half up).
+fn map_code(m: &mut Module, r: Reading, x: &str, n: u8, frac: u32) -> Fx {
+    let (half, top) = (1i128 << (n - 1), (1i128 << n) - 1);
+    let name = format!("m{n}");
+    match r {
+        Reading::Offset => {
+            let u = raw_word(m, x, &Format::u(n, 0));
+            let c = make(
                 m,
-                "m16",
-                u.lo - 32768,
-                u.hi - 32768,
+                &name,
+                u.lo - half,
+                u.hi - half,
                 0,
-                &format!("{} - 17'sd32768", u.name),
+                &format!("{} - {}'sd{half}", u.name, n + 1),
             );
-            scaled_div(m, &x, frac, 32767)
+            scaled_div(m, &c, frac, half - 1)
         }
-        DotMapping::HiloHemisphereGl => {
-            let u = raw_word(m, c, &Format::u(16, 0));
-            let x = make(
+        Reading::Doubled => {
+            let u = raw_word(m, x, &Format::u(n, 0));
+            let c = make(
                 m,
-                "m16",
-                2 * u.lo - 65534,
-                2 * u.hi - 65534,
+                &name,
+                2 * u.lo - (top - 1),
+                2 * u.hi - (top - 1),
                 0,
-                &format!("({} <<< 1) - 18'sd65534", u.name),
+                &format!("({} <<< 1) - {}'sd{}", u.name, n + 2, top - 1),
             );
-            scaled_div(m, &x, frac, 65535)
+            scaled_div(m, &c, frac, top)
         }
-        DotMapping::HiloHemisphere => {
-            let sc = raw_word(m, c, &Format::s(16, 0));
-            scaled_div(m, &sc, frac, 32767)
+        Reading::Signed => {
+            let sx = raw_word(m, x, &Format::s(n, 0));
+            scaled_div(m, &sx, frac, half - 1)
         }
-        _ => {
-            let u = raw_word(m, c, &Format::u(16, 0));
-            scaled_div(m, &u, frac, 65535)
+        Reading::Unsigned => {
+            let u = raw_word(m, x, &Format::u(n, 0));
+            scaled_div(m, &u, frac, top)
         }
     }
 }
