@@ -153,6 +153,25 @@ enum Command {
         #[arg(long, value_name = "OVER=VALUE")]
         pivot: Option<String>,
     },
+    /// Write study pages from their sources: each NAME.src.md (hand-written Markdown with
+    /// directives that quote its sweeps' tables and cells and render its pictures) becomes
+    /// NAME.md beside it (docs/studies.md).
+    Study {
+        /// Page sources, NAME.src.md.
+        #[arg(required = true)]
+        sources: Vec<PathBuf>,
+        /// Read each sweep's rows already in its directory instead of running it, and render
+        /// no pictures.
+        #[arg(long)]
+        reuse: bool,
+        /// With --reuse: write nothing; exit 1 if a page differs from what its source and
+        /// its sweeps' committed rows give.
+        #[arg(long, requires = "reuse")]
+        check: bool,
+        /// Worker threads of the sweeps (default: one per core).
+        #[arg(long)]
+        threads: Option<usize>,
+    },
     /// Validate a config (parse, scene, wiring) without rendering.
     Check {
         #[command(flatten)]
@@ -221,6 +240,8 @@ enum TraceFormat {
 enum Failure {
     Input(InputError),
     Internal(String),
+    /// Not an error of the input or of bumpsim: a check that found differences (exit 1).
+    Check(String),
 }
 
 impl From<InputError> for Failure {
@@ -515,6 +536,36 @@ fn execute(cmd: Command) -> Result<(), Failure> {
             let table = plot::read_csv(&csv)?;
             print!("{}", spec.markdown(&table, &csv.display().to_string(), "")?);
         }
+        Command::Study {
+            sources,
+            reuse,
+            check,
+            threads,
+        } => {
+            use bumpsim_pipeline::study;
+            let opts = study::Options { reuse, threads };
+            let mut stale = Vec::new();
+            for src in &sources {
+                let page = study::page_of(src)?;
+                let made = study::expand(src, opts)?;
+                if check {
+                    let old = std::fs::read_to_string(&page).unwrap_or_default();
+                    if old != made.text {
+                        stale.push(page.display().to_string());
+                    }
+                    continue;
+                }
+                for p in made.write(&page)? {
+                    println!("wrote {}", p.display());
+                }
+            }
+            if !stale.is_empty() {
+                return Err(Failure::Check(format!(
+                    "not what their sources give (run `bumpsim study` on them): {}",
+                    stale.join(", ")
+                )));
+            }
+        }
         Command::Check { args } => {
             let l = args.load()?;
             let scene = run::build_scene(&l)?;
@@ -539,6 +590,10 @@ fn main() -> ExitCode {
         Ok(Err(Failure::Input(e))) => {
             eprintln!("error: {e}");
             ExitCode::from(2)
+        }
+        Ok(Err(Failure::Check(e))) => {
+            eprintln!("{e}");
+            ExitCode::from(1)
         }
         Ok(Err(Failure::Internal(e))) => {
             eprintln!("internal error: {e}");

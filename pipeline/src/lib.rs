@@ -24,6 +24,7 @@ pub mod scene;
 #[cfg(test)]
 mod scratch;
 pub mod sim;
+pub mod study;
 pub mod sweep;
 pub mod trace;
 pub mod wang;
