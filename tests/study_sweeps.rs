@@ -6,8 +6,54 @@ mod common;
 
 use common::*;
 
-/// Each study sweep, the directory its generator runs it into, and the page quoting it.
-const STUDY_SWEEPS: &[(&str, &str, &str)] = &[
+/// Each study sweep, the directory its page runs it into, and the page quoting it: the
+/// `{{run sweeps/NAME.ron -> DIR}}` directives of the page sources (`docs/studies/*.src.md`,
+/// docs/studies.md), then [`BY_PROGRAM`] for the pages still written by example programs.
+fn study_sweeps() -> Vec<(String, String, String)> {
+    use bumpsim_pipeline::study::directive::{parse, Directive, Piece};
+    let mut out: Vec<(String, String, String)> = Vec::new();
+    let mut srcs: Vec<_> = std::fs::read_dir(root().join("docs/studies"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.to_string_lossy().ends_with(".src.md"))
+        .collect();
+    srcs.sort();
+    for src in srcs {
+        let page = src
+            .file_name()
+            .unwrap()
+            .to_string_lossy()
+            .replace(".src.md", ".md");
+        let text = std::fs::read_to_string(&src).unwrap();
+        for piece in parse(&text).unwrap_or_else(|e| panic!("{}: {e:?}", src.display())) {
+            if let Piece::Directive(_, d) = piece {
+                if let Directive::Run { file, out: dir } = *d {
+                    let name = file
+                        .strip_prefix("sweeps/")
+                        .and_then(|f| f.strip_suffix(".ron"));
+                    let name = name
+                        .unwrap_or_else(|| panic!("{page}: run {file}: expected sweeps/NAME.ron"));
+                    out.push((name.to_string(), dir, page.clone()));
+                }
+            }
+        }
+    }
+    for (name, dir, page) in BY_PROGRAM.iter().chain(DRAGON_SWEEPS) {
+        match out.iter().find(|(n, _, _)| n == name) {
+            Some((_, d, _)) => assert_eq!(d, dir, "{name}: the source and the list differ"),
+            None => out.push((name.to_string(), dir.to_string(), page.to_string())),
+        }
+    }
+    out
+}
+
+/// Whether a sweep bakes the Stanford dragon ([`DRAGON_SWEEPS`]).
+fn dragon(name: &str) -> bool {
+    DRAGON_SWEEPS.iter().any(|d| d.0 == name)
+}
+
+/// The sweeps of the pages still written by example programs.
+const BY_PROGRAM: &[(&str, &str, &str)] = &[
     ("lingard-scale", "lingard/scale", "blinn-scale.md"),
     (
         "tarini-quantization",
@@ -152,12 +198,6 @@ const STUDY_SWEEPS: &[(&str, &str, &str)] = &[
     ("kautz-distance", "ndf/distance", "ndf-synthesis.md"),
     ("wang-packing", "baking/packing", "normal-map-baking.md"),
     ("kautz-distance-mip", "ndf/distance-mip", "ndf-synthesis.md"),
-    ("wang-hilo-fig2", "hilo-precision/fig2", "hilo-precision.md"),
-    (
-        "wang-hilo-dot-frac",
-        "hilo-precision/dot-frac",
-        "hilo-precision.md",
-    ),
 ];
 
 /// The sweeps that bake the Stanford dragon (871,306 faces): the mesh is not committed
@@ -177,7 +217,7 @@ const DRAGON_SWEEPS: &[(&str, &str, &str)] = &[
 fn every_dragon_sweep_is_committed_and_quoted() {
     use bumpsim_pipeline::sweep;
     let studies = root().join("docs/studies");
-    for (name, dir, page) in DRAGON_SWEEPS {
+    for (name, dir, page) in study_sweeps().iter().filter(|s| dragon(&s.0)) {
         let s = sweep::load(&root().join(format!("docs/studies/sweeps/{name}.ron")))
             .unwrap_or_else(|e| panic!("{name}: {e}"));
         let committed = studies.join(dir);
@@ -228,18 +268,17 @@ fn every_study_sweep_writes_the_committed_tables() {
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .collect();
     files.sort();
-    let mut listed: Vec<String> = STUDY_SWEEPS
+    let mut listed: Vec<String> = study_sweeps()
         .iter()
-        .chain(DRAGON_SWEEPS)
         .map(|s| format!("{}.ron", s.0))
         .collect();
     listed.sort();
     assert_eq!(
         files, listed,
-        "docs/studies/sweeps/ and STUDY_SWEEPS with DRAGON_SWEEPS differ"
+        "docs/studies/sweeps/ and the sweeps the pages run differ"
     );
     let s = Scratch::new("study-sweeps");
-    for (name, dir, page) in STUDY_SWEEPS {
+    for (name, dir, page) in study_sweeps().iter().filter(|s| !dragon(&s.0)) {
         // relative to the repository root (the tests' directory), as the study programs run
         // them: an error row's message names the configs by this path, not the checkout's
         let file = format!("docs/studies/sweeps/{name}.ron");
