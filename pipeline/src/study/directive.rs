@@ -28,10 +28,10 @@ pub enum Directive {
         id: String,
         expr: String,
         key: String,
-        conds: Vec<String>,
+        conds: Vec<Cond>,
     },
     /// `{{count ID COND...}}`: how many rows meet the conditions.
-    Count { id: String, conds: Vec<String> },
+    Count { id: String, conds: Vec<Cond> },
     /// `{{render CONFIG [set=PATH=VALUE]... -> IMAGE.png [OPTION]...}}`: render a config,
     /// write its image and the others asked for ([`Render`]). Writes nothing into the page.
     Render(Render),
@@ -69,7 +69,7 @@ pub struct Render {
 pub struct Group {
     pub op: char,
     pub expr: String,
-    pub conds: Vec<String>,
+    pub conds: Vec<Cond>,
 }
 
 /// Which row(s) a number comes from.
@@ -147,10 +147,10 @@ fn words(s: &str) -> Result<Vec<String>, String> {
     Ok(out)
 }
 
-const FORMS: &str = "run SWEEP.ron -> DIR | cite ID | table ID NAME | value ID EXPR \
-                     [COL=VALUE]... [+|-|*|/ EXPR [COL=VALUE]...]... [:DIGITS] | min|max ID \
-                     EXPR [COL=VALUE]... [:DIGITS] | argmin|argmax ID EXPR KEY [COL=VALUE]... | \
-                     count ID [COL=VALUE]... | render CONFIG [set=PATH=VALUE]... -> PNG \
+const FORMS: &str = "(COND: COL=VALUE, COL!=VALUE, COL<N, <=, >, >=) run SWEEP.ron -> DIR | cite ID | table ID NAME | value ID EXPR \
+                     [COND]... [+|-|*|/ EXPR [COND]...]... [:DIGITS] | min|max ID \
+                     EXPR [COND]... [:DIGITS] | argmin|argmax ID EXPR KEY [COND]... | \
+                     count ID [COND]... | render CONFIG [set=PATH=VALUE]... -> PNG \
                      [reference=|exact=|error=|quantization=PNG] [gain=G] [crop=X,Y,W,H] [zoom=K] \
                      [mark=X,Y,W,H]";
 
@@ -170,14 +170,89 @@ fn digits(w: &mut Vec<String>) -> Result<Option<usize>, String> {
     }
 }
 
-/// The conditions `COL=VALUE` among `w`.
-fn conds(w: &[String]) -> Result<Vec<String>, String> {
-    w.iter()
-        .map(|c| match c.split_once('=') {
-            Some((k, _)) if !k.is_empty() => Ok(c.clone()),
-            _ => Err(format!("{c:?}: expected a condition COL=VALUE")),
+/// A condition on a row: the column, the comparison, the value as written.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Cond {
+    pub column: String,
+    pub op: Cmp,
+    pub value: String,
+}
+
+/// How a cell is compared: `=` (the CSV text, `*` at either end a wildcard), `!=` (not
+/// that), or as numbers, `<`, `<=`, `>`, `>=`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Cmp {
+    Eq,
+    Ne,
+    Lt,
+    Le,
+    Gt,
+    Ge,
+}
+
+impl Cond {
+    /// `COL=VALUE`, `COL!=VALUE`, `COL<N`, `COL<=N`, `COL>N` or `COL>=N`.
+    pub fn parse(c: &str) -> Result<Cond, String> {
+        let bad =
+            || format!("{c:?}: expected a condition COL=VALUE, COL!=VALUE or COL<N, <=, >, >=");
+        let at = c.find(['=', '<', '>', '!']).ok_or_else(bad)?;
+        let (column, rest) = c.split_at(at);
+        let ops = [
+            ("!=", Cmp::Ne),
+            ("<=", Cmp::Le),
+            (">=", Cmp::Ge),
+            ("=", Cmp::Eq),
+            ("<", Cmp::Lt),
+            (">", Cmp::Gt),
+        ];
+        let (tok, op) = ops
+            .iter()
+            .find(|(t, _)| rest.starts_with(t))
+            .ok_or_else(bad)?;
+        let value = rest[tok.len()..].to_string();
+        if column.is_empty() {
+            return Err(bad());
+        }
+        if !matches!(op, Cmp::Eq | Cmp::Ne) && value.parse::<f64>().map_or(true, |x| !x.is_finite())
+        {
+            return Err(format!("{c:?}: expected a number after {tok}"));
+        }
+        Ok(Cond {
+            column: column.to_string(),
+            op: *op,
+            value,
         })
-        .collect()
+    }
+
+    /// Whether a cell (its CSV text) meets the condition.
+    pub fn holds(&self, cell: &str) -> bool {
+        let text = |v: &str| {
+            if let Some(p) = v.strip_suffix('*') {
+                cell.starts_with(p)
+            } else if let Some(e) = v.strip_prefix('*') {
+                cell.ends_with(e)
+            } else {
+                cell == v
+            }
+        };
+        let num = |f: fn(f64, f64) -> bool| match (cell.parse::<f64>(), self.value.parse::<f64>()) {
+            (Ok(a), Ok(b)) => f(a, b),
+            _ => false,
+        };
+        match self.op {
+            Cmp::Eq => text(&self.value),
+            Cmp::Ne => !text(&self.value),
+            Cmp::Lt => num(|a, b| a < b),
+            Cmp::Le => num(|a, b| a <= b),
+            Cmp::Gt => num(|a, b| a > b),
+            Cmp::Ge => num(|a, b| a >= b),
+        }
+    }
+}
+
+/// The conditions among `w`.
+fn conds(w: &[String]) -> Result<Vec<Cond>, String> {
+    w.iter().map(|c| Cond::parse(c)).collect()
 }
 
 fn directive(body: &str) -> Result<Directive, String> {
@@ -351,7 +426,7 @@ mod tests {
                     groups: vec![Group {
                         op: '+',
                         expr: "x+y".into(),
-                        conds: vec!["k=a b".into()],
+                        conds: vec![Cond::parse("k=a b").unwrap()],
                     }],
                     digits: Some(3)
                 })
@@ -392,6 +467,8 @@ mod tests {
         assert!(e("x }} y").1.contains("without its opening"));
         assert!(e("{{value s x :99}}").1.contains("0 to 12"));
         assert!(e("{{value s x bad}}").1.contains("COL=VALUE"));
+        assert!(e("{{value s x a<b}}").1.contains("a number after <"));
+        assert!(e("{{value s x =3}}").1.contains("COL=VALUE"));
         assert!(e("{{render c.ron -> x.png crop=1,2,0,4}}")
             .1
             .contains("above 0"));
@@ -402,5 +479,23 @@ mod tests {
         assert!(e("{{}}").1.contains("empty"));
         assert!(e("{{value s x a=1 - }}").1.contains("operator without"));
         assert!(e("{{min s x a=1 - x a=2}}").1.contains("no operator"));
+    }
+}
+
+#[cfg(test)]
+mod cond_tests {
+    use super::*;
+
+    #[test]
+    fn conditions_compare_text_or_numbers() {
+        let c = |s: &str, cell: &str| Cond::parse(s).unwrap().holds(cell);
+        assert!(c("a=x*", "xyz") && c("a=*z", "xyz") && !c("a=x", "xyz"));
+        assert!(c("a!=x", "xyz") && !c("a!=x*", "xyz"));
+        assert!(c("a>=15", "15") && c("a>=15", "20.5") && !c("a>=15", "10"));
+        assert!(c("a<15", "-3") && !c("a<15", "15") && c("a<=15", "15"));
+        assert!(c("a>1e3", "1001") && !c("a>1", "text") && !c("a>1", ""));
+        assert_eq!(Cond::parse("b!=").unwrap().value, "");
+        // the first operator splits: a value may hold more
+        assert_eq!(Cond::parse("k=a=b").unwrap().value, "a=b");
     }
 }

@@ -190,10 +190,9 @@ impl Page {
                             let first = fmt(vals[0]);
                             if vals.iter().any(|&v| fmt(v) != first) {
                                 return Err(format!(
-                                    "{} rows of {id} meet {:?} with different {}: expected one \
-                                     (add a condition, or use min or max)",
+                                    "{} rows of {id} meet the conditions with different {}: \
+                                     expected one (add a condition, or use min or max)",
                                     vals.len(),
-                                    g.conds,
                                     g.expr
                                 ));
                             }
@@ -395,13 +394,16 @@ fn no_column(id: &str, csv: &Csv, c: &str) -> String {
     )
 }
 
-/// The ok rows of a sweep meeting `conds` (`COL=VALUE`: the cell's CSV text is VALUE, or
-/// with `VALUE*` starts with it, with `*VALUE` ends with it); at least one.
-fn rows<'a>(s: &'a Swept, id: &str, conds: &[String]) -> Result<Vec<&'a Vec<String>>, String> {
+/// The ok rows of a sweep meeting `conds` ([`directive::Cond`]); at least one.
+fn rows<'a>(
+    s: &'a Swept,
+    id: &str,
+    conds: &[directive::Cond],
+) -> Result<Vec<&'a Vec<String>>, String> {
     let mut cs = Vec::new();
     for c in conds {
-        let (k, v) = c.split_once('=').unwrap_or((c, ""));
-        cs.push((s.csv.column(k).ok_or_else(|| no_column(id, &s.csv, k))?, v));
+        let k = s.csv.column(&c.column);
+        cs.push((k.ok_or_else(|| no_column(id, &s.csv, &c.column))?, c));
     }
     let status = s.csv.column("status");
     let by_status = cs.iter().any(|(k, _)| Some(*k) == status);
@@ -410,21 +412,29 @@ fn rows<'a>(s: &'a Swept, id: &str, conds: &[String]) -> Result<Vec<&'a Vec<Stri
         .rows
         .iter()
         .filter(|r| by_status || status.is_none_or(|k| r[k] == "ok"))
-        .filter(|r| cs.iter().all(|(k, v)| holds(&r[*k], v)))
+        .filter(|r| cs.iter().all(|(k, c)| c.holds(&r[*k])))
         .collect();
     match kept.is_empty() {
-        true => Err(format!("no row of {id} meets {conds:?}")),
+        true => {
+            let shown: Vec<String> = conds
+                .iter()
+                .map(|c| format!("{}{}{}", c.column, op_text(c.op), c.value))
+                .collect();
+            Err(format!("no row of {id} meets {}", shown.join(" ")))
+        }
         false => Ok(kept),
     }
 }
 
-fn holds(cell: &str, v: &str) -> bool {
-    if let Some(p) = v.strip_suffix('*') {
-        cell.starts_with(p)
-    } else if let Some(e) = v.strip_prefix('*') {
-        cell.ends_with(e)
-    } else {
-        cell == v
+fn op_text(op: directive::Cmp) -> &'static str {
+    use directive::Cmp::*;
+    match op {
+        Eq => "=",
+        Ne => "!=",
+        Lt => "<",
+        Le => "<=",
+        Gt => ">",
+        Ge => ">=",
     }
 }
 
@@ -562,7 +572,12 @@ mod tests {
             "{}",
             e("{{value s psnr}}")
         );
-        assert!(e("{{value s psnr bits=7}}").contains("no row of s meets"));
+        assert!(e("{{value s psnr bits=7}}").contains("no row of s meets bits=7"));
+        assert_eq!(
+            go("{{count s bits>=8}} {{count s bits!=8}}").unwrap(),
+            "2 2"
+        );
+        assert_eq!(go("{{max s gates.a bits<12 :0}}").unwrap(), "200");
         assert!(e("{{value s nope bits=8}}").contains("no column \"nope\""));
         assert!(e("{{value s psnr nope=8}}").contains("no column \"nope\""));
         assert!(e("{{value t psnr}}").contains("no sweep \"t\""));
