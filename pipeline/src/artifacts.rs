@@ -867,6 +867,27 @@ mod tests {
         assert!(crate::metrics::compare(&offset, &all(), &r, &all()).psnr_db < 30.0);
     }
 
+    /// Faceting in closed form: one gradient break of `s` LSB per pixel (the image is the
+    /// reference plus `s max(0, x - x0)`, constant in y). The masked 3x3 blur of the hinge is
+    /// 0, s/3, s, 2s, ... at x0 - 1, x0, x0 + 1, x0 + 2, so its Laplacian is s/3 at x0 - 1,
+    /// x0 and x0 + 1 and 0 elsewhere, but for the last counted column, W - 2, where the blur
+    /// of the border column averages two pixels of the slope: -s/2. Over the (W - 2)(H - 2)
+    /// counted pixels, RMS = s sqrt((3 (s/3)^2 + (s/2)^2) / s^2 / (W - 2)) = s sqrt(7 / (12
+    /// (W - 2))), whatever the reference (the measure is linear in the difference).
+    #[test]
+    fn one_gradient_break_has_the_faceting_of_its_closed_form() {
+        for (s, x0) in [(2.0, 20u32), (0.5, 40)] {
+            for r in [img(|_, _| 100.0), img(|x, y| 60.0 + 0.01 * (x * x + 3 * y) as f64)] {
+                let a = img(|x, y| {
+                    r.get(x, y)[0] * 255.0 + s * (x as f64 - x0 as f64).max(0.0)
+                });
+                let want = s * (7.0 / (12.0 * (W - 2) as f64)).sqrt();
+                let got = m(&a, &r).faceting_lsb;
+                assert!((got - want).abs() < 1e-9, "s {s}, x0 {x0}: {got} vs {want}");
+            }
+        }
+    }
+
     /// [`ringing`] as first written, with direct 5x5 windows: the oracle of the separable one.
     fn ringing_direct(p: &Pair) -> (f64, u64) {
         // the strong edges are not what changed: the windows are
