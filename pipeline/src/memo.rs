@@ -9,6 +9,9 @@
 //! * the quantizers' tables (`quantize::memo`): the normals' digest, `s_n`, the quantizer;
 //! * the normal maps baked from a scene's bump map (`engine::units::textures`): the scene's
 //!   key, the size and the method;
+//! * the normal maps and simplified meshes baked from detailed meshes (`wang::scene::build`,
+//!   Wang et al.): the bake's spec, the mesh file's path and a digest of its bytes (read
+//!   once, so a sweep over engines bakes once);
 //! * the float reference of a frame (`run::Prepared::reference`): the scene's key, a digest
 //!   of the fragments, the raster settings and the reference options.
 //!

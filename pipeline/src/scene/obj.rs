@@ -15,9 +15,14 @@ pub(crate) use super::mesh::smooth_normals;
 /// [`super::files::MAX_OBJ_BYTES`] of UTF-8 text, parsed by [`parse`]. Errors are file errors
 /// naming the path; the file's own problems start with `could not load OBJ: line N`.
 pub(crate) fn read(path: &Path) -> Result<FileMesh, SceneError> {
-    let fail = |message: String| SceneError::file(path.display(), message);
     let bytes = super::files::read_bounded(path, super::files::MAX_OBJ_BYTES, "OBJ")?;
-    let text = std::str::from_utf8(&bytes).map_err(|e| {
+    from_bytes(path, &bytes)
+}
+
+/// [`read`] of the bytes already read from `path` (named in the errors).
+pub(crate) fn from_bytes(path: &Path, bytes: &[u8]) -> Result<FileMesh, SceneError> {
+    let fail = |message: String| SceneError::file(path.display(), message);
+    let text = std::str::from_utf8(bytes).map_err(|e| {
         let line = 1 + bytes[..e.valid_up_to()]
             .iter()
             .filter(|&&b| b == b'\n')

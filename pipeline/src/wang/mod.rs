@@ -47,19 +47,41 @@ impl Surface {
     /// scan defects of `docs/assets.md`: zero-area faces and repeats dropped, smooth normals
     /// with their fallbacks. Texture coordinates and file normals are ignored.
     pub fn load(path: &Path) -> Result<Surface, SceneError> {
+        Surface::from_bytes(path, &Surface::read(path)?)
+    }
+
+    /// The bytes of a mesh file [`Surface::load`] reads (bounded as its kind is).
+    pub fn read(path: &Path) -> Result<Vec<u8>, SceneError> {
+        use crate::scene::files::{read_bounded, MAX_OBJ_BYTES, MAX_PLY_BYTES};
+        match Surface::kind(path)? {
+            "ply" => read_bounded(path, MAX_PLY_BYTES, "PLY"),
+            _ => read_bounded(path, MAX_OBJ_BYTES, "OBJ"),
+        }
+    }
+
+    /// `ply` or `obj`, by the extension of `path` (any case).
+    fn kind(path: &Path) -> Result<&'static str, SceneError> {
         let ext = path
             .extension()
             .and_then(|e| e.to_str())
             .map(str::to_ascii_lowercase);
-        let file = match ext.as_deref() {
-            Some("ply") => crate::scene::ply::read(path)?,
-            Some("obj") => crate::scene::obj::read(path)?,
-            _ => {
-                return Err(SceneError::invalid(
-                    path.display().to_string(),
-                    "expected a mesh file ending in .obj or .ply",
-                ))
-            }
+        match ext.as_deref() {
+            Some("ply") => Ok("ply"),
+            Some("obj") => Ok("obj"),
+            _ => Err(SceneError::invalid(
+                path.display().to_string(),
+                "expected a mesh file ending in .obj or .ply",
+            )),
+        }
+    }
+
+    /// [`Surface::load`] of the bytes already read from `path` (named in the errors).
+    pub fn from_bytes(path: &Path, bytes: &[u8]) -> Result<Surface, SceneError> {
+        let file = match Surface::kind(path)? {
+            "ply" => crate::scene::ply::parse(bytes).map_err(|m| {
+                SceneError::file(path.display(), format!("could not load PLY: {m}"))
+            })?,
+            _ => crate::scene::obj::from_bytes(path, bytes)?,
         };
         Surface::from_file(&file).map_err(|m| SceneError::invalid(path.display().to_string(), m))
     }

@@ -12,9 +12,11 @@
 //! holds `(n.T, n.B, n.N)` of the baked normal `n`, and the engines' `T t.x + B t.y + N t.z`
 //! gives back `n` exactly at texel centres. Texels outside every square hold `(0, 0, 1)`.
 
+use crate::memo::Memo;
 use glam::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
+use std::sync::Arc;
 
 use super::bake::{BakeConfig, Baker, Buffer};
 use super::simplify::simplify;
@@ -159,10 +161,56 @@ pub fn build(spec: &BakeSpec, base_dir: &Path) -> Result<(Mesh, NormalMap, BakeS
         bad(f, rest.to_string())
     })?;
     let full = base_dir.join(&spec.path);
+    // the file is read once here (and so accounted once in the scene's key), whether the
+    // bake is found or made
+    let bytes = Surface::read(&full)?;
+    let digest: [u64; 2] = std::array::from_fn(|pass| {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        (pass as u64, &bytes).hash(&mut h);
+        h.finish()
+    });
+    let key = (format!("{spec:?} {}", full.display()), digest);
+    let mut failed = None;
+    let found = BAKES.get_or_build(key, || match bake(spec, cfg, &full, &bytes) {
+        Ok(b) => Some(Arc::new(b)),
+        Err(e) => {
+            failed = Some(e);
+            None
+        }
+    });
+    match (found, failed) {
+        (Some(b), _) => Ok((*b).clone()),
+        (None, Some(e)) => Err(e),
+        // a failed bake kept by an earlier call: make it again for its message
+        (None, None) => bake(spec, cfg, &full, &bytes),
+    }
+}
+
+type Baked = (Mesh, NormalMap, BakeStats);
+
+/// The bakes of this process (`crate::memo`: a sweep's points that differ in their engine
+/// only share one bake), by the spec, the mesh file's path and a digest of its bytes; at most
+/// four, and only while their maps hold 64 M texels together. A failed bake is kept as None.
+static BAKES: Memo<(String, [u64; 2]), Option<Arc<Baked>>> =
+    Memo::weighed(4, 1 << 26, |b| b.as_ref().map_or(0, |b| b.1.texels.len()));
+
+/// The mesh files baked so far (for the tests: a bake found is not made again).
+#[cfg(test)]
+static MADE: std::sync::Mutex<Vec<std::path::PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+/// [`build`] after the checks: load the bytes of `full`, simplify, pack and bake.
+fn bake(spec: &BakeSpec, cfg: BakeConfig, full: &Path, bytes: &[u8]) -> Result<Baked, SceneError> {
+    let field = |f: &str| format!("mesh.Baked.{f}");
+    let bad = |f: &str, m: String| SceneError::invalid(field(f), m);
     // load, simplify, one step per view, and the face-space conversion
     let progress = crate::progress::bar(spec.views as u64 + 3, &format!("baking {}", spec.path));
     progress.set_message("loading");
-    let detailed = Surface::load(&full)?;
+    #[cfg(test)]
+    MADE.lock()
+        .unwrap_or_else(|p| p.into_inner())
+        .push(full.to_path_buf());
+    let detailed = Surface::from_bytes(full, bytes)?;
     progress.inc(1);
     progress.set_message(format!("simplifying {} faces", detailed.triangles.len()));
     let simple = simplify(&detailed, spec.faces).map_err(|m| bad("faces", m))?;
@@ -263,4 +311,59 @@ pub(crate) fn face_space(baker: &Baker<'_>, mesh: &Mesh) -> (Vec<DVec3>, usize) 
         })
         .collect();
     (texels, below)
+}
+
+#[cfg(test)]
+mod memo_tests {
+    use super::*;
+
+    /// A bake of the same spec and the same file's bytes is made once per process; a change
+    /// of the bytes (a comment appended) or of the spec makes it again.
+    #[test]
+    fn a_bake_is_made_once_per_spec_and_mesh_bytes() {
+        let dir = crate::scratch::Scratch::dir();
+        let assets = Path::new(env!("CARGO_MANIFEST_DIR")).join("../configs/assets/bunny.obj");
+        let mesh = dir.join("bunny.obj");
+        std::fs::copy(&assets, &mesh).unwrap();
+        let spec = BakeSpec {
+            path: "bunny.obj".into(),
+            faces: 200,
+            map_size: 64,
+            widen: 1,
+            views: 2,
+            view_size: 64,
+            threshold: 0.8,
+            buffer: Buffer::Item,
+            pairs: true,
+            evaluate: None,
+        };
+        let made = || {
+            let m = MADE.lock().unwrap_or_else(|p| p.into_inner());
+            m.iter().filter(|p| **p == mesh).count()
+        };
+        let first = build(&spec, &dir).unwrap();
+        let again = build(&spec, &dir).unwrap();
+        assert_eq!(made(), 1);
+        assert_eq!(first.0.triangles, again.0.triangles);
+        assert_eq!(first.1, again.1);
+        assert_eq!(first.2, again.2);
+        let mut bytes = std::fs::read(&mesh).unwrap();
+        bytes.extend_from_slice(b"# a comment\n");
+        std::fs::write(&mesh, bytes).unwrap();
+        let changed = build(&spec, &dir).unwrap();
+        assert_eq!(made(), 2);
+        assert_eq!(changed.1, first.1, "the same mesh bakes the same map");
+        let wider = BakeSpec {
+            views: 3,
+            ..spec.clone()
+        };
+        build(&wider, &dir).unwrap();
+        assert_eq!(made(), 3);
+        // a failed bake is an error each time, with its message
+        let few = BakeSpec { faces: 1, ..spec };
+        for _ in 0..2 {
+            let e = build(&few, &dir).unwrap_err().to_string();
+            assert!(e.contains("faces"), "{e}");
+        }
+    }
 }
