@@ -29,17 +29,13 @@ fn every_page_is_what_its_source_gives() {
     o.expect_code(0, "bumpsim study --reuse --check");
 }
 
-/// The pages still written by an example program (being moved to sources).
-const BY_PROGRAM: &[&str] = &["normal-map-baking"];
-
 /// Every study page has a source: a page with none would hold numbers typed by hand.
 #[test]
 fn every_study_page_has_a_source() {
     let src = sources();
     for e in std::fs::read_dir(root().join("docs/studies")).unwrap() {
         let n = e.unwrap().file_name().to_string_lossy().into_owned();
-        let stem = n.strip_suffix(".md").filter(|s| !s.ends_with(".src"));
-        if let Some(stem) = stem.filter(|s| !BY_PROGRAM.contains(s)) {
+        if let Some(stem) = n.strip_suffix(".md").filter(|s| !s.ends_with(".src")) {
             let want = format!("docs/studies/{stem}.src.md");
             assert!(src.contains(&want), "docs/studies/{n} has no source {want}");
         }

@@ -8,7 +8,7 @@ use common::*;
 
 /// Each study sweep, the directory its page runs it into, and the page quoting it: the
 /// `{{run sweeps/NAME.ron -> DIR}}` directives of the page sources (`docs/studies/*.src.md`,
-/// docs/studies.md), then [`BY_PROGRAM`] for the pages still written by example programs.
+/// docs/studies.md); [`DRAGON_SWEEPS`] must agree with them.
 fn study_sweeps() -> Vec<(String, String, String)> {
     use bumpsim_pipeline::study::directive::{parse, Directive, Piece};
     let mut out: Vec<(String, String, String)> = Vec::new();
@@ -38,7 +38,7 @@ fn study_sweeps() -> Vec<(String, String, String)> {
             }
         }
     }
-    for (name, dir, page) in BY_PROGRAM.iter().chain(DRAGON_SWEEPS) {
+    for (name, dir, page) in DRAGON_SWEEPS {
         match out.iter().find(|(n, _, _)| n == name) {
             Some((_, d, _)) => assert_eq!(d, dir, "{name}: the source and the list differ"),
             None => out.push((name.to_string(), dir.to_string(), page.to_string())),
@@ -52,9 +52,6 @@ fn dragon(name: &str) -> bool {
     DRAGON_SWEEPS.iter().any(|d| d.0 == name)
 }
 
-/// The sweeps of the pages still written by example programs.
-const BY_PROGRAM: &[(&str, &str, &str)] =
-    &[("wang-packing", "baking/packing", "normal-map-baking.md")];
 
 /// The sweeps that bake the Stanford dragon (871,306 faces): the mesh is not committed
 /// (`tools/fetch-dragon.sh`, its licence) and their 78 points take about ten minutes in a
