@@ -127,6 +127,19 @@ enum Command {
         /// gates_total:min,total_psnr_db:max,cycles:min.
         #[arg(long, value_name = "OBJ,...")]
         pareto: Option<String>,
+        /// The x axis' ends, LO,HI (default: the data's range with a margin); points beyond
+        /// are drawn at the edge.
+        #[arg(long, value_name = "LO,HI", allow_hyphen_values = true)]
+        x_range: Option<String>,
+        /// The y axis' ends, LO,HI.
+        #[arg(long, value_name = "LO,HI", allow_hyphen_values = true)]
+        y_range: Option<String>,
+        /// A logarithmic x axis (rows with x not above 0 are skipped and counted).
+        #[arg(long)]
+        x_log: bool,
+        /// A logarithmic y axis.
+        #[arg(long)]
+        y_log: bool,
         /// FILE.png or FILE.svg.
         #[arg(long)]
         out: PathBuf,
@@ -477,8 +490,33 @@ fn execute(cmd: Command) -> Result<(), Failure> {
             y,
             kind,
             pareto,
+            x_range,
+            y_range,
+            x_log,
+            y_log,
             out,
         } => {
+            let scale = |flag: &str, range: Option<String>, log: bool| {
+                let range = match range {
+                    None => None,
+                    Some(r) => {
+                        let v: Vec<Option<f64>> =
+                            r.split(',').map(|t| t.trim().parse::<f64>().ok()).collect();
+                        match v[..] {
+                            [Some(lo), Some(hi)] => Some((lo, hi)),
+                            _ => {
+                                let m = format!("{r:?}: expected LO,HI, two numbers");
+                                return Err(InputError::new(flag, "", m));
+                            }
+                        }
+                    }
+                };
+                let s = plot::axis::Scale { range, log };
+                s.check().map_err(|m| InputError::new(flag, "", m))?;
+                Ok(s)
+            };
+            let x_scale = scale("--x-range", x_range, x_log)?;
+            let y_scale = scale("--y-range", y_range, y_log)?;
             let objectives = match &pareto {
                 Some(p) => plot::pareto::Objective::parse_list(p)
                     .map_err(|e| InputError::new("--pareto", "", e))?,
@@ -492,6 +530,8 @@ fn execute(cmd: Command) -> Result<(), Failure> {
                     PlotKind::Line => plot::Kind::Line,
                 },
                 objectives,
+                x_scale,
+                y_scale,
             };
             let table = plot::read_csv(&csv)?;
             let p = plot::prepare(&table, &csv.display().to_string(), &req)?;

@@ -644,3 +644,65 @@ fn psnr_at_the_cap_is_drawn_at_the_edge_not_in_the_range() {
     o.expect_code(0, "no cap");
     assert!(!o.stdout.contains("PSNR cap"), "{}", o.stdout);
 }
+
+/// `--x-log` and `--y-range`: a log axis ticks the decades and skips (and counts) rows not
+/// above 0; a given range is kept exactly and rows beyond it are drawn at its edge and
+/// counted; bad ranges exit 2 naming the flag or the sweep file's field.
+#[test]
+fn log_axes_and_given_ranges() {
+    let s = Scratch::new("plot-scale");
+    let csv = s.join("c.csv");
+    std::fs::write(&csv, "x,y\n0,5\n16,10\n256,20\n4096,30\n16384,80\n").unwrap();
+    let svg = s.join("p.svg");
+    let o = plot_bounded(&csv, &svg, &["--x-log", "--y-range", "0,40"]);
+    o.expect_code(0, "log x, y range");
+    assert!(
+        o.stdout.contains(
+            "plotted 4 rows; skipped 0 error rows, 0 rows with a non-numeric cell; skipped 1 \
+             rows not above 0 on a log axis; 1 beyond an axis' range drawn at its edge"
+        ),
+        "{}",
+        o.stdout
+    );
+    let texts = svg_texts(&std::fs::read_to_string(&svg).unwrap());
+    for t in ["10", "100", "1000", "10000", "0", "40"] {
+        assert!(texts.iter().any(|x| x == t), "{t}: {texts:?}");
+    }
+    assert!(!texts.iter().any(|x| x == "5000"), "{texts:?}");
+    let bad: &[(&[&str], &str)] = &[
+        (&["--x-range", "5,1"], "--x-range"),
+        (&["--y-range", "1"], "--y-range"),
+        (&["--y-log", "--y-range", "0,10"], "above 0"),
+        (&["--x-range", "nan,1"], "finite"),
+    ];
+    for (args, needle) in bad {
+        let o = plot_bounded(&csv, &s.join("bad.svg"), args);
+        o.expect_code(2, needle);
+        assert!(o.stderr.contains(needle), "{args:?}: {}", o.stderr);
+        assert!(!s.join("bad.svg").exists());
+    }
+    // every row not above 0 on the log axis: nothing to plot, exit 2
+    std::fs::write(&csv, "x,y\n1,0\n2,-1\n").unwrap();
+    let o = plot_bounded(&csv, &svg, &["--y-log"]);
+    o.expect_code(2, "no positive y");
+    assert!(
+        o.stderr.contains("2 not above 0 on a log axis"),
+        "{}",
+        o.stderr
+    );
+    // in a sweep file: checked before any point runs
+    let file = sweep_file(
+        &s.path,
+        r#"(x: "index_bits", y: "cycles", x_scale: (range: Some((4.0, 2.0))))"#,
+    );
+    let o = bumpsim(&["sweep", &file, "--out", s.join("o").to_str().unwrap()]);
+    o.expect_code(2, "bad x_scale");
+    assert!(o.stderr.contains("plots[0].x_scale.range"), "{}", o.stderr);
+    let file = sweep_file(
+        &s.path,
+        r#"(x: "index_bits", y: "cycles", y_scale: (log: true), name: "log")"#,
+    );
+    let o = bumpsim(&["sweep", &file, "--out", s.join("o2").to_str().unwrap()]);
+    o.expect_code(0, "log y in a sweep");
+    assert!(s.join("o2/log.png").exists() && s.join("o2/log.svg").exists());
+}

@@ -10,15 +10,49 @@ use plotters::coord::ranged1d::{KeyPointHint, NoDefaultFormatting, Ranged, Value
 /// Most ticks on an axis (and light grid lines between two ticks).
 pub const MAX_TICKS: usize = 12;
 
-/// An axis from `lo` to `hi` (finite, `lo < hi`) with its ticks.
+/// How an axis is laid out: its range (default: the data's, with a margin) and whether it
+/// is logarithmic (a sweep file's plot `x_scale`, `y_scale`; `bumpsim plot --x-range`,
+/// `--x-log`, ...).
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scale {
+    /// The axis' ends, exactly (finite, `lo < hi`, both above 0 on a log axis); points
+    /// beyond them are drawn at the edge as triangles pointing out.
+    #[serde(default)]
+    pub range: Option<(f64, f64)>,
+    /// Logarithmic (base 10): rows whose value is not above 0 are left out and counted.
+    #[serde(default)]
+    pub log: bool,
+}
+
+impl Scale {
+    /// Check the range (`what`: the field in messages is the caller's).
+    pub fn check(&self) -> Result<(), String> {
+        if let Some((lo, hi)) = self.range {
+            if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+                return Err(format!(
+                    "({lo}, {hi}): expected finite ends, the first below the second"
+                ));
+            }
+            if self.log && lo <= 0.0 {
+                return Err(format!("({lo}, {hi}): a log axis' ends must be above 0"));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// An axis from `lo` to `hi` (finite, `lo < hi`; their log10 on a log axis) with its ticks.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Axis {
     lo: f64,
     hi: f64,
+    /// The labelled ticks and the grid's light lines, as data values.
     ticks: Vec<f64>,
     minor: Vec<f64>,
-    /// The ticks' step as `m 10^e` (None: the ticks are the range's ends).
+    /// The ticks' step as `m 10^e` (None: the ticks are the range's ends, or decades).
     step: Option<(f64, i32)>,
+    log: bool,
 }
 
 /// `m 10^e` with `m` 1, 2 or 5, the smallest at least `raw` (> 0, finite).
@@ -85,12 +119,77 @@ impl Axis {
         if lo >= hi {
             (lo, hi) = (min - 1.0, max + 1.0);
         }
+        Axis::linear(lo, hi)
+    }
+
+    /// The axis of `scale` for data from `min` to `max` (finite; above 0 on a log axis).
+    pub fn of(scale: Scale, min: f64, max: f64) -> Axis {
+        match (scale.range, scale.log) {
+            (Some((lo, hi)), false) => Axis::linear(lo, hi),
+            (Some((lo, hi)), true) => Axis::decades(lo.log10(), hi.log10()),
+            (None, false) => Axis::new(min, max),
+            (None, true) => {
+                let pos = |v: f64| if v > 0.0 { v } else { f64::MIN_POSITIVE };
+                let l = Axis::new(pos(min).log10(), pos(max).log10());
+                Axis::decades(l.lo, l.hi)
+            }
+        }
+    }
+
+    /// A log axis from `10^lo` to `10^hi`: ticks at the decades if two or more fall in it
+    /// (every k-th when more than [`MAX_TICKS`]), light lines at 2..9 times them; else at 1,
+    /// 2 and 5 times the powers of ten in it; else the ends.
+    fn decades(lo: f64, hi: f64) -> Axis {
+        let lo = lo.clamp(-307.0, 308.0);
+        let hi = hi.clamp(lo, 308.0);
+        let hi = if hi > lo { hi } else { lo + 1.0 };
+        let (k0, k1) = (lo.ceil() as i32, hi.floor() as i32);
+        let inside = |v: f64| {
+            let l = v.log10();
+            l >= lo - 1e-12 && l <= hi + 1e-12
+        };
+        let mut a = Axis {
+            lo,
+            hi,
+            ticks: vec![10f64.powf(lo), 10f64.powf(hi)],
+            minor: vec![10f64.powf(lo), 10f64.powf(hi)],
+            step: None,
+            log: true,
+        };
+        let n = k1 - k0 + 1;
+        if n >= 2 {
+            let every = (n as usize).div_ceil(MAX_TICKS - 1).max(1);
+            a.ticks = (k0..=k1).step_by(every).map(|k| 10f64.powi(k)).collect();
+            if every == 1 && n as usize <= MAX_TICKS {
+                a.minor = (k0 - 1..=k1)
+                    .flat_map(|k| (1..10).map(move |m| m as f64 * 10f64.powi(k)))
+                    .filter(|v| inside(*v))
+                    .collect();
+            } else {
+                a.minor = a.ticks.clone();
+            }
+            return a;
+        }
+        let nice: Vec<f64> = (k0 - 1..=k1)
+            .flat_map(|k| [1.0, 2.0, 5.0].map(|m| m * 10f64.powi(k)))
+            .filter(|v| inside(*v))
+            .collect();
+        if nice.len() >= 2 {
+            a.ticks = nice.clone();
+            a.minor = nice;
+        }
+        a
+    }
+
+    /// A linear axis from `lo` to `hi` exactly, with its ticks.
+    fn linear(lo: f64, hi: f64) -> Axis {
         let mut a = Axis {
             lo,
             hi,
             ticks: vec![lo, hi],
             minor: vec![lo, hi],
             step: None,
+            log: false,
         };
         // a step of at least a tenth of the span: 11 ticks at most
         let Some((m, e)) = nice((hi / 2.0 - lo / 2.0) / 5.0) else {
@@ -111,9 +210,17 @@ impl Axis {
         a
     }
 
-    /// The axis' ends.
+    /// The axis' ends (data values).
     pub fn ends(&self) -> (f64, f64) {
-        (self.lo, self.hi)
+        match self.log {
+            true => (10f64.powf(self.lo), 10f64.powf(self.hi)),
+            false => (self.lo, self.hi),
+        }
+    }
+
+    /// Whether the axis is logarithmic.
+    pub fn is_log(&self) -> bool {
+        self.log
     }
 
     /// The values of the labelled ticks, in order.
@@ -124,6 +231,24 @@ impl Axis {
     /// A tick's label: the decimals the step needs, trailing zeros dropped ("18000", "0.25",
     /// "1.5e9").
     pub fn label(&self, v: f64) -> String {
+        if self.log {
+            // a tick of a log axis: its significant digits (1, 2, 5 times a power of ten)
+            let e = v.log10().floor() as i32;
+            return match (-3..7).contains(&e) {
+                true => {
+                    let d = (-e).clamp(0, 17) as usize;
+                    let s = format!("{v:.d$}");
+                    match s.contains('.') {
+                        true => s.trim_end_matches('0').trim_end_matches('.').to_string(),
+                        false => s,
+                    }
+                }
+                false => {
+                    let m = (v / 10f64.powi(e)).round();
+                    format!("{m}e{e}")
+                }
+            };
+        }
         let big = self.lo.abs().max(self.hi.abs());
         let Some((_, e)) = self.step else {
             // the range's ends: the shortest decimal that reads back
@@ -163,6 +288,10 @@ impl Axis {
 
     /// Where `v` falls in `0..=1` along the axis (outside for values beyond its ends).
     pub fn fraction(&self, v: f64) -> f64 {
+        let v = match self.log {
+            true => v.max(f64::MIN_POSITIVE).log10(),
+            false => v,
+        };
         (v / 2.0 - self.lo / 2.0) / (self.hi / 2.0 - self.lo / 2.0)
     }
 }
@@ -190,7 +319,8 @@ impl Ranged for Axis {
     }
 
     fn range(&self) -> std::ops::Range<f64> {
-        self.lo..self.hi
+        let (lo, hi) = self.ends();
+        lo..hi
     }
 }
 
@@ -282,5 +412,67 @@ mod tests {
         let a = Axis::new(5.0, 5.0);
         assert_eq!(a.ends(), (4.75, 5.25));
         assert_eq!(Axis::new(0.0, 0.0).ends(), (-1.0, 1.0));
+    }
+
+    #[test]
+    fn log_axes_tick_decades_or_one_two_five() {
+        let log = Scale {
+            range: None,
+            log: true,
+        };
+        let a = Axis::of(log, 16.0, 16384.0);
+        assert_eq!(labels(&a), ["100", "1000", "10000"]);
+        assert!(a.minor.contains(&20.0) && a.minor.contains(&9000.0));
+        let a = Axis::of(log, 0.002, 0.009);
+        assert_eq!(labels(&a), ["0.002", "0.005"], "{:?}", a.ends());
+        let a = Axis::of(log, 1e-30, 1e30);
+        assert!(a.ticks().len() <= MAX_TICKS, "{:?}", labels(&a));
+        assert!(
+            labels(&a).iter().all(|l| l.starts_with("1e") || l == "100"),
+            "{:?}",
+            labels(&a)
+        );
+        // a point's place: decades equally spaced
+        let a = Axis::of(
+            Scale {
+                range: Some((1.0, 1000.0)),
+                log: true,
+            },
+            5.0,
+            6.0,
+        );
+        assert_eq!(a.ends(), (1.0, 1000.0));
+        assert!((a.fraction(10.0) - 1.0 / 3.0).abs() < 1e-12);
+        assert!((a.fraction(100.0) - 2.0 / 3.0).abs() < 1e-12);
+        assert_eq!(labels(&a), ["1", "10", "100", "1000"]);
+        // a fixed linear range is kept exactly, whatever the data
+        let lin = Scale {
+            range: Some((0.0, 50.0)),
+            log: false,
+        };
+        let a = Axis::of(lin, -1e9, 1e9);
+        assert_eq!(a.ends(), (0.0, 50.0));
+        assert_eq!(labels(&a)[..3], ["0", "5", "10"]);
+        assert_eq!(labels(&a).last().map(String::as_str), Some("50"));
+        // bad ranges are refused
+        assert!(Scale {
+            range: Some((2.0, 1.0)),
+            log: false
+        }
+        .check()
+        .is_err());
+        assert!(Scale {
+            range: Some((0.0, 1.0)),
+            log: true
+        }
+        .check()
+        .is_err());
+        assert!(Scale {
+            range: Some((f64::NAN, 1.0)),
+            log: false
+        }
+        .check()
+        .is_err());
+        assert!(lin.check().is_ok());
     }
 }

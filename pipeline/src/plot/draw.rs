@@ -6,7 +6,7 @@
 //! nothing installed and are the same every run. Axes and ticks are [`Axis`]: bounded for any
 //! finite data.
 
-use super::axis::Axis;
+use super::axis::{Axis, Scale};
 use super::font::{self, Placement};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -68,6 +68,9 @@ pub struct Figure {
     /// range and drawn at its edge as triangles pointing out, when other points are not.
     pub x_cap: Option<f64>,
     pub y_cap: Option<f64>,
+    /// The axes' ranges and log scales (points beyond a range drawn at its edge).
+    pub x_scale: Scale,
+    pub y_scale: Scale,
 }
 
 fn register_font() {
@@ -270,14 +273,22 @@ fn fit_line(text: &str, size: f64, max_w: f64) -> (String, f64) {
     (cut(text, s, max_w), s)
 }
 
-/// How many points are at a cap the axes leave out (drawn at their edge).
-pub fn capped_points(fig: &Figure) -> usize {
-    let (_, x_out) = axis_of(fig.points.iter().map(|p| p.0), fig.x_cap);
-    let (_, y_out) = axis_of(fig.points.iter().map(|p| p.1), fig.y_cap);
-    fig.points
+/// How many points are at a cap the axes leave out, or beyond a range (drawn at their
+/// edge): `(capped, beyond)`.
+pub fn edge_points(fig: &Figure) -> (usize, usize) {
+    let (xa, x_out) = axis_of(fig.points.iter().map(|p| p.0), fig.x_cap, fig.x_scale);
+    let (ya, y_out) = axis_of(fig.points.iter().map(|p| p.1), fig.y_cap, fig.y_scale);
+    let capped = |p: &&(f64, f64, bool)| {
+        (x_out && capped(p.0, fig.x_cap)) || (y_out && capped(p.1, fig.y_cap))
+    };
+    let n_capped = fig.points.iter().filter(capped).count();
+    let beyond = fig
+        .points
         .iter()
-        .filter(|p| (x_out && capped(p.0, fig.x_cap)) || (y_out && capped(p.1, fig.y_cap)))
-        .count()
+        .filter(|p| !capped(p))
+        .filter(|p| place(p.0, &xa, false, None).1 != 0 || place(p.1, &ya, false, None).1 != 0)
+        .count();
+    (n_capped, beyond)
 }
 
 /// Whether `v` is at the cap (or its negative).
@@ -285,9 +296,9 @@ fn capped(v: f64, cap: Option<f64>) -> bool {
     cap.is_some_and(|c| v.abs() == c)
 }
 
-/// The axis of values `vs`, those at `cap` left out when others are not; and whether any
-/// was left out.
-fn axis_of(vs: impl Iterator<Item = f64> + Clone, cap: Option<f64>) -> (Axis, bool) {
+/// The axis of values `vs` laid out by `scale`, those at `cap` left out when others are not;
+/// and whether any was left out.
+fn axis_of(vs: impl Iterator<Item = f64> + Clone, cap: Option<f64>, scale: Scale) -> (Axis, bool) {
     let range = |it: &mut dyn Iterator<Item = f64>| {
         it.fold(None, |r: Option<(f64, f64)>, v| {
             Some(r.map_or((v, v), |(a, b)| (a.min(v), b.max(v))))
@@ -297,17 +308,19 @@ fn axis_of(vs: impl Iterator<Item = f64> + Clone, cap: Option<f64>) -> (Axis, bo
     let left_out = uncapped.is_some() && vs.clone().any(|v| capped(v, cap));
     let (lo, hi) = uncapped
         .or_else(|| range(&mut vs.clone()))
-        .unwrap_or((0.0, 1.0));
-    (Axis::new(lo, hi), left_out)
+        .unwrap_or((1.0, 10.0));
+    (Axis::of(scale, lo, hi), left_out)
 }
 
-/// A point's place on the axis: `v`, or for a capped one the end it is beyond, and the way
-/// out (-1 below, +1 above, 0 on the axis).
+/// A point's place on the axis: `v`, or for a capped one or one beyond the axis' range the
+/// end it is beyond, and the way out (-1 below, +1 above, 0 on the axis).
 fn place(v: f64, axis: &Axis, left_out: bool, cap: Option<f64>) -> (f64, i32) {
     let (lo, hi) = axis.ends();
     match left_out && capped(v, cap) {
         true if v > 0.0 => (hi, 1),
         true => (lo, -1),
+        false if v > hi => (hi, 1),
+        false if v < lo => (lo, -1),
         false => (v, 0),
     }
 }
@@ -347,8 +360,8 @@ fn draw<DB: DrawingBackend>(
     let err = |e: &dyn std::fmt::Display| format!("cannot draw the plot: {e}");
     let f = font::font();
     root.fill(&WHITE).map_err(|e| err(&e))?;
-    let (xa, x_out) = axis_of(fig.points.iter().map(|p| p.0), fig.x_cap);
-    let (ya, y_out) = axis_of(fig.points.iter().map(|p| p.1), fig.y_cap);
+    let (xa, x_out) = axis_of(fig.points.iter().map(|p| p.0), fig.x_cap, fig.x_scale);
+    let (ya, y_out) = axis_of(fig.points.iter().map(|p| p.1), fig.y_cap, fig.y_scale);
     // each point where it is drawn, its way out (for a capped one) and whether on the front
     let shown: Vec<Shown> = fig
         .points
@@ -409,10 +422,28 @@ fn draw<DB: DrawingBackend>(
     );
     let (xlo, _) = xa.ends();
     let (ylo, _) = ya.ends();
-    for t in xa.ticks() {
-        let (px, _) = chart.backend_coord(&(*t, ylo));
-        let pos = (px as f64, y1 + TICK_GAP);
-        texts.push(Text::new(&xa.label(*t), label_size, top(0.5, 0.0), pos));
+    // every k-th x label, the smallest k at which neighbours keep a gap between them (long
+    // labels such as "1.2345e-5" would overlap at every tick)
+    let x_labels: Vec<(f64, String)> = xa
+        .ticks()
+        .iter()
+        .map(|t| (chart.backend_coord(&(*t, ylo)).0 as f64, xa.label(*t)))
+        .collect();
+    let fits = |k: usize| {
+        let kept: Vec<&(f64, String)> = x_labels.iter().step_by(k).collect();
+        kept.windows(2).all(|w| {
+            let half = |l: &str| f.width(l, label_size) / 2.0;
+            w[1].0 - w[0].0 >= half(&w[0].1) + half(&w[1].1) + 8.0
+        })
+    };
+    let every = (1..=x_labels.len().max(1)).find(|&k| fits(k)).unwrap_or(1);
+    for (px, label) in x_labels.iter().step_by(every) {
+        texts.push(Text::new(
+            label,
+            label_size,
+            top(0.5, 0.0),
+            (*px, y1 + TICK_GAP),
+        ));
     }
     for (t, l) in ya.ticks().iter().zip(&y_labels) {
         let (_, py) = chart.backend_coord(&(xlo, *t));
@@ -481,7 +512,7 @@ fn draw<DB: DrawingBackend>(
             .map_err(|e| err(&e))?;
         legend.push((Marker::Dot(5, red), "Pareto front".into()));
     }
-    let capped_n = shown.iter().filter(|s| s.1 != (0, 0)).count();
+    let (capped_n, beyond_n) = edge_points(fig);
     if capped_n > 0 {
         let cap = match y_out {
             true => fig.y_cap,
@@ -491,6 +522,12 @@ fn draw<DB: DrawingBackend>(
         legend.push((
             Marker::Up(blue),
             format!("{capped_n} at the PSNR cap {cap} dB (identical images), at the edge"),
+        ));
+    }
+    if beyond_n > 0 {
+        legend.push((
+            Marker::Up(blue),
+            format!("{beyond_n} beyond the axis' range, at the edge"),
         ));
     }
 

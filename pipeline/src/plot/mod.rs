@@ -15,6 +15,7 @@ pub mod table;
 
 use crate::config::InputError;
 use crate::output::write_atomic;
+pub use axis::Scale;
 use csv::Csv;
 use draw::{Figure, Format};
 use pareto::Objective;
@@ -44,6 +45,12 @@ pub struct PlotSpec {
     /// File names in the output directory: `NAME.png`, `NAME.svg` (default `Y-vs-X`).
     #[serde(default)]
     pub name: String,
+    /// The axes' ranges and log scales: `x_scale: (range: Some((1.0, 100.0)), log: true)`
+    /// (default: the data's range, linear).
+    #[serde(default)]
+    pub x_scale: Scale,
+    #[serde(default)]
+    pub y_scale: Scale,
 }
 
 impl PlotSpec {
@@ -78,6 +85,8 @@ pub struct Request {
     pub y: String,
     pub kind: Kind,
     pub objectives: Vec<Objective>,
+    pub x_scale: Scale,
+    pub y_scale: Scale,
 }
 
 /// A plot ready to draw.
@@ -90,8 +99,12 @@ pub struct Plot {
     pub on_front: usize,
     pub error_rows: usize,
     pub non_numeric: usize,
+    /// Rows with a value not above 0 on a log axis (not drawn).
+    pub non_positive: usize,
     /// Rows at the PSNR cap (999 dB) left out of an axis and drawn at its edge.
     pub capped: usize,
+    /// Rows beyond an axis' given range, drawn at its edge.
+    pub beyond: usize,
 }
 
 impl Plot {
@@ -110,9 +123,19 @@ impl Plot {
                 crate::metrics::PSNR_CAP_DB
             ),
         };
+        let mut more = String::new();
+        if self.non_positive > 0 {
+            more += &format!(
+                "; skipped {} rows not above 0 on a log axis",
+                self.non_positive
+            );
+        }
+        if self.beyond > 0 {
+            more += &format!("; {} beyond an axis' range drawn at its edge", self.beyond);
+        }
         format!(
             "plotted {} rows{front}; skipped {} error rows, {} rows with a non-numeric \
-             cell{capped}",
+             cell{capped}{more}",
             self.plotted, self.error_rows, self.non_numeric
         )
     }
@@ -225,13 +248,23 @@ pub fn prepare(csv: &Csv, name: &str, req: &Request) -> Result<Plot, InputError>
             return Err(InputError::new(name, used[k], m));
         }
     }
+    for (scale, field) in [(req.x_scale, "x_scale"), (req.y_scale, "y_scale")] {
+        scale
+            .check()
+            .map_err(|m| InputError::new(name, format!("{field}.range"), m))?;
+    }
+    // a log axis has no place for 0 or below
+    let before = kept.len();
+    kept.retain(|(_, v)| (!req.x_scale.log || v[0] > 0.0) && (!req.y_scale.log || v[1] > 0.0));
+    let non_positive = before - kept.len();
     if kept.is_empty() {
         return Err(InputError::new(
             name,
             "",
             format!(
                 "no row to plot ({error_rows} error rows, {non_numeric} with a non-numeric \
-                 cell): expected rows with numbers in {}",
+                 cell, {non_positive} not above 0 on a log axis): expected rows with numbers \
+                 in {}",
                 used.join(", ")
             ),
         ));
@@ -288,9 +321,14 @@ pub fn prepare(csv: &Csv, name: &str, req: &Request) -> Result<Plot, InputError>
         pareto: !req.objectives.is_empty(),
         x_cap: psnr_cap(&req.x),
         y_cap: psnr_cap(&req.y),
+        x_scale: req.x_scale,
+        y_scale: req.y_scale,
     };
+    let (capped, beyond) = draw::edge_points(&figure);
     Ok(Plot {
-        capped: draw::capped_points(&figure),
+        capped,
+        beyond,
+        non_positive,
         figure,
         on_front: on.iter().filter(|f| **f).count(),
         plotted: kept.len(),
@@ -347,6 +385,8 @@ pub fn sweep_plots(
             objectives: s
                 .objectives()
                 .map_err(|e| InputError::new(&name, format!("plots[{k}].pareto"), e))?,
+            x_scale: s.x_scale,
+            y_scale: s.y_scale,
         };
         let plot = prepare(&csv, &name, &req)?;
         let stem = s.stem();

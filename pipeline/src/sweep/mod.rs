@@ -815,6 +815,11 @@ impl Sweep {
         for (k, p) in self.file.plots.iter().enumerate() {
             known(k, "x", &p.x)?;
             known(k, "y", &p.y)?;
+            for (scale, field) in [(p.x_scale, "x_scale"), (p.y_scale, "y_scale")] {
+                scale
+                    .check()
+                    .map_err(|m| InputError::new(&name, format!("plots[{k}].{field}.range"), m))?;
+            }
             let objectives = p
                 .objectives()
                 .map_err(|e| InputError::new(&name, format!("plots[{k}].pareto"), e))?;
