@@ -52,7 +52,6 @@ fn dragon(name: &str) -> bool {
     DRAGON_SWEEPS.iter().any(|d| d.0 == name)
 }
 
-
 /// The sweeps that bake the Stanford dragon (871,306 faces): the mesh is not committed
 /// (`tools/fetch-dragon.sh`, its licence) and their 78 points take about ten minutes in a
 /// release build (hours in the suite's debug build), so the suite does not run them; `every_dragon_sweep_is_committed_and_quoted`

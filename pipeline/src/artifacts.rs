@@ -877,10 +877,11 @@ mod tests {
     #[test]
     fn one_gradient_break_has_the_faceting_of_its_closed_form() {
         for (s, x0) in [(2.0, 20u32), (0.5, 40)] {
-            for r in [img(|_, _| 100.0), img(|x, y| 60.0 + 0.01 * (x * x + 3 * y) as f64)] {
-                let a = img(|x, y| {
-                    r.get(x, y)[0] * 255.0 + s * (x as f64 - x0 as f64).max(0.0)
-                });
+            for r in [
+                img(|_, _| 100.0),
+                img(|x, y| 60.0 + 0.01 * (x * x + 3 * y) as f64),
+            ] {
+                let a = img(|x, y| r.get(x, y)[0] * 255.0 + s * (x as f64 - x0 as f64).max(0.0));
                 let want = s * (7.0 / (12.0 * (W - 2) as f64)).sqrt();
                 let got = m(&a, &r).faceting_lsb;
                 assert!((got - want).abs() < 1e-9, "s {s}, x0 {x0}: {got} vs {want}");

@@ -629,7 +629,7 @@ mod tests {
     #[test]
     fn capped_values_are_left_out_of_the_range() {
         let ys = [20.0, 30.0, 999.0, 40.0, -999.0];
-        let (a, out) = axis_of(ys.iter().copied(), Some(999.0));
+        let (a, out) = axis_of(ys.iter().copied(), Some(999.0), Scale::default());
         assert!(out);
         let (lo, hi) = a.ends();
         assert!(
@@ -640,9 +640,9 @@ mod tests {
         assert_eq!(place(-999.0, &a, out, Some(999.0)), (lo, -1));
         assert_eq!(place(30.0, &a, out, Some(999.0)), (30.0, 0));
         // all at the cap, or no cap: nothing is left out
-        let (a, out) = axis_of([999.0, 999.0].into_iter(), Some(999.0));
+        let (a, out) = axis_of([999.0, 999.0].into_iter(), Some(999.0), Scale::default());
         assert!(!out && a.ends().0 < 999.0 && a.ends().1 > 999.0);
-        let (a, out) = axis_of(ys.iter().copied(), None);
+        let (a, out) = axis_of(ys.iter().copied(), None, Scale::default());
         assert!(!out && a.ends().1 > 999.0);
         assert_eq!(triangle(0, -1, 5), [(0, -6), (5, 3), (-5, 3)]);
         assert_eq!(triangle(1, 0, 5), [(6, 0), (-3, 5), (-3, -5)]);
