@@ -148,7 +148,7 @@ fn words(s: &str) -> Result<Vec<String>, String> {
 }
 
 const FORMS: &str = "(COND: COL=VALUE, COL!=VALUE, COL<N, <=, >, >=) run SWEEP.ron -> DIR | cite ID | table ID NAME | value ID EXPR \
-                     [COND]... [+|-|*|/ EXPR [COND]...]... [:DIGITS] | min|max ID \
+                     [COND]... [+|-|*|/ EXPR [COND]...]... [:DIGITS] | min|max ID[,ID]... \
                      EXPR [COND]... [:DIGITS] | argmin|argmax ID EXPR KEY [COND]... | \
                      count ID [COND]... | render CONFIG [set=PATH=VALUE]... -> PNG \
                      [reference=|exact=|error=|quantization=PNG] [gain=G] [crop=X,Y,W,H] [zoom=K] \

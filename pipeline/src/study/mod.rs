@@ -176,15 +176,10 @@ impl Page {
                 groups,
                 digits,
             } => {
-                let s = self.sweep(id)?;
                 let fmt = |x: f64| format_number(x, digits.unwrap_or(2));
                 let mut acc = 0.0;
                 for g in groups {
-                    let rows = rows(s, id, &g.conds)?;
-                    let vals = rows
-                        .iter()
-                        .map(|r| eval(&s.csv, r, &g.expr).map_err(|m| format!("{id}: {m}")))
-                        .collect::<Result<Vec<_>, _>>()?;
+                    let vals = self.values(id, &g.expr, &g.conds)?;
                     let v = match how {
                         Aggregate::One => {
                             let first = fmt(vals[0]);
@@ -233,8 +228,11 @@ impl Page {
                 Ok(best.map(|(_, r)| r[k].clone()).unwrap_or_default())
             }
             Directive::Count { id, conds } => {
-                let s = self.sweep(id)?;
-                Ok(rows(s, id, conds).map_or(0, |r| r.len()).to_string())
+                let mut n = 0;
+                for one in id.split(',') {
+                    n += rows(self.sweep(one)?, one, conds).map_or(0, |r| r.len());
+                }
+                Ok(n.to_string())
             }
             Directive::Render(r) => {
                 if !self.opts.reuse {
@@ -309,6 +307,33 @@ impl Page {
         }
         self.pictures.extend(out);
         Ok(())
+    }
+
+    /// `expr` of the rows meeting `conds` in the sweeps `id` (one, or several joined by
+    /// commas: `ernst-gates-lh-width,ernst-power-table`); at least one row in all.
+    fn values(&self, id: &str, expr: &str, conds: &[directive::Cond]) -> Result<Vec<f64>, String> {
+        let ids: Vec<&str> = id.split(',').collect();
+        let mut vals = Vec::new();
+        let mut missing = None;
+        for one in &ids {
+            let s = self.sweep(one)?;
+            match rows(s, one, conds) {
+                Ok(rs) => {
+                    for r in rs {
+                        vals.push(eval(&s.csv, r, expr).map_err(|m| format!("{one}: {m}"))?);
+                    }
+                }
+                Err(m) => missing = Some(m),
+            }
+        }
+        match (vals.is_empty(), missing) {
+            (true, Some(m)) if ids.len() == 1 => Err(m),
+            (true, _) => Err(format!(
+                "no row of {} meets the conditions",
+                ids.join(" or ")
+            )),
+            (false, _) => Ok(vals),
+        }
     }
 
     fn sweep(&self, id: &str) -> Result<&Swept, String> {
@@ -514,6 +539,10 @@ mod tests {
             pictures: Vec::new(),
         };
         p.sweeps.insert("s".into(), swept());
+        let mut t = swept();
+        t.csv.rows[0][4] = "999".into();
+        t.csv.rows[1][4] = "1".into();
+        p.sweeps.insert("t".into(), t);
         p
     }
 
@@ -580,7 +609,8 @@ mod tests {
         assert_eq!(go("{{max s gates.a bits<12 :0}}").unwrap(), "200");
         assert!(e("{{value s nope bits=8}}").contains("no column \"nope\""));
         assert!(e("{{value s psnr nope=8}}").contains("no column \"nope\""));
-        assert!(e("{{value t psnr}}").contains("no sweep \"t\""));
+        assert!(e("{{value u psnr}}").contains("no sweep \"u\""));
+        assert!(e("{{max s,t psnr bits=7}}").contains("no row of s or t"));
         assert!(e("{{table s x}}").contains("has no table \"x\""));
         assert!(e("{{value s psnr status=error}}").contains("expected a number"));
     }
