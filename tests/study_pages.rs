@@ -103,6 +103,32 @@ fn a_stale_page_fails_the_check_and_a_bad_directive_names_its_line() {
     );
     assert!(o.stderr.contains("no column \"nope\""), "{}", o.stderr);
     assert_eq!(std::fs::read_to_string(dir.join("p.md")).unwrap(), before);
+    // pictures: rendered, cropped and zoomed; a crop outside the image is exit 2
+    let cfg = root().join("configs/sgi-teapot.ron");
+    let render = |opts: &str| {
+        format!(
+            "# P\n{{{{render {} set=scene.width=24 set=scene.height=24 -> pics/a.png \
+             reference=pics/r.png quantization=pics/q.png gain=8 {opts}}}}}\n![](pics/a.png)\n",
+            cfg.display()
+        )
+    };
+    std::fs::write(&src, render("crop=4,2,8,6 zoom=3 mark=4,2,8,6")).unwrap();
+    bumpsim(&["study", p]).expect_code(0, "render");
+    for f in ["a", "r", "q"] {
+        let img = image::open(dir.join(format!("pics/{f}.png"))).unwrap();
+        assert_eq!((img.width(), img.height()), (24, 18), "{f}");
+    }
+    let page = std::fs::read_to_string(dir.join("p.md")).unwrap();
+    assert!(page.ends_with("# P\n![](pics/a.png)\n"), "{page}");
+    // with --reuse nothing is rendered
+    std::fs::remove_file(dir.join("pics/a.png")).unwrap();
+    bumpsim(&["study", p, "--reuse"]).expect_code(0, "reuse");
+    assert!(!dir.join("pics/a.png").exists());
+    std::fs::write(&src, render("crop=20,20,8,8")).unwrap();
+    let o = bumpsim(&["study", p]);
+    o.expect_code(2, "crop outside");
+    assert!(o.stderr.contains("outside the 24x24 image"), "{}", o.stderr);
+    assert!(!dir.join("pics/a.png").exists(), "nothing written");
     let o = bumpsim(&["study", s.join("docs/q.md").to_str().unwrap()]);
     o.expect_code(2, "not a source");
     assert!(o.stderr.contains("NAME.src.md"), "{}", o.stderr);
