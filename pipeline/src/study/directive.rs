@@ -32,6 +32,15 @@ pub enum Directive {
     },
     /// `{{count ID COND...}}`: how many rows meet the conditions.
     Count { id: String, conds: Vec<Cond> },
+    /// `{{text ID COL COND... [:from=MARK]}}`: the text of column COL in the rows meeting
+    /// the conditions (they must agree), from the first MARK in it on (an error row's message
+    /// without the config and overrides before it).
+    Text {
+        id: String,
+        column: String,
+        conds: Vec<Cond>,
+        from: Option<String>,
+    },
     /// `{{render CONFIG [set=PATH=VALUE]... -> IMAGE.png [OPTION]...}}`: render a config,
     /// write its image and the others asked for ([`Render`]). Writes nothing into the page.
     Render(Render),
@@ -150,7 +159,7 @@ fn words(s: &str) -> Result<Vec<String>, String> {
 const FORMS: &str = "(COND: COL=VALUE, COL!=VALUE, COL<N, <=, >, >=) run SWEEP.ron -> DIR | cite ID | table ID NAME | value ID EXPR \
                      [COND]... [+|-|*|/ EXPR [COND]...]... [:DIGITS] | min|max ID[,ID]... \
                      EXPR [COND]... [:DIGITS] | argmin|argmax ID EXPR KEY [COND]... | \
-                     count ID [COND]... | render CONFIG [set=PATH=VALUE]... -> PNG \
+                     count ID [COND]... | text ID COL [COND]... [:from=MARK] | render CONFIG [set=PATH=VALUE]... -> PNG \
                      [reference=|exact=|error=|quantization=PNG] [gain=G] [crop=X,Y,W,H] [zoom=K] \
                      [mark=X,Y,W,H]";
 
@@ -334,6 +343,23 @@ fn directive(body: &str) -> Result<Directive, String> {
             Directive::Count {
                 id: w[0].clone(),
                 conds: conds(&w[1..])?,
+            }
+        }
+        "text" => {
+            let from = match w.last().and_then(|l| l.strip_prefix(":from=")) {
+                Some(m) if !m.is_empty() => Some(m.to_string()),
+                Some(_) => return Err(bad("`:from=` without a mark".into())),
+                None => None,
+            };
+            if from.is_some() {
+                w.pop();
+            }
+            need(2, &w)?;
+            Directive::Text {
+                id: w[0].clone(),
+                column: w[1].clone(),
+                conds: conds(&w[2..])?,
+                from,
             }
         }
         "render" => render(&w).map_err(bad)?,

@@ -234,6 +234,33 @@ impl Page {
                 }
                 Ok(n.to_string())
             }
+            Directive::Text {
+                id,
+                column,
+                conds,
+                from,
+            } => {
+                let s = self.sweep(id)?;
+                let k = s
+                    .csv
+                    .column(column)
+                    .ok_or_else(|| no_column(id, &s.csv, column))?;
+                let texts: Vec<&str> = rows(s, id, conds)?.iter().map(|r| r[k].as_str()).collect();
+                if texts.iter().any(|t| *t != texts[0]) {
+                    return Err(format!(
+                        "{} rows of {id} meet the conditions with different {column}: expected \
+                         one (add a condition)",
+                        texts.len()
+                    ));
+                }
+                match from {
+                    None => Ok(texts[0].to_string()),
+                    Some(m) => texts[0]
+                        .find(m.as_str())
+                        .map(|at| texts[0][at..].to_string())
+                        .ok_or_else(|| format!("{id}: {column} holds no {m:?}: {:?}", texts[0])),
+                }
+            }
             Directive::Render(r) => {
                 if !self.opts.reuse {
                     self.pictures(r)?;
@@ -580,6 +607,11 @@ mod tests {
         assert_eq!(go("{{value s psnr bits=1*}}").unwrap(), "30.25");
         // rows that agree on the value are one value
         assert_eq!(go("{{value s psnr bits=1* :0}}").unwrap(), "30");
+        assert_eq!(
+            go("{{text s status bits=10 status=error}}").unwrap(),
+            "error"
+        );
+        assert_eq!(go("{{text s psnr bits=8 :from=.2}}").unwrap(), ".25");
         // two rows: a difference, a ratio
         assert_eq!(go("{{value s psnr bits=8 - psnr bits=6}}").unwrap(), "9.75");
         assert_eq!(
@@ -612,6 +644,8 @@ mod tests {
         assert!(e("{{value u psnr}}").contains("no sweep \"u\""));
         assert!(e("{{max s,t psnr bits=7}}").contains("no row of s or t"));
         assert!(e("{{table s x}}").contains("has no table \"x\""));
+        assert!(e("{{text s psnr bits=8 :from=x}}").contains("holds no \"x\""));
+        assert!(e("{{text s psnr}}").contains("different psnr"));
         assert!(e("{{value s psnr status=error}}").contains("expected a number"));
     }
 
