@@ -144,15 +144,7 @@ pub(crate) fn datapath(
     let lat = u.mem_latency();
     let uv = u.inputs()[0].clone();
     let frac = uv.enc.format.frac as u32;
-    let lanes = tex.lanes() as usize;
-    let texel: Encoding = *tex.texel();
-    let wt = texel.width();
-    if wt as usize * lanes > 128 {
-        return Err(format!(
-            "texel words of {} bits: expected at most 128",
-            wt as usize * lanes
-        ));
-    }
+    let (texel, wt, lanes) = texel_word(tex)?;
     let out_enc = u.outputs()[0].enc;
     let t = sh.t.clone();
     let sb = super::verilog::unsigned_bits(sh.plan.latency() as u128);
@@ -249,6 +241,21 @@ pub(crate) fn datapath(
 /// lerps `a + (b - a) w` with the weights `[w_u, w_v]`, exactly the model's) and cast once into
 /// `out`: the texel fetch's filter, shared with the texture shaders' stages. `what` starts each
 /// lane's comment.
+/// A texture's texel encoding, its width and its lanes, checked to fit the memory's words
+/// (all lanes of a texel in one word of at most 128 bits).
+pub(crate) fn texel_word(tex: &crate::texture::Texture) -> Result<(Encoding, u32, usize), String> {
+    let lanes = tex.lanes() as usize;
+    let texel: Encoding = *tex.texel();
+    let wt = texel.width();
+    match wt as usize * lanes > 128 {
+        true => Err(format!(
+            "texel words of {} bits: expected at most 128",
+            wt as usize * lanes
+        )),
+        false => Ok((texel, wt, lanes)),
+    }
+}
+
 pub(crate) fn filter(
     m: &mut Module,
     taps: &[String],

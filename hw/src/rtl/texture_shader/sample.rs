@@ -60,15 +60,7 @@ pub(super) fn fetch(
     let sampler = f.sampler;
     let bilinear = sampler.filter() == Filter::Bilinear;
     let frac = f.coord.format.frac as u32;
-    let lanes = tex.lanes() as usize;
-    let texel: Encoding = *tex.texel();
-    let wt = texel.width();
-    if wt as usize * lanes > 128 {
-        return Err(format!(
-            "texel words of {} bits: expected at most 128",
-            wt as usize * lanes
-        ));
-    }
+    let (texel, wt, lanes) = crate::rtl::fetch::texel_word(tex)?;
     let word = wt * lanes as u32;
     let mut bases = Vec::new();
     let mut words: Vec<u128> = Vec::new();
