@@ -101,7 +101,7 @@ fn area(cell: &str) -> Option<f64> {
 
 /// GE and flip-flops of module `name`, its instances included; the black boxes `boxes`
 /// (texture memories) count nothing.
-fn price(
+pub fn price(
     mods: &BTreeMap<String, Counts>,
     name: &str,
     boxes: &[&str],

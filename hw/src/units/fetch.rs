@@ -149,65 +149,23 @@ impl Unit for TexFetch {
     /// tap and output registers. The texel memory is outside the budget.
     fn gates(&self, t: &CostTable) -> GateBudget {
         let uv = self.inputs[0].enc;
-        let frac = uv.format.frac as u32;
-        let (log_w, log_h) = self.tex.level_at(0).logs();
         let texel = self.tex.texel();
         let wt = texel.width();
         let lanes = self.tex.lanes() as u32;
         let out = self.outputs[0].enc;
         let wo = out.width();
-        let bilinear = self.sampler.filter() == Filter::Bilinear;
         let taps = self.sampler.taps();
         let mut g = GateBudget::new();
-        let mut eff = [0u32; 2];
-        for (a, (name, log)) in [("s", log_w), ("t", log_h)].into_iter().enumerate() {
-            let f = frac - log;
-            eff[a] = self.sampler.weight_bits().min(f);
-            if log == 0 {
-                continue;
-            }
-            let mode = self.sampler.address()[a];
-            // the index's range (and its neighbour's) from the coordinate's
-            let half = if bilinear { 1i64 << (f - 1) } else { 0 };
-            let lo = (uv.format.min_raw() - half) >> f;
-            let hi = ((uv.format.max_raw() - half) >> f) + i64::from(bilinear);
-            let span = crate::rtl::verilog::signed_bits(lo as i128, hi as i128);
-            // index bits the address needs: the low log (wrap), one more (mirror), all (clamp)
-            let ib = match mode {
-                Address::Wrap => log,
-                Address::Mirror => log + 1,
-                Address::Clamp => span.max(log + 1),
-            };
-            let idx = 1 + u32::from(bilinear);
-            if bilinear {
-                g.add(
-                    format!("{name} half-texel offset {}", ib + 1),
-                    1,
-                    t.half_adder * (ib + 1) as f64,
-                );
-                g.add(
-                    format!("{name} neighbour incrementer {ib}"),
-                    1,
-                    t.half_adder * ib as f64,
-                );
-            }
-            let n = 1i64 << log;
-            match mode {
-                Address::Wrap => {}
-                // logic only where the index can leave the texture (the RTL tracks the range)
-                Address::Clamp if lo >= 0 && hi < n => {}
-                Address::Clamp => {
-                    g.add(
-                        format!("{name} clamp {log} of {ib}"),
-                        idx,
-                        t.clamp(log) + t.and2 * (ib - log) as f64,
-                    );
-                }
-                Address::Mirror => {
-                    g.add(format!("{name} mirror {log}"), idx, t.xor2 * log as f64);
-                }
-            }
-        }
+        let ax = address_gates(
+            &mut g,
+            t,
+            &uv,
+            self.tex.level_at(0).logs(),
+            &self.sampler,
+            1,
+        );
+        let eff = [ax[0].1, ax[1].1];
+        let (log_w, log_h) = self.tex.level_at(0).logs();
         let ab = (log_w + log_h).max(1);
         let groups = self.interval();
         if groups > 1 {
@@ -222,81 +180,7 @@ impl Unit for TexFetch {
                 t.register(wt * lanes),
             );
         }
-        // the filtered value's width before the cast
-        let mut vw = wt;
-        if bilinear {
-            let [eu, ev] = eff;
-            // u: two lerps on the (wt + 1)-bit texel differences; the adds touch only the
-            // bits above the product's fraction
-            g.add(
-                format!("u lerp subtractor {}", wt + 1),
-                2 * lanes,
-                t.adder(wt + 1),
-            );
-            g.add(
-                format!("u lerp multiplier {}x{eu}", wt + 1),
-                2 * lanes,
-                t.multiplier(wt + 1, eu),
-            );
-            g.add(
-                format!("u lerp adder {}", wt + 1),
-                2 * lanes,
-                t.adder(wt + 1),
-            );
-            let wu = wt + eu + 1;
-            // (bot - top fits wu bits: both are convex combinations of texels, 2^eu apart)
-            g.add(format!("v lerp subtractor {wu}"), lanes, t.adder(wu));
-            g.add(
-                format!("v lerp multiplier {wu}x{ev}"),
-                lanes,
-                t.multiplier(wu, ev),
-            );
-            g.add(format!("v lerp adder {wu}"), lanes, t.adder(wu));
-            g.add(
-                format!("weight register {}", eu + ev),
-                1,
-                t.register(eu + ev),
-            );
-            vw = wu + ev;
-        }
-        // the cast: the texel read's factor 2^n + 1 and a unit output's 2^m - 1 folded into
-        // one constant whose signed digits are the shifts and adds (u8 into u8: 2^16 - 1, one
-        // subtractor), the rounding riding on them for a unit output; the saturation where the
-        // texel range exceeds the output's
-        if bilinear || out != *texel {
-            let unit = |e: &Encoding| matches!(e.codec, Codec::UnitUnsigned | Codec::UnitSymmetric);
-            let mut k = 1u128;
-            if unit(texel) {
-                k *= (1u128 << wt) + 1;
-            }
-            if unit(&out) {
-                k *= (1u128 << wo) - 1;
-            }
-            if k > 1 {
-                g.add(format!("cast x{k} {vw}"), lanes, t.shift_add(vw, k));
-            }
-            let (tl, th) = (
-                texel.decode(texel.format.min_raw()),
-                texel.decode(texel.format.max_raw()),
-            );
-            let (ol, oh) = (
-                out.decode(out.format.min_raw()),
-                out.decode(out.format.max_raw()),
-            );
-            let clamp = if tl >= ol && th <= oh {
-                0.0
-            } else {
-                t.clamp(wo)
-            };
-            let round = if unit(&out) {
-                0.0
-            } else {
-                t.half_adder * wo as f64
-            };
-            if round + clamp > 0.0 {
-                g.add(format!("rounding and clamp {wo}"), lanes, round + clamp);
-            }
-        }
+        filter_gates(&mut g, t, texel, lanes, &out, &self.sampler, eff);
         g.add(
             format!("output register {}", wo * lanes),
             1,
@@ -323,6 +207,167 @@ impl Unit for TexFetch {
     }
     fn eval(&self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
         outs[0] = self.sample(mode, 0, &ins[0]);
+    }
+}
+
+/// The texel addressing of a level of `2^log_w x 2^log_h` texels read at coordinates `uv`
+/// by `sampler` (the half-texel offset, the neighbour incrementer, clamp or mirror logic per
+/// axis, each item `count` times), added to `g`. Returns per axis the index bits the address
+/// reads (0 for a one-texel axis) and the weight bits (`weight_bits`, or fewer where the
+/// coordinate has fewer fraction bits below the texel).
+/// Shared with the texture shaders' configured price.
+pub(crate) fn address_gates(
+    g: &mut GateBudget,
+    t: &CostTable,
+    uv: &Encoding,
+    (log_w, log_h): (u32, u32),
+    sampler: &Sampler,
+    count: u32,
+) -> [(u32, u32); 2] {
+    let frac = uv.format.frac as u32;
+    let bilinear = sampler.filter() == Filter::Bilinear;
+    let mut eff = [(0u32, 0u32); 2];
+    for (a, (name, log)) in [("s", log_w), ("t", log_h)].into_iter().enumerate() {
+        let f = frac - log;
+        eff[a].1 = sampler.weight_bits().min(f);
+        if log == 0 {
+            continue;
+        }
+        let mode = sampler.address()[a];
+        // the index's range (and its neighbour's) from the coordinate's
+        let half = if bilinear { 1i64 << (f - 1) } else { 0 };
+        let lo = (uv.format.min_raw() - half) >> f;
+        let hi = ((uv.format.max_raw() - half) >> f) + i64::from(bilinear);
+        let span = crate::rtl::verilog::signed_bits(lo as i128, hi as i128);
+        // index bits the address needs: the low log (wrap), one more (mirror), all (clamp)
+        let ib = match mode {
+            Address::Wrap => log,
+            Address::Mirror => log + 1,
+            Address::Clamp => span.max(log + 1),
+        };
+        eff[a].0 = ib;
+        let idx = (1 + u32::from(bilinear)) * count;
+        if bilinear {
+            g.add(
+                format!("{name} half-texel offset {}", ib + 1),
+                count,
+                t.half_adder * (ib + 1) as f64,
+            );
+            g.add(
+                format!("{name} neighbour incrementer {ib}"),
+                count,
+                t.half_adder * ib as f64,
+            );
+        }
+        let n = 1i64 << log;
+        match mode {
+            Address::Wrap => {}
+            // logic only where the index can leave the texture (the RTL tracks the range)
+            Address::Clamp if lo >= 0 && hi < n => {}
+            Address::Clamp => {
+                g.add(
+                    format!("{name} clamp {log} of {ib}"),
+                    idx,
+                    t.clamp(log) + t.and2 * (ib - log) as f64,
+                );
+            }
+            Address::Mirror => {
+                g.add(format!("{name} mirror {log}"), idx, t.xor2 * log as f64);
+            }
+        }
+    }
+    eff
+}
+
+/// The filter of `lanes` texels of encoding `texel` (two lerps in u, one in v per lane at the
+/// weight bits `eff` when bilinear) and the cast into `out`, added to `g`. Shared with the
+/// texture shaders' configured price.
+pub(crate) fn filter_gates(
+    g: &mut GateBudget,
+    t: &CostTable,
+    texel: &Encoding,
+    lanes: u32,
+    out: &Encoding,
+    sampler: &Sampler,
+    eff: [u32; 2],
+) {
+    let wt = texel.width();
+    let wo = out.width();
+    let bilinear = sampler.filter() == Filter::Bilinear;
+    // the filtered value's width before the cast
+    let mut vw = wt;
+    if bilinear {
+        let [eu, ev] = eff;
+        // u: two lerps on the (wt + 1)-bit texel differences; the adds touch only the
+        // bits above the product's fraction
+        g.add(
+            format!("u lerp subtractor {}", wt + 1),
+            2 * lanes,
+            t.adder(wt + 1),
+        );
+        g.add(
+            format!("u lerp multiplier {}x{eu}", wt + 1),
+            2 * lanes,
+            t.multiplier(wt + 1, eu),
+        );
+        g.add(
+            format!("u lerp adder {}", wt + 1),
+            2 * lanes,
+            t.adder(wt + 1),
+        );
+        let wu = wt + eu + 1;
+        // (bot - top fits wu bits: both are convex combinations of texels, 2^eu apart)
+        g.add(format!("v lerp subtractor {wu}"), lanes, t.adder(wu));
+        g.add(
+            format!("v lerp multiplier {wu}x{ev}"),
+            lanes,
+            t.multiplier(wu, ev),
+        );
+        g.add(format!("v lerp adder {wu}"), lanes, t.adder(wu));
+        g.add(
+            format!("weight register {}", eu + ev),
+            1,
+            t.register(eu + ev),
+        );
+        vw = wu + ev;
+    }
+    // the cast: the texel read's factor 2^n + 1 and a unit output's 2^m - 1 folded into
+    // one constant whose signed digits are the shifts and adds (u8 into u8: 2^16 - 1, one
+    // subtractor), the rounding riding on them for a unit output; the saturation where the
+    // texel range exceeds the output's
+    if bilinear || out != texel {
+        let unit = |e: &Encoding| matches!(e.codec, Codec::UnitUnsigned | Codec::UnitSymmetric);
+        let mut k = 1u128;
+        if unit(texel) {
+            k *= (1u128 << wt) + 1;
+        }
+        if unit(out) {
+            k *= (1u128 << wo) - 1;
+        }
+        if k > 1 {
+            g.add(format!("cast x{k} {vw}"), lanes, t.shift_add(vw, k));
+        }
+        let (tl, th) = (
+            texel.decode(texel.format.min_raw()),
+            texel.decode(texel.format.max_raw()),
+        );
+        let (ol, oh) = (
+            out.decode(out.format.min_raw()),
+            out.decode(out.format.max_raw()),
+        );
+        let clamp = if tl >= ol && th <= oh {
+            0.0
+        } else {
+            t.clamp(wo)
+        };
+        let round = if unit(out) {
+            0.0
+        } else {
+            t.half_adder * wo as f64
+        };
+        if round + clamp > 0.0 {
+            g.add(format!("rounding and clamp {wo}"), lanes, round + clamp);
+        }
     }
 }
 

@@ -4,7 +4,7 @@
 use super::{fixed, uu, Case};
 use bumpsim_hw::rtl;
 use bumpsim_hw::units::texture_shader::{
-    DotMapping, Offset, OnBroken, Program, ShaderParams, StageSpec, TextureShader,
+    Datapath, DotMapping, Offset, OnBroken, Program, ShaderParams, StageSpec, TextureShader,
 };
 use bumpsim_hw::units::{Address, Filter, Texels};
 use bumpsim_hw::{Codec, Encoding, Overflow, Quant, Sampler, Texture};
@@ -105,7 +105,35 @@ fn offset(matrix: [f64; 4], scale: f64, bias: f64, lanes: [usize; 3]) -> Offset 
 /// One case per program family (and the mappings of the bundled configs and their
 /// neighbours).
 pub fn cases() -> Vec<Case> {
-    let d = ShaderParams::default;
+    cases_with(ShaderParams::default)
+}
+
+/// The cases at s16.8 coordinates where they take the default (s32.16): the same programs
+/// with an 18-step divider instead of a 34-step one, so that yosys maps each in seconds
+/// (the calibration band of `rtl_synth.rs`).
+pub fn narrow() -> Vec<Case> {
+    cases_with(|| ShaderParams {
+        coord: fixed(true, 16, 8),
+        datapath: Datapath::Configured,
+        ..ShaderParams::default()
+    })
+}
+
+/// The narrow cases whose synthesis takes under a minute each (the suite's band,
+/// `rtl_synth.rs`); the others are checked by the ignored `texture_shaders_slow_cases`.
+pub const FAST: [&str; 9] = [
+    "ts_tex2d_narrow",
+    "ts_tex2d_pass",
+    "ts_dependent",
+    "ts_dot_rgb8",
+    "ts_dot_hilo1_wide",
+    "ts_offset",
+    "ts_offset_scale",
+    "ts_offset_nv2a",
+    "ts_offset_nv2a_floor",
+];
+
+fn cases_with(d: impl Fn() -> ShaderParams + Copy) -> Vec<Case> {
     let u8e = uu(8);
     vec![
         // projective TEXTURE_2D (bilinear, wrap) beside PASS_THROUGH and NONE

@@ -37,11 +37,13 @@
 
 mod eval;
 pub mod mapping;
+mod price;
 mod program;
 mod rules;
 #[cfg(test)]
 mod tests;
 
+pub use price::Datapath;
 pub use program::{DotMapping, Offset, Program};
 
 use crate::format::{Codec, Encoding, Format, Quant};
@@ -97,6 +99,9 @@ pub struct ShaderParams {
     /// or interpolated per-vertex attribute), and the dependent lookups read level 0 (their
     /// tables have one).
     pub lod: Option<Encoding>,
+    /// What the gate budget prices: the programmable part (every stage has every program's
+    /// datapath, the default) or the configured programs' datapaths only (`price.rs`).
+    pub datapath: Datapath,
 }
 
 impl Default for ShaderParams {
@@ -113,6 +118,7 @@ impl Default for ShaderParams {
             convert_frac: Some(12),
             on_broken: OnBroken::Reject,
             lod: None,
+            datapath: Datapath::Programmable,
         }
     }
 }
@@ -402,7 +408,10 @@ impl Unit for TextureShader {
         self.eval_any(mode, ins, &mut scratch)
     }
     fn gates(&self, t: &CostTable) -> GateBudget {
-        gates(self, t)
+        match self.params.datapath {
+            Datapath::Programmable => gates(self, t),
+            Datapath::Configured => price::configured(self, t),
+        }
     }
     fn eval(&self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
         self.eval_any(mode, ins, outs);

@@ -710,3 +710,73 @@ fn offset_lanes_read_as_twos_complement_at_every_code() {
     assert_eq!(twos_complement_bits(0x7f, &U8).to_f64(), 127.0 / 128.0);
     assert_eq!(twos_complement_bits(0x80, &U8).to_f64(), -1.0);
 }
+
+/// The configured price (`price.rs`): each stage the datapath of its own program. A NONE part
+/// is its sequencer only; a TEXTURE_2D stage adds its two dividers and its fetch; two dot
+/// products of one texel with one mapping keep one mapping; HILO_1's constant z needs two
+/// products, not three; the configured part is far below the programmable one.
+#[test]
+fn the_configured_price_has_each_stages_program_only() {
+    let t = tex2d("t", U8, 8, 8, |_, _| [0.5; 4]);
+    let cfg = ShaderParams {
+        datapath: Datapath::Configured,
+        ..ShaderParams::default()
+    };
+    let part = |stages: Vec<StageSpec>| TextureShader::new(cfg, stages).unwrap();
+    let ct = CostTable::default();
+    let items = |u: &TextureShader, what: &str| {
+        u.gates(&ct)
+            .items
+            .iter()
+            .filter(|i| i.what.contains(what))
+            .count()
+    };
+    let none = part(vec![StageSpec::none()]);
+    let g = none.gates(&ct);
+    assert_eq!(g.items.len(), 1, "{:?}", g.items);
+    assert!(g.items[0].what.starts_with("sequencer"));
+    let tex = part(vec![StageSpec::new(Program::Texture2d, Some(t.clone()))]);
+    assert_eq!(items(&tex, "projective divider"), 1);
+    assert!(tex
+        .gates(&ct)
+        .items
+        .iter()
+        .any(|i| i.what.contains("u lerp")));
+    let dots = |mapping| {
+        part(vec![
+            StageSpec::new(Program::Texture2d, Some(t.clone())),
+            StageSpec::new(Program::DotProduct { prev: 0, mapping }, None),
+            StageSpec::new(
+                Program::DotProductTexture2d { prev: 0, mapping },
+                Some(t.clone()),
+            ),
+        ])
+    };
+    let d = dots(DotMapping::Minus1To1Gl);
+    assert_eq!(items(&d, "dot mapping"), 1);
+    assert_eq!(items(&d, "dot products"), 2);
+    let find = |u: &TextureShader, what: &str| {
+        u.gates(&ct)
+            .items
+            .iter()
+            .find(|i| i.what.contains(what))
+            .map(|i| i.ge)
+            .unwrap()
+    };
+    let (three, two) = (
+        find(&d, "dot products"),
+        find(&dots(DotMapping::Hilo1), "dot products"),
+    );
+    // the same 32 x 18 array (MINUS1_TO_1_GL's N and HILO_1's in [-1, 1] at 16 fraction
+    // bits): the counts differ
+    assert!(two < three, "{two} vs {three}");
+    let mut programmable = d.params;
+    programmable.datapath = Datapath::Programmable;
+    let p = TextureShader::new(
+        programmable,
+        d.stages.iter().map(|s| s.spec.clone()).collect(),
+    )
+    .unwrap();
+    let (c, pr) = (d.gates(&ct).total(), p.gates(&ct).total());
+    assert!(c < pr / 4.0, "configured {c} vs programmable {pr}");
+}

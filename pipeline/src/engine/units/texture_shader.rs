@@ -5,7 +5,7 @@ use super::ports::input;
 use super::textures::{key, mip_levels, texels, TextureSource};
 use super::{BuildCtx, Spec};
 use bumpsim_hw::units::texture_shader::{
-    OnBroken, Program, ShaderParams, StageSpec, TextureShader, MAX_STAGES,
+    Datapath, OnBroken, Program, ShaderParams, StageSpec, TextureShader, MAX_STAGES,
 };
 use bumpsim_hw::units::{Address, Filter};
 use bumpsim_hw::{Encoding, PortSpec, Sampler, Texture, Unit};
@@ -46,6 +46,16 @@ pub struct TextureShaderSpec {
     /// serialised config when `false`.)
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub lod: bool,
+    /// What the unit's gate budget prices: `Programmable` (the default: every stage has the
+    /// datapath of every program, as the NV2A's) or `Configured` (each stage the datapath of
+    /// its program only, as the generated Verilog that synthesis confirms; docs/gates.md).
+    /// (Left out of the serialised config when `Programmable`.)
+    #[serde(default, skip_serializing_if = "is_programmable")]
+    pub datapath: Datapath,
+}
+
+fn is_programmable(d: &Datapath) -> bool {
+    *d == Datapath::Programmable
 }
 
 /// What a broken stage rule does (`hw` [`OnBroken`]).
@@ -184,6 +194,7 @@ impl Spec for TextureShaderSpec {
             dot_frac: self.dot_frac,
             offset_frac: self.offset_frac,
             convert_frac: self.convert_frac,
+            datapath: self.datapath,
             on_broken: match self.on_broken {
                 Broken::Reject => OnBroken::Reject,
                 Broken::AsNone => OnBroken::AsNone,
