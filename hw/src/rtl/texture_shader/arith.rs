@@ -252,9 +252,55 @@ pub(super) fn isqrt(m: &mut Module, v: &Fx) -> Fx {
     }
 }
 
+/// A HILO hemisphere's `z = isqrt(2^(2 frac) - h^2 - l^2)` in a submodule of its own
+/// (`sub`: its name, and the list its text is added to): the two squares and the root are
+/// most of a hemisphere dot product's logic, and ABC maps a module at a time, so that the
+/// stage's other logic does not share its run (the whole in one module did not finish in
+/// 25 minutes at `dot_frac` 16).
+fn hemisphere(m: &mut Module, h: &Fx, l: &Fx, frac: u32, sub: (&str, &mut Vec<String>)) -> Fx {
+    let (name, subs) = sub;
+    let mut hm = Module::new(name);
+    let port = |hm: &mut Module, p: &str, x: &Fx| {
+        let w = x.width();
+        hm.input(p, w);
+        make(hm, p, x.lo, x.hi, 0, &format!("$signed({p})"))
+    };
+    let hx = port(&mut hm, "h", h);
+    let lx = port(&mut hm, "l", l);
+    let h2 = square(&mut hm, &hx);
+    let l2 = square(&mut hm, &lx);
+    let one = 1i128 << (2 * frac);
+    let r = make(
+        &mut hm,
+        "zr",
+        one - h2.hi - l2.hi,
+        one - h2.lo - l2.lo,
+        0,
+        &format!(
+            "{} - {} - {}",
+            super::super::verilog::lit(one),
+            h2.name,
+            l2.name
+        ),
+    );
+    let z = isqrt(&mut hm, &r);
+    let zw = z.width();
+    hm.output_wire("y", zw, &z.name);
+    subs.push(hm.text());
+    let net = m.net("hz", zw);
+    m.stmt(format!(
+        "{name} {net}_i (.h({}), .l({}), .y({net}));",
+        h.name, l.name
+    ));
+    Fx {
+        name: m.swire("z", zw, &format!("$signed({net})")),
+        ..z
+    }
+}
+
 /// The mapped vector N (three integer wires at `frac` fraction bits) of the previous
 /// stage's texel `codes` (4 lane code wires of encoding `enc`, `lanes` of them from the
-/// texture), as `vector_bits`.
+/// texture), as `vector_bits`; a HILO hemisphere's z in the submodule `hemi` ([`hemisphere`]).
 pub(super) fn vector(
     m: &mut Module,
     mp: DotMapping,
@@ -262,6 +308,7 @@ pub(super) fn vector(
     enc: &Encoding,
     lanes: u8,
     frac: u32,
+    hemi: (&str, &mut Vec<String>),
 ) -> [Fx; 3] {
     let w = enc.width();
     let signed = enc.format.signed;
@@ -282,23 +329,7 @@ pub(super) fn vector(
             let one = 1i128 << frac;
             make(m, "z", one, one, 0, &super::super::verilog::lit(one))
         } else {
-            let h2 = square(m, &h);
-            let l2 = square(m, &l);
-            let one = 1i128 << (2 * frac);
-            let r = make(
-                m,
-                "zr",
-                one - h2.hi - l2.hi,
-                one - h2.lo - l2.lo,
-                0,
-                &format!(
-                    "{} - {} - {}",
-                    super::super::verilog::lit(one),
-                    h2.name,
-                    l2.name
-                ),
-            );
-            isqrt(m, &r)
+            hemisphere(m, &h, &l, frac, hemi)
         };
         return [h, l, z];
     }

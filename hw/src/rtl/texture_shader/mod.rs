@@ -67,7 +67,7 @@ use super::verilog::{unsigned_bits, Module};
 use super::{Plan, RtlUnit, Shell};
 use crate::format::{Codec, Encoding, Format, Overflow, Quant};
 use crate::unit::Unit;
-use crate::units::texture_shader::{Program, TextureShader};
+use crate::units::texture_shader::{DotMapping, Program, TextureShader};
 
 /// Whether a program has a generator.
 fn supported(p: &Program) -> bool {
@@ -205,6 +205,8 @@ pub fn rtl(u: &TextureShader, top: &str) -> Result<RtlUnit, String> {
     let mut dots: Vec<Option<String>> = vec![None; n];
     let mut fails = Vec::new();
     let mut subs: Vec<String> = Vec::new();
+    let mut has_div = false;
+    let mut mapped: Vec<((usize, DotMapping), [Fx; 3])> = Vec::new();
     for i in 0..n {
         let st = &u.stages[i];
         let prog = progs[i];
@@ -216,7 +218,25 @@ pub fn rtl(u: &TextureShader, top: &str) -> Result<RtlUnit, String> {
         let own_dot = if let (Some(mp), Some(k)) = (prog.mapping(), prev) {
             let ps = &u.stages[k];
             let m = &mut sh.m;
-            let nv = arith::vector(m, mp, &results[k], &ps.out_enc, ps.lanes, p.dot_frac);
+            // one mapping per texel and mapping: a second dot product of the same texel
+            // reads the first one's N (as the price assumes, `price.rs`)
+            let nv = match mapped.iter().find(|(key, _)| *key == (k, mp)) {
+                Some((_, nv)) => nv.clone(),
+                None => {
+                    let hemi = format!("{top}_hemi{i}");
+                    let nv = arith::vector(
+                        m,
+                        mp,
+                        &results[k],
+                        &ps.out_enc,
+                        ps.lanes,
+                        p.dot_frac,
+                        (&hemi, &mut subs),
+                    );
+                    mapped.push(((k, mp), nv.clone()));
+                    nv
+                }
+            };
             let terms: Vec<Fx> = (0..3)
                 .map(|c| {
                     let x = raw_word(m, &coords[i][c], &coord.format).at_frac(f);
@@ -242,8 +262,9 @@ pub fn rtl(u: &TextureShader, top: &str) -> Result<RtlUnit, String> {
                 dm.input("b", cw);
                 let q = arith::divide(&mut dm, "a", "b", &coord.format, coord.overflow);
                 dm.output_wire("y", q.width(), &q.name);
-                if subs.is_empty() {
+                if !has_div {
                     subs.push(dm.text());
+                    has_div = true;
                 }
                 let m = &mut sh.m;
                 let mut div = |x: &str| {

@@ -143,37 +143,29 @@ fn negate(t: &CostTable, n: u32) -> f64 {
     (t.inv + t.half_adder) * n as f64 + t.mux(n, 2)
 }
 
-/// One `s/q` divider (`rtl::texture_shader::arith::divide`): the magnitudes, the rounding
-/// numerator `2 p + |q|`, and the restoring array (a subtractor and a select per quotient
-/// bit, each as wide as the partial remainder can be), the zero test and the signed quotient.
+/// One `s/q` divider (`rtl::texture_shader::arith::divide`): the restoring array (per
+/// quotient bit a subtractor and the restoring select, as wide as the partial remainder can
+/// be) and the sign logic around it. Calibrated on the divider alone (the `_div` module,
+/// yosys, s12.6 to s32.16, saturating and wrapping: 0.98-1.06, docs/gates.md): saturating,
+/// every step is as wide as the divisor (the partial remainder starts at the numerator's
+/// top bits, which synthesis cannot bound below the divisor); wrapping, it starts at 0 and
+/// grows a bit a step. The sign logic synthesises to about the divisor's magnitude and one
+/// numerator-wide adder (the rounding numerator `2p + |q|`, its magnitude and the signed
+/// quotient fold together).
 fn divider(t: &CostTable, coord: &Encoding) -> f64 {
     let w = coord.format.width as u32;
     let f = coord.format.frac as u32;
     let nw = w + f + 2;
     let db = w + 1;
     let sat = !matches!(coord.overflow, Overflow::Wrap);
-    let mut ge = negate(t, w) + negate(t, w + 2) + t.adder(w) + negate(t, nw);
-    ge += t.adder(nw) + t.mux(nw, 2);
-    // restoring steps: the partial remainder starts at 0 (wrapping) or at the numerator's
-    // high part (saturating: its top compared with the divisor once)
-    let (steps, mut r) = if sat {
-        ge += t.comparator(db.max(nw - w));
-        (w, nw - w)
-    } else {
-        (nw, 0)
-    };
-    // (synthesis merges the restoring select into the subtractor: yosys builds a step at
-    // 6.2-7.1 GE a bit of the partial remainder, s12.8 and s16.8)
+    let mut ge = negate(t, w) + t.adder(nw);
+    // saturating: the low w quotient bits only, from the numerator's top (full width);
+    // wrapping: every numerator bit, from 0
+    let (steps, mut r) = if sat { (w, db) } else { (nw, 0) };
     for _ in 0..steps {
         let wk = (r + 1).min(db + 1);
-        ge += t.adder(wk) + t.and2 * (db + 1 - wk) as f64;
+        ge += t.adder(wk) + t.mux(wk, 2);
         r = wk;
-    }
-    // the signed quotient (wrapping: only the coordinate's bits are kept)
-    let qw = if sat { w + 2 } else { w };
-    ge += t.and2 * (w - 1) as f64 + negate(t, qw);
-    if sat {
-        ge += t.mux(qw, 2) + t.clamp(w);
     }
     ge
 }
