@@ -22,6 +22,10 @@ struct Row {
     model: f64,
     /// The model's loadable tables (in `model`).
     model_tables: f64,
+    /// The model of the generated hardware where the unit's budget prices other hardware
+    /// (`Unit::generated_gates`: the texture shaders' configured programs), total and tables:
+    /// synthesis is compared with it.
+    generated: Option<(f64, f64)>,
     /// `Err`: no generator for this kind (or its configuration), with the reason.
     synth: Result<Synth, String>,
 }
@@ -40,17 +44,20 @@ fn synthesise(l: &Loaded) -> Result<Vec<Row>, Failure> {
     for uc in &l.config.engine.units {
         let unit = engine_unit(&eng, &uc.name)?;
         let budget = unit.gates(&uc.cost(table));
+        let other = unit
+            .generated_gates(&uc.cost(table))
+            .map(|b| (b.total(), b.tables()));
         let generated = match generate(&uc.unit, unit, &scene, &module_name(&uc.name)) {
             Ok(Some(g)) => Ok(g.rtl),
             Ok(None) => Err("no Verilog generator for this kind".to_string()),
             Err(e) => Err(format!("not generated: {e}")),
         };
-        units.push((uc.name.clone(), budget, generated));
+        units.push((uc.name.clone(), budget, other, generated));
     }
     let synthesised: Vec<Option<Result<Synth, String>>> = std::thread::scope(|sc| {
         let jobs: Vec<_> = units
             .iter()
-            .map(|(name, _, g)| {
+            .map(|(name, _, _, g)| {
                 let d = dir.path().join(name);
                 g.as_ref()
                     .ok()
@@ -67,7 +74,7 @@ fn synthesise(l: &Loaded) -> Result<Vec<Row>, Failure> {
             .collect()
     });
     let mut rows = Vec::new();
-    for ((name, budget, generated), s) in units.into_iter().zip(synthesised) {
+    for ((name, budget, other, generated), s) in units.into_iter().zip(synthesised) {
         let synth = match (generated, s) {
             (Ok(_), Some(Ok(s))) => Ok(s),
             (Ok(_), Some(Err(e))) => {
@@ -80,6 +87,7 @@ fn synthesise(l: &Loaded) -> Result<Vec<Row>, Failure> {
             name,
             model: budget.total(),
             model_tables: budget.tables(),
+            generated: other,
             synth,
         });
     }
@@ -89,17 +97,33 @@ fn synthesise(l: &Loaded) -> Result<Vec<Row>, Failure> {
 fn synth_json(r: &Row) -> Value {
     match &r.synth {
         Ok(s) => {
-            let (ml, sl) = (r.model - r.model_tables, s.ge - s.table_ge);
-            json!({
+            let (ml, sl) = (r.logic_model(), s.ge - s.table_ge);
+            let mut v = json!({
                 "ge": round2(s.ge),
                 "rom_ge": round2(s.table_ge),
                 "flops": s.flops,
                 "logic_model_ge": round2(ml),
                 "logic_synth_ge": round2(sl),
                 "logic_ratio": round4(ml / sl),
-            })
+            });
+            if let Some((total, _)) = r.generated {
+                // the model of the generated hardware, not the unit's budget
+                v["generated_model_ge"] = json!(round2(total));
+            }
+            v
         }
         Err(why) => json!({ "none": why }),
+    }
+}
+
+impl Row {
+    /// The model's logic that synthesis is compared with: of the generated hardware where
+    /// the unit's budget prices other hardware, else of the budget.
+    fn logic_model(&self) -> f64 {
+        match self.generated {
+            Some((total, tables)) => total - tables,
+            None => self.model - self.model_tables,
+        }
     }
 }
 
@@ -156,7 +180,7 @@ fn text(l: &Loaded, g: &Gates, rows: Option<&[Row]>) -> String {
         if let Some(rows) = rows {
             match rows.iter().find(|r| &r.name == name).map(|r| (r, &r.synth)) {
                 Some((r, Ok(y))) => {
-                    let (ml, sl) = (r.model - r.model_tables, y.ge - y.table_ge);
+                    let (ml, sl) = (r.logic_model(), y.ge - y.table_ge);
                     let _ = write!(
                         s,
                         " {:>10.1} {:>11.1} {:>11.1} {:>7.3}",
@@ -167,6 +191,12 @@ fn text(l: &Loaded, g: &Gates, rows: Option<&[Row]>) -> String {
                     );
                     if r.model_tables > 0.0 || y.table_ge > 0.0 {
                         let _ = write!(s, "  {:.1} / {:.1}", r.model_tables, y.table_ge);
+                    }
+                    if r.generated.is_some() {
+                        s.push_str(
+                            "  (logic model: the configured programs' datapath, which the \
+                             Verilog is; the unit's budget is the programmable part)",
+                        );
                     }
                 }
                 Some((_, Err(why))) => {
@@ -184,7 +214,7 @@ fn text(l: &Loaded, g: &Gates, rows: Option<&[Row]>) -> String {
         let done: Vec<&Row> = rows.iter().filter(|r| r.synth.is_ok()).collect();
         let (m, y) = done.iter().fold((0.0, 0.0), |(m, y), r| {
             let s = r.synth.as_ref().map_or(0.0, |s| s.ge);
-            (m + r.model, y + s)
+            (m + r.generated.map_or(r.model, |g| g.0), y + s)
         });
         let _ = writeln!(
             s,

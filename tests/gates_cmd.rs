@@ -222,3 +222,46 @@ fn synth_puts_yosys_beside_the_model_for_every_generated_unit() {
         "emboss: {why}"
     );
 }
+
+/// A texture shader's budget prices the programmable part (every program in every stage) by
+/// default; its Verilog is the configured programs' datapath, so `--synth` compares yosys with
+/// the model of that (`generated_model_ge`), and with `datapath: Configured` the budget is
+/// that model itself. `d3d6-embm-quad` at s16.10 coordinates (yosys about 10 s).
+#[test]
+fn synth_compares_a_texture_shader_with_its_configured_datapath() {
+    if skip_yosys() {
+        println!("gates --synth: skipped (BUMPSIM_SKIP_YOSYS is set)");
+        return;
+    }
+    let narrow = "(format: (signed: true, width: 16, frac: 10))";
+    let a0 = format!("engine.attributes[0].enc={narrow}");
+    let a1 = format!("engine.attributes[1].enc={narrow}");
+    let g = gates_json("d3d6-embm-quad", &["--synth", "--set", &a0, "--set", &a1]);
+    let s = at(&g, "gates.per_unit.shader.synth");
+    let programmable = num(&g, "gates.per_unit.shader.total");
+    let configured = num(s, "generated_model_ge");
+    assert!(
+        configured < programmable / 5.0,
+        "configured {configured} vs programmable {programmable}"
+    );
+    assert_eq!(num(s, "logic_model_ge"), configured);
+    let ratio = num(s, "logic_ratio");
+    // the band of hw/tests/rtl_synth.rs (measured 1.047)
+    assert!((0.9..=1.1).contains(&ratio), "model / yosys {ratio}");
+    let c = gates_json(
+        "d3d6-embm-quad",
+        &[
+            "--synth",
+            "--set",
+            &a0,
+            "--set",
+            &a1,
+            "--set",
+            "engine.units.shader.unit.datapath=Configured",
+        ],
+    );
+    let cs = at(&c, "gates.per_unit.shader.synth");
+    assert_eq!(num(&c, "gates.per_unit.shader.total"), configured);
+    assert!(cs.get("generated_model_ge").is_none(), "{cs}");
+    assert_eq!(num(cs, "logic_ratio"), ratio);
+}

@@ -168,6 +168,13 @@ pub trait Unit: Send + Sync + AsAny {
     fn interval(&self) -> u32;
     /// Gate-equivalent estimate from the configured widths, itemised.
     fn gates(&self, table: &CostTable) -> GateBudget;
+    /// The estimate of the hardware the unit's Verilog generator builds (`crate::rtl`), where
+    /// [`Unit::gates`] prices other hardware (the texture shaders' programmable part against
+    /// their configured programs); `None` (the default): [`Unit::gates`] is that hardware.
+    /// Synthesis is compared with this (`bumpsim gates --synth`).
+    fn generated_gates(&self, _table: &CostTable) -> Option<GateBudget> {
+        None
+    }
     /// Cycles of work before each frame (table builds, LUT loads). Default none.
     fn frame_cycles(&self) -> u64 {
         0

@@ -413,6 +413,9 @@ impl Unit for TextureShader {
             Datapath::Configured => price::configured(self, t),
         }
     }
+    fn generated_gates(&self, t: &CostTable) -> Option<GateBudget> {
+        (self.params.datapath == Datapath::Programmable).then(|| price::configured(self, t))
+    }
     fn eval(&self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
         self.eval_any(mode, ins, outs);
     }
