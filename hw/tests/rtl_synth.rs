@@ -18,7 +18,7 @@ use std::process::Command;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Accepted `model / yosys` ratio of each unit's logic (the tables excluded): issue 13's
-/// +-10%. Measured (yosys 0.23, `full_adder` 6.8 GE): dot 0.95, spec 1.03, shade 1.02,
+/// +-10%. Measured (yosys 0.23, `full_adder` 6.8 GE): dot 0.95, spec 1.03 (reference's 0.99), shade 1.02,
 /// diffuse 1.01, specular 1.02, perturb 0.98, the fetches 0.99-1.04, emboss 1.03, texture 1.10,
 /// the NDF turbulence (one octave) 1.02, the texture shaders' configured datapaths at s16.8
 /// 0.95-1.08 (docs/gates.md, "Model vs synthesis per unit", "The texture shaders").

@@ -102,6 +102,20 @@ impl Unit for PowerTable {
             self.parallel,
             t.adder(wi.saturating_sub(n)) + t.half_adder * wi.min(n) as f64 + t.clamp(n),
         );
+        // measured (yosys, the index alone at 10 (width, fraction, index bits) from (9, 8, 6)
+        // to (20, 16, 12), docs/gates.md): where the input has more fraction bits than the
+        // index (f > n), the rounding half lands in the bits the subtraction keeps only for
+        // their carry, and the index takes a second carry, an incrementer over its n bits;
+        // each integer bit beyond the first widens the borrow chain and the saturation test
+        let f = self.inputs.first().map_or(8, |p| p.enc.format.frac as u32);
+        let extra = if f > n { n } else { 0 } + wi.saturating_sub(f + 1);
+        if extra > 0 {
+            g.add(
+                format!("index carry: {} bits", extra),
+                self.parallel,
+                t.half_adder * extra as f64,
+            );
+        }
         g.add(
             format!("sequencer counter {}", self.interval()),
             1,

@@ -333,6 +333,18 @@ pub fn bundled() -> Vec<Case> {
                 parallel: 1,
             },
         ),
+        // configs/reference.ron: 12-bit index from a u17.16 dot, 12-bit values
+        power(
+            "reference_spec",
+            PowerTableRtl {
+                input: fixed(false, 17, 16),
+                k: 2,
+                index_bits: 12,
+                value_bits: 12,
+                shininess: 32.0,
+                parallel: 1,
+            },
+        ),
         shade("sgi_shade", sgi_shade()),
         blend(
             "gouraud_diffuse",
