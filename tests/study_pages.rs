@@ -103,6 +103,16 @@ fn a_stale_page_fails_the_check_and_a_bad_directive_names_its_line() {
     );
     assert!(o.stderr.contains("no column \"nope\""), "{}", o.stderr);
     assert_eq!(std::fs::read_to_string(dir.join("p.md")).unwrap(), before);
+    // a NUL in the source (the expander's own marker) is refused, naming line and column
+    std::fs::write(&src, "# P\n{{run sweeps/s.ron -> out/s}}\n\nab\u{0}c\n").unwrap();
+    let o = bumpsim(&["study", p, "--reuse"]);
+    o.expect_code(2, "NUL");
+    assert!(
+        o.stderr.contains("p.src.md") && o.stderr.contains(":4:3") && o.stderr.contains("NUL"),
+        "{}",
+        o.stderr
+    );
+    assert_eq!(std::fs::read_to_string(dir.join("p.md")).unwrap(), before);
     // pictures: rendered, cropped and zoomed; a crop outside the image is exit 2
     let cfg = root().join("configs/sgi-teapot.ron");
     let render = |opts: &str| {

@@ -73,6 +73,19 @@ pub fn expand(src: &Path, opts: Options) -> Result<Expanded, InputError> {
     let name = src.display().to_string();
     let text = std::fs::read_to_string(src)
         .map_err(|e| InputError::new(&name, "", format!("cannot read: {e}")))?;
+    // the expander marks the lines of directives that write nothing with NUL (`SILENT`): a
+    // source holding one would lose it
+    if let Some((l, line)) = text.lines().enumerate().find(|(_, l)| l.contains(SILENT)) {
+        let col = line
+            .find(SILENT)
+            .map_or(1, |c| line[..c].chars().count() + 1);
+        return Err(InputError::new(
+            &name,
+            "",
+            "a NUL character: expected Markdown text (no control character NUL)".to_string(),
+        )
+        .at(Some((l + 1, col))));
+    }
     let pieces =
         directive::parse(&text).map_err(|(l, m)| InputError::new(&name, "", m).at(Some((l, 1))))?;
     let dir = src.parent().unwrap_or(Path::new(""));
