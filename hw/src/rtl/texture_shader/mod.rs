@@ -161,17 +161,7 @@ fn low(m: &mut Module, v: &Fx, w: u32) -> String {
 pub fn rtl(u: &TextureShader, top: &str) -> Result<RtlUnit, String> {
     let p = *u.params();
     let n = u.stages.len();
-    let progs: Vec<Program> = u
-        .stages
-        .iter()
-        .map(|s| {
-            if s.broken.is_some() {
-                Program::None
-            } else {
-                s.spec.program
-            }
-        })
-        .collect();
+    let progs = u.programs();
     for (i, pr) in progs.iter().enumerate() {
         if !supported(pr) {
             return Err(format!(

@@ -318,6 +318,17 @@ impl TextureShader {
     pub fn params(&self) -> &ShaderParams {
         &self.params
     }
+    /// The program each stage runs: its configured one, or NONE where a rule is broken
+    /// (what the price of the configured datapath and the Verilog generator build).
+    pub fn programs(&self) -> Vec<Program> {
+        self.stages
+            .iter()
+            .map(|s| match s.broken {
+                Some(_) => Program::None,
+                None => s.spec.program,
+            })
+            .collect()
+    }
     /// The stages whose rule is broken (they run NONE): (stage, the rule).
     pub fn broken(&self) -> Vec<(usize, String)> {
         self.stages

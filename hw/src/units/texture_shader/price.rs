@@ -411,17 +411,7 @@ pub(super) fn configured(u: &TextureShader, t: &CostTable) -> GateBudget {
     let p = u.params();
     let cw = p.coord.width();
     let mut g = GateBudget::new();
-    let progs: Vec<Program> = u
-        .stages
-        .iter()
-        .map(|s| {
-            if s.broken.is_some() {
-                Program::None
-            } else {
-                s.spec.program
-            }
-        })
-        .collect();
+    let progs = u.programs();
     let mut registers = 0u32;
     let mut mapped: Vec<(usize, DotMapping)> = Vec::new();
     for (i, st) in u.stages.iter().enumerate() {
