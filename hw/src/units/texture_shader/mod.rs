@@ -39,6 +39,7 @@ mod eval;
 pub mod mapping;
 mod price;
 mod program;
+mod programmable;
 mod rules;
 #[cfg(test)]
 mod tests;
@@ -420,7 +421,7 @@ impl Unit for TextureShader {
     }
     fn gates(&self, t: &CostTable) -> GateBudget {
         match self.params.datapath {
-            Datapath::Programmable => gates(self, t),
+            Datapath::Programmable => programmable::programmable(self, t),
             Datapath::Configured => price::configured(self, t),
         }
     }
@@ -430,135 +431,4 @@ impl Unit for TextureShader {
     fn eval(&self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
         self.eval_any(mode, ins, outs);
     }
-}
-
-/// The gate budget: every stage has the full datapath (any stage may run any program).
-fn gates(u: &TextureShader, t: &CostTable) -> GateBudget {
-    let p = &u.params;
-    let n = u.stages.len() as u32;
-    let w = p.coord.width();
-    let df = p.dot_frac;
-    let of = p.offset_frac;
-    let mut g = GateBudget::new();
-    g.add(
-        format!("coordinate registers 4 x {w} x{n} stages"),
-        n,
-        t.register(4 * w),
-    );
-    g.add(
-        format!(
-            "projective divider s/q, t/q ({w}-bit, 2 per stage as {w}x{w} multiply-iterate) x{n}"
-        ),
-        2 * n,
-        t.multiplier(w, w) + t.adder(2 * w),
-    );
-    g.add(
-        format!(
-            "dot mapping: 16-bit code x constant, rounding adder {} x3 x{n}",
-            df + 18
-        ),
-        3 * n,
-        t.multiplier(17, df + 1) + t.adder(df + 18) + t.mux(df + 2, 8),
-    );
-    g.add(
-        format!(
-            "HILO hemisphere z: squarers {} x2, isqrt {df} bits (one per stage)",
-            df + 1
-        ),
-        n,
-        2.0 * t.squarer(df + 1) + t.adder(2 * df + 2) * df as f64 / 2.0,
-    );
-    g.add(
-        format!("dot-product multipliers {w}x{} x3 x{n}", df + 2),
-        3 * n,
-        t.multiplier(w, df + 2),
-    );
-    g.add(
-        format!("dot-product adder tree {} x2 and rounding x{n}", w + df + 3),
-        3 * n,
-        t.adder(w + df + 3),
-    );
-    g.add(
-        format!(
-            "offset matrix multipliers 8 x {} (DS, DT x 2x2) x{n}",
-            of + 2
-        ),
-        4 * n,
-        t.multiplier(9, of + 2) + t.adder(w + of),
-    );
-    g.add(
-        format!(
-            "luminance scale / bias multiplier, clamp and RGB multiply 3 x 8x{} x{n}",
-            of + 1
-        ),
-        n,
-        t.multiplier(9, of + 2) + t.clamp(of + 2) + 3.0 * t.multiplier(8, of + 1),
-    );
-    if let Some(k) = p.convert_frac {
-        let n8 = p.pass_through.width();
-        g.add(
-            format!(
-                "colour converter: 4 lanes x (clamp {}, (x_{k} + 1) x {} as one subtractor {}) x{n}",
-                k + 1,
-                (1u32 << n8) - 1,
-                k + n8 + 1
-            ),
-            4 * n,
-            t.clamp(k + 1) + t.adder(k + n8 + 1),
-        );
-    }
-    g.add(
-        format!("cube-face select (3 comparators {w}) and projection divider x{n}"),
-        n,
-        3.0 * t.comparator(w) + 2.0 * (t.multiplier(w, w) + t.adder(2 * w)),
-    );
-    g.add(
-        format!(
-            "reflection: N.N, N.E ({w}x{w} x6), 2 N (N.E) ({w}x{} x3), divider (one per unit)",
-            2 * w
-        ),
-        1,
-        6.0 * t.multiplier(w, w)
-            + 3.0 * t.multiplier(w, 2 * w)
-            + 3.0 * (t.multiplier(w, w) + t.adder(3 * w)),
-    );
-    if let Some(l) = p.lod {
-        let lw = l.width();
-        g.add(
-            format!(
-                "mip level select: lod rounding adder {lw}, clamp to the level count, level base address adder 24 and per-level shift mux x{n}"
-            ),
-            n,
-            t.adder(lw) + t.clamp(lw) + t.adder(24) + t.mux(w, 4),
-        );
-    }
-    g.add(
-        format!("texel address: 2 x shift / wrap {w} and weight extract x{n}"),
-        2 * n,
-        t.adder(w) + t.mux(w, 3),
-    );
-    g.add(
-        format!("bilinear filter: 3 lerps x 4 lanes x (16x9 multiplier, adder 25) x{n}"),
-        12 * n,
-        t.multiplier(16, 9) + t.adder(25),
-    );
-    g.add(
-        format!(
-            "program / input select muxes (16 programs, {} lanes) x{n}",
-            4 * w
-        ),
-        n,
-        t.mux(4 * w, 16),
-    );
-    g.add(
-        format!("stage state: program, mapping, cull modes, matrix 4 x {}, scale, bias, eye 3 x {w} = {} bits x{n}", of + 2, 16 + 6 * (of + 2) + 3 * w),
-        n,
-        t.register(16 + 6 * (of + 2) + 3 * w),
-    );
-    g.add(
-        format!("result registers 4 x 16 + dot {w} x{n} (pipeline)"),
-        n,
-        t.register(64 + w),
-    );
-    g
 }

@@ -34,21 +34,21 @@ pub enum Datapath {
 
 /// An exact integer range `[lo, hi]` at `frac` fraction bits, as the generator's wires.
 #[derive(Debug, Clone, Copy)]
-struct Rg {
-    lo: i128,
-    hi: i128,
-    frac: u32,
+pub(super) struct Rg {
+    pub(super) lo: i128,
+    pub(super) hi: i128,
+    pub(super) frac: u32,
 }
 
 impl Rg {
-    fn of(f: &Format) -> Rg {
+    pub(super) fn of(f: &Format) -> Rg {
         Rg {
             lo: f.min_raw() as i128,
             hi: f.max_raw() as i128,
             frac: f.frac as u32,
         }
     }
-    fn width(&self) -> u32 {
+    pub(super) fn width(&self) -> u32 {
         signed_bits(self.lo, self.hi)
     }
     /// Bits of the magnitude (the unsigned part of a product's array).
@@ -62,7 +62,7 @@ impl Rg {
 }
 
 /// An exact product's array and sign rows (`rtl::fixed::mul`).
-fn mul(t: &CostTable, a: Rg, b: Rg) -> (f64, Rg) {
+pub(super) fn mul(t: &CostTable, a: Rg, b: Rg) -> (f64, Rg) {
     let c = [a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi];
     let r = Rg {
         lo: *c.iter().min().unwrap_or(&0),
@@ -82,7 +82,7 @@ fn mul(t: &CostTable, a: Rg, b: Rg) -> (f64, Rg) {
 }
 
 /// The exact sum of terms aligned to the largest fraction.
-fn sum(t: &CostTable, terms: &[Rg]) -> (f64, Rg) {
+pub(super) fn sum(t: &CostTable, terms: &[Rg]) -> (f64, Rg) {
     let f = terms.iter().map(|r| r.frac).max().unwrap_or(0);
     let (mut lo, mut hi) = (0i128, 0i128);
     for r in terms {
@@ -96,7 +96,7 @@ fn sum(t: &CostTable, terms: &[Rg]) -> (f64, Rg) {
 /// Round half up by `by` bits and saturate into `out` (the cast of a coordinate, a dot
 /// product or an offset): an incrementer on the bits above the rounding position and the
 /// clamp of the output's width when the range exceeds it.
-fn cast_fixed(t: &CostTable, x: Rg, out: &Encoding) -> f64 {
+pub(super) fn cast_fixed(t: &CostTable, x: Rg, out: &Encoding) -> f64 {
     let of = out.format.frac as u32;
     let by = x.frac.saturating_sub(of);
     let w = x.width();
@@ -119,7 +119,7 @@ fn cast_fixed(t: &CostTable, x: Rg, out: &Encoding) -> f64 {
 
 /// The range of a lane code read by its codec, and the price of the reading (the symmetric
 /// codec's `2c + 1` is a wire; a unit unsigned code's `2^n + 1` stays a pending factor).
-fn read_code(enc: &Encoding) -> (Rg, u128) {
+pub(super) fn read_code(enc: &Encoding) -> (Rg, u128) {
     let n = enc.format.width as u32;
     let r = Rg::of(&enc.format);
     match enc.codec {
@@ -152,16 +152,24 @@ fn negate(t: &CostTable, n: u32) -> f64 {
 /// grows a bit a step. The sign logic synthesises to about the divisor's magnitude and one
 /// numerator-wide adder (the rounding numerator `2p + |q|`, its magnitude and the signed
 /// quotient fold together).
-fn divider(t: &CostTable, coord: &Encoding) -> f64 {
+pub(super) fn divider(t: &CostTable, coord: &Encoding) -> f64 {
     let w = coord.format.width as u32;
     let f = coord.format.frac as u32;
     let nw = w + f + 2;
     let db = w + 1;
     let sat = !matches!(coord.overflow, Overflow::Wrap);
-    let mut ge = negate(t, w) + t.adder(nw);
     // saturating: the low w quotient bits only, from the numerator's top (full width);
     // wrapping: every numerator bit, from 0
-    let (steps, mut r) = if sat { (w, db) } else { (nw, 0) };
+    let steps = if sat { (w, true) } else { (nw, false) };
+    negate(t, w) + t.adder(nw) + restoring(t, steps, db)
+}
+
+/// The steps of a restoring division by a `db`-bit divisor: per quotient bit a subtractor and
+/// the restoring select, as wide as the partial remainder can be (`(steps, full)`: `full`,
+/// every step at the divisor's width plus one; else growing a bit a step from 0).
+pub(super) fn restoring(t: &CostTable, (steps, full): (u32, bool), db: u32) -> f64 {
+    let mut r = if full { db } else { 0 };
+    let mut ge = 0.0;
     for _ in 0..steps {
         let wk = (r + 1).min(db + 1);
         ge += t.adder(wk) + t.mux(wk, 2);
@@ -170,12 +178,25 @@ fn divider(t: &CostTable, coord: &Encoding) -> f64 {
     ge
 }
 
+/// One lane of the PASS_THROUGH colour converter into `out`: the clamp to [0, 1] (the sign
+/// bit and a compare with a constant) and the converter (`convert_frac`) or the cast.
+pub(super) fn pass_lane(t: &CostTable, p: &ShaderParams, out: &Encoding) -> f64 {
+    let n = out.width();
+    let cw = p.coord.width();
+    let f = p.coord.format.frac as u32;
+    t.clamp(f + 1)
+        + t.and2 * cw as f64
+        + match p.convert_frac {
+            Some(k) => t.constant_add(k + 1) + t.shift_add(k + 1, (1 << n) - 1),
+            None => cast_fixed(t, Rg::of(&Format::u(f as u8 + 1, f as u8)), out),
+        }
+}
+
 /// The mapped N of a dot product (`arith::vector`): per component the code read and divided
 /// by its constant (`div_round`, a reciprocal multiply), or for the HILO hemispheres the two
 /// 16-bit codes, their squares and the integer square root. Returns the price and the
 /// range of one component.
-fn mapping(t: &CostTable, mp: DotMapping, prev: &Compiled, df: u32) -> (f64, Rg) {
-    let enc = prev.out_enc;
+pub(super) fn mapping(t: &CostTable, mp: DotMapping, enc: &Encoding, df: u32) -> (f64, Rg) {
     // `div_round(c 2^df, d)`: the reciprocal multiply acts on the code's bits (the df low
     // bits of `c 2^df` are zeros and the rounding's constants, which synthesis folds), plus
     // the carry of those constants across the df bits (yosys: the dot cases 1.03-1.10 when
@@ -221,18 +242,7 @@ fn mapping(t: &CostTable, mp: DotMapping, prev: &Compiled, df: u32) -> (f64, Rg)
         );
         let mut ge = 2.0 * pc;
         if mp != Hilo1 {
-            let n = r.mag();
-            // two squares (`fixed::square`, a folded array and the sign row), 1 - h^2 - l^2,
-            // the root digit by digit (a subtractor and a select per root bit, as wide as
-            // the partial remainder can be)
-            ge += 2.0 * (t.squarer(n) + if r.lo < 0 { t.adder(n + 1) } else { 0.0 });
-            ge += 2.0 * t.adder(2 * n + 2);
-            let bits = (2 * df + 2).next_multiple_of(2);
-            let half = bits / 2;
-            for i in 0..half {
-                let wk = (i + 3).min(half + 3);
-                ge += t.adder(wk) + t.mux(wk, 2);
-            }
+            ge += hemisphere_z(t, r, df);
         }
         return (ge, r);
     }
@@ -242,7 +252,7 @@ fn mapping(t: &CostTable, mp: DotMapping, prev: &Compiled, df: u32) -> (f64, Rg)
         return (3.0 * p, r);
     }
     // other widths read by value and shifted to `df` fraction bits
-    let (r, k) = read_code(&enc);
+    let (r, k) = read_code(enc);
     let mut ge = 0.0;
     let mut v = r;
     if k > 1 {
@@ -273,6 +283,22 @@ fn mapping(t: &CostTable, mp: DotMapping, prev: &Compiled, df: u32) -> (f64, Rg)
     (3.0 * ge, v)
 }
 
+/// The HILO hemisphere's z from the two mapped codes of range `r`: two squares
+/// (`fixed::square`, a folded array and the sign row), `1 - h^2 - l^2`, the root digit by
+/// digit (a subtractor and a select per root bit, as wide as the partial remainder can be).
+pub(super) fn hemisphere_z(t: &CostTable, r: Rg, df: u32) -> f64 {
+    let n = r.mag();
+    let mut ge = 2.0 * (t.squarer(n) + if r.lo < 0 { t.adder(n + 1) } else { 0.0 });
+    ge += 2.0 * t.adder(2 * n + 2);
+    let bits = (2 * df + 2).next_multiple_of(2);
+    let half = bits / 2;
+    for i in 0..half {
+        let wk = (i + 3).min(half + 3);
+        ge += t.adder(wk) + t.mux(wk, 2);
+    }
+    ge
+}
+
 /// One dot product of a stage: N mapped from the previous stage's texel, three products
 /// with `(s, t, r)`, their sum and the cast into the coordinate format.
 /// `shared`: the mapping is the one an earlier stage applies to the same texel (synthesis
@@ -285,7 +311,7 @@ fn dot(
     prev: &Compiled,
 ) {
     let df = p.dot_frac;
-    let (pm, n) = mapping(t, mp, prev, df);
+    let (pm, n) = mapping(t, mp, &prev.out_enc, df);
     if !shared {
         g.add(format!("dot mapping {mp:?} ({} bits)", n.width()), 1, pm);
     }
@@ -457,17 +483,11 @@ pub(super) fn configured(u: &TextureShader, t: &CostTable) -> GateBudget {
             }
             Program::PassThrough => {
                 let n = st.out_enc.width();
-                let f = p.coord.format.frac as u32;
-                // the clamp to [0, 1]: the sign bit and a compare with a constant
-                let lane = t.clamp(f + 1)
-                    + t.and2 * cw as f64
-                    + match p.convert_frac {
-                        Some(k) => t.constant_add(k + 1) + t.shift_add(k + 1, (1 << n) - 1),
-                        None => {
-                            cast_fixed(t, Rg::of(&Format::u(f as u8 + 1, f as u8)), &st.out_enc)
-                        }
-                    };
-                s.add(format!("colour converter into {n} bits"), 4, lane);
+                s.add(
+                    format!("colour converter into {n} bits"),
+                    4,
+                    pass_lane(t, p, &st.out_enc),
+                );
                 registers += 4 * n;
             }
             Program::CullFragment { .. } => {

@@ -780,3 +780,173 @@ fn the_configured_price_has_each_stages_program_only() {
     let (c, pr) = (d.gates(&ct).total(), p.gates(&ct).total());
     assert!(c < pr / 4.0, "configured {c} vs programmable {pr}");
 }
+
+/// The programmable price of a part of NONE stages.
+fn programmable_part(params: ShaderParams) -> GateBudget {
+    let stages = vec![StageSpec::none(); params.stages];
+    match TextureShader::new(params, stages) {
+        Ok(u) => u.gates(&CostTable::default()),
+        Err(e) => panic!("{e}"),
+    }
+}
+
+/// The programmable price (`programmable.rs`) is built from the configured price's items:
+/// per stage it holds at least what any configured program needs. For each program alone in
+/// the stages of a part, every configured item kind (dividers, mapping, products,
+/// offset, filter) is at most the programmable part's item of that kind; the divider is the
+/// same calibrated divider, two per stage.
+#[test]
+fn the_programmable_price_covers_each_configured_program() {
+    let t8 = tex2d("t", U8, 64, 64, |_, _| [0.5; 4]);
+    let s8 = tex2d("s", S8, 64, 64, |_, _| [0.1; 4]);
+    let hilo = Arc::new(
+        Texture::new(
+            "h",
+            Encoding::texel(Codec::UnitSigned, true, 16),
+            Texels {
+                width: 64,
+                height: 64,
+                lanes: 2,
+                values: vec![[0.1, -0.2, 0.0, 0.0]; 64 * 64],
+            },
+        )
+        .unwrap(),
+    );
+    let ct = CostTable::default();
+    let kind = |u: &TextureShader, what: &str| -> f64 {
+        u.gates(&ct)
+            .items
+            .iter()
+            .filter(|i| i.what.contains(what))
+            .map(|i| i.ge)
+            .sum()
+    };
+    let parts: Vec<(&str, Vec<StageSpec>)> = vec![
+        (
+            "tex2d",
+            vec![
+                StageSpec::new(Program::Texture2d, Some(t8.clone())),
+                StageSpec::new(Program::Texture2d, Some(t8.clone())),
+            ],
+        ),
+        (
+            "dot",
+            vec![
+                StageSpec::new(Program::Texture2d, Some(t8.clone())),
+                StageSpec::new(
+                    Program::DotProduct {
+                        prev: 0,
+                        mapping: DotMapping::Minus1To1Gl,
+                    },
+                    None,
+                ),
+                StageSpec::new(
+                    Program::DotProductTexture2d {
+                        prev: 0,
+                        mapping: DotMapping::Minus1To1Gl,
+                    },
+                    Some(t8.clone()),
+                ),
+            ],
+        ),
+        (
+            "hilo",
+            vec![
+                StageSpec::new(Program::Texture2d, Some(hilo.clone())),
+                StageSpec::new(
+                    Program::DotProduct {
+                        prev: 0,
+                        mapping: DotMapping::HiloHemisphere,
+                    },
+                    None,
+                ),
+                StageSpec::new(
+                    Program::DotProductTexture2d {
+                        prev: 0,
+                        mapping: DotMapping::HiloHemisphere,
+                    },
+                    Some(t8.clone()),
+                ),
+            ],
+        ),
+        (
+            "offset",
+            vec![
+                StageSpec::new(Program::Texture2d, Some(s8.clone())),
+                StageSpec::new(
+                    Program::OffsetTexture2d {
+                        prev: 0,
+                        offset: Offset {
+                            matrix: [0.5, -0.25, 0.75, -1.0],
+                            ..Offset::default()
+                        },
+                    },
+                    Some(t8.clone()),
+                ),
+            ],
+        ),
+    ];
+    for (name, stages) in parts {
+        let with = |datapath| {
+            let params = ShaderParams {
+                stages: stages.len(),
+                datapath,
+                ..ShaderParams::default()
+            };
+            TextureShader::new(params, stages.clone()).unwrap()
+        };
+        let (c, p) = (with(Datapath::Configured), with(Datapath::Programmable));
+        for what in [
+            "projective divider",
+            "dot mapping",
+            "dot products",
+            "offset",
+            "lerp multiplier",
+        ] {
+            let (kc, kp) = (kind(&c, what), kind(&p, what));
+            assert!(
+                kc <= kp,
+                "{name}: {what}: configured {kc} > programmable {kp}"
+            );
+        }
+        assert!(c.gates(&ct).total() < p.gates(&ct).total(), "{name}");
+    }
+    // every coordinate format prices (a coordinate with fewer fraction bits than the largest
+    // texture's side addresses a smaller one)
+    for (w, f) in [
+        (8u8, 0u8),
+        (8, 1),
+        (12, 6),
+        (16, 10),
+        (16, 16),
+        (32, 31),
+        (32, 32),
+    ] {
+        let params = ShaderParams {
+            coord: Encoding::fixed(Format::s(w, f)),
+            ..ShaderParams::default()
+        };
+        let g = programmable_part(params);
+        assert!(g.total().is_finite() && g.total() > 0.0, "s{w}.{f}");
+    }
+    // the same divider: two per stage in the programmable part
+    let tex = TextureShader::new(
+        ShaderParams {
+            stages: 1,
+            datapath: Datapath::Configured,
+            ..ShaderParams::default()
+        },
+        vec![StageSpec::new(Program::Texture2d, Some(t8))],
+    )
+    .unwrap();
+    let one = kind(&tex, "projective divider");
+    let p = TextureShader::new(
+        ShaderParams {
+            stages: 1,
+            ..ShaderParams::default()
+        },
+        vec![StageSpec::none()],
+    )
+    .unwrap();
+    assert_eq!(kind(&p, "projective divider"), one);
+}
