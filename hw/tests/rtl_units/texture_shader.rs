@@ -121,7 +121,8 @@ pub fn narrow() -> Vec<Case> {
 
 /// The narrow cases whose synthesis takes under a minute each (the suite's band,
 /// `rtl_synth.rs`); the others are checked by the ignored `texture_shaders_slow_cases`.
-pub const FAST: [&str; 9] = [
+pub const FAST: [&str; 10] = [
+    "ts_cube",
     "ts_tex2d_narrow",
     "ts_tex2d_pass",
     "ts_dependent",
@@ -496,6 +497,54 @@ fn cases_with(d: impl Fn() -> ShaderParams + Copy) -> Vec<Case> {
                 stage(Program::Texture2d, tex(34, (4, 4, 3), u8e), BW),
             ],
         ),
+        // TEXTURE_CUBE_MAP at the inputs' direction (s, t, r), bilinear, clamped in a face
+        case(
+            "ts_cube",
+            d(),
+            vec![stage(Program::TextureCube, cube_map(60, 8), BC)],
+        ),
+        // DOT_PRODUCT_TEXTURE_CUBE_MAP: the three dots of an RGBA8 normal as the direction
+        case("ts_dot_cube", d(), dot_cube(None)),
+        // DOT_PRODUCT_REFLECT_CUBE_MAP: the eye from the three stages' q
+        case("ts_reflect_cube", d(), dot_cube(Some(None))),
+        // DOT_PRODUCT_CONST_EYE_REFLECT_CUBE_MAP, nearest, wrapping in a face
+        case(
+            "ts_reflect_cube_const_eye",
+            d(),
+            dot_cube(Some(Some([0.25, -0.5, 0.75]))),
+        ),
+    ]
+}
+
+/// A cube map of `n x n` pseudo-random RGB faces.
+fn cube_map(seed: u64, n: u32) -> Option<Arc<Texture>> {
+    let f = (0..6).map(|k| texels(seed + k, n, n, 3, &uu(8))).collect();
+    Some(Arc::new(Texture::cube("cube", uu(8), f).unwrap()))
+}
+
+/// A normal map, two DOT_PRODUCT stages and a cube-map stage reading the three dots:
+/// DOT_PRODUCT_TEXTURE_CUBE_MAP (`reflect` None), DOT_PRODUCT_REFLECT_CUBE_MAP
+/// (`Some(None)`) or its constant-eye form.
+fn dot_cube(reflect: Option<Option<[f64; 3]>>) -> Vec<StageSpec> {
+    let mapping = DotMapping::Minus1To1Gl;
+    let dot = Program::DotProduct { prev: 0, mapping };
+    let (last, look) = match reflect {
+        None => (Program::DotProductTextureCube { prev: 0, mapping }, BC),
+        Some(None) => (Program::DotProductReflectCube { prev: 0, mapping }, BC),
+        Some(Some(eye)) => (
+            Program::DotProductConstEyeReflectCube {
+                prev: 0,
+                mapping,
+                eye,
+            },
+            (Filter::Nearest, Address::Wrap),
+        ),
+    };
+    vec![
+        stage(Program::Texture2d, tex(70, (8, 8, 4), uu(8)), BW),
+        stage(dot, None, BW),
+        stage(dot, None, BW),
+        stage(last, cube_map(71, 4), look),
     ]
 }
 

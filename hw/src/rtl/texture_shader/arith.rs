@@ -31,22 +31,39 @@ pub(super) fn divide(m: &mut Module, a: &str, b: &str, fmt: &Format, ov: Overflo
         nw,
         &format!("({pn} <<< 1) + $signed({{{}'d0, {dmag}}})", nw - w),
     );
-    let dd = m.uwire("qdd", nw, &format!("{{{}'d0, {dmag}, 1'b0}}", nw - w - 1));
+    let d2 = m.uwire("qd2", w + 1, &format!("{{{dmag}, 1'b0}}"));
+    let zero = m.uwire("qz", 1, &format!("{b} == {w}'d0"));
+    let sat = matches!(ov, Overflow::Sat | Overflow::SatSym);
+    // wrapping: |q| <= 2^(w - 1 + f) + 1
+    let hi = (1i128 << (w - 1 + f)) + 1;
+    floor_quotient(m, &n, nw, (&d2, w + 1), &zero, sat.then_some(w), hi)
+}
+
+/// `floor(N / D)` of a signed `N` (the wire `n`, `nw` bits) by an unsigned `D` (`d2`, `db`
+/// bits, `db < nw`), 0 when `zero` (`D = 0`); the floor of a negative quotient is
+/// `-ceil(|N| / D)`. `sat_bits = Some(k)`: the quotient saturates beyond `k` bits (a
+/// quotient of `2^k` or more is returned as `+-2^k` whatever its low bits, so only the low
+/// `k` quotient bits are divided and the high part of the numerator is compared with `D`
+/// once: below it, it is the first partial remainder); `None`: every quotient bit, the
+/// quotient's magnitude at most `wrap_hi`.
+pub(super) fn floor_quotient(
+    m: &mut Module,
+    n: &str,
+    nw: u32,
+    (d2, db): (&str, u32),
+    zero: &str,
+    sat_bits: Option<u32>,
+    wrap_hi: i128,
+) -> Fx {
+    let dd = m.uwire("qdd", nw, &format!("{{{}'d0, {d2}}}", nw - db));
     let nabs = m.uwire("qna", nw, &format!("{n}[{}] ? -{n} : {n}", nw - 1));
     let num = m.uwire(
         "qnum",
         nw,
         &format!("{n}[{}] ? ({nabs} + {dd} - {nw}'d1) : {nabs}", nw - 1),
     );
-    let d2 = m.uwire("qd2", w + 1, &format!("{{{dmag}, 1'b0}}"));
-    let db = w + 1;
-    let zero = m.uwire("qz", 1, &format!("{b} == {w}'d0"));
     let sgn = format!("{n}[{}]", nw - 1);
-    if matches!(ov, Overflow::Sat | Overflow::SatSym) {
-        // saturating: a quotient of 2^w or more saturates whatever its low bits, so only
-        // the low w quotient bits are divided; the high part of the numerator is compared
-        // with the divisor once (below it, it is the first partial remainder)
-        let k = w;
+    if let Some(k) = sat_bits.filter(|&k| k < nw) {
         let top = m.uwire("qhi", nw - k, &format!("{num}[{}:{k}]", nw - 1));
         let ovf = m.uwire("qovf", 1, &format!("{top} >= {d2}"));
         let r0 = if nw - k >= db {
@@ -54,7 +71,7 @@ pub(super) fn divide(m: &mut Module, a: &str, b: &str, fmt: &Format, ov: Overflo
         } else {
             m.uwire("qr", db, &format!("{{{}'d0, {top}}}", db - (nw - k)))
         };
-        let qa = restoring(m, &num, k, &d2, db, r0);
+        let qa = restoring(m, &num, k, d2, db, r0);
         let hi = 1i128 << k;
         let qw = signed_bits(-hi, hi);
         let q = m.swire(
@@ -74,8 +91,8 @@ pub(super) fn divide(m: &mut Module, a: &str, b: &str, fmt: &Format, ov: Overflo
         };
     }
     let r0 = m.uwire("qr", db, &format!("{db}'d0"));
-    let qa = restoring(m, &num, nw, &d2, db, r0);
-    let hi = (1i128 << (w - 1 + f)) + 1;
+    let qa = restoring(m, &num, nw, d2, db, r0);
+    let hi = wrap_hi;
     let qw = signed_bits(-hi, hi);
     let q = m.swire(
         "qs",
@@ -99,7 +116,14 @@ pub(super) fn divide(m: &mut Module, a: &str, b: &str, fmt: &Format, ov: Overflo
 /// quotient bit, from the top, the partial remainder shifted in one numerator bit, compared
 /// with `d` and reduced (one `db + 1`-bit subtractor and a mux), so that each step is as
 /// wide as the divisor, not as the numerator. `d = 0` gives all ones (the caller masks it).
-fn restoring(m: &mut Module, num: &str, nb: u32, d: &str, db: u32, r0: String) -> String {
+pub(super) fn restoring(
+    m: &mut Module,
+    num: &str,
+    nb: u32,
+    d: &str,
+    db: u32,
+    r0: String,
+) -> String {
     let mut r = r0;
     let mut q = Vec::new();
     for i in (0..nb).rev() {

@@ -8,9 +8,10 @@
 //! Programs with a generator: NONE, TEXTURE_2D, PASS_THROUGH, CULL_FRAGMENT, DEPENDENT_AR /
 //! _GB, DOT_PRODUCT, DOT_PRODUCT_TEXTURE_2D (every dot mapping), OFFSET_TEXTURE_2D and
 //! OFFSET_TEXTURE_2D_SCALE (the specified clamp, and the NV2A luminance reading with or
-//! without the colour converter). The cube-map programs, the reflections and DEPTH_REPLACE
-//! are refused ("has no generator"). A stage whose consistency rule is broken runs NONE, as
-//! the model.
+//! without the colour converter), TEXTURE_CUBE_MAP, DOT_PRODUCT_TEXTURE_CUBE_MAP and the two
+//! reflections (DOT_PRODUCT_REFLECT_CUBE_MAP, _CONST_EYE_REFLECT_CUBE_MAP; [`cube`]).
+//! DIFFUSE_CUBE_MAP and DEPTH_REPLACE are refused ("has no generator"). A stage whose
+//! consistency rule is broken runs NONE, as the model.
 //!
 //! Datapath per program (coordinates are the coordinate encoding's raw words, `f` fraction
 //! bits):
@@ -30,6 +31,11 @@
 //!   as shift-and-add constants, one cast each; the scale `l = scale mag + bias` (constants),
 //!   clamped, times each RGB lane and cast (or the NV2A's integer quotient, the divisions by
 //!   constants as reciprocals).
+//! * **The cube maps**: the direction (the inputs' `(s, t, r)`, the three dots, or the
+//!   eye vector reflected about the dots, `2 N (N.E) / (N.N) - E` rounded into the coordinate)
+//!   projected onto its cube face ([`cube::face`]); the face and the face coordinates
+//!   (`f + 2` bits, in `[0, 1]`) are registered like a 2D stage's `(s, t)`, the six faces
+//!   stored one after another in the stage's memory.
 //! * **PASS_THROUGH**: the coordinate clamped to `[0, 1]` and the colour converter
 //!   (`((floor(v 2^k) + 1) (2^n - 1)) >> k`) or the cast into `pass_through`.
 //! * **CULL_FRAGMENT**: the `live` output (a register, 1 = kept; present only when a stage
@@ -57,6 +63,7 @@
 //! clock per stage plus 3.
 
 mod arith;
+mod cube;
 mod sample;
 
 use super::fixed::{
@@ -83,6 +90,10 @@ fn supported(p: &Program) -> bool {
             | Program::DotProductTexture2d { .. }
             | Program::OffsetTexture2d { .. }
             | Program::OffsetTexture2dScale { .. }
+            | Program::TextureCube
+            | Program::DotProductTextureCube { .. }
+            | Program::DotProductReflectCube { .. }
+            | Program::DotProductConstEyeReflectCube { .. }
     )
 }
 
@@ -107,6 +118,11 @@ fn schedule(progs: &[Program]) -> Schedule {
         let dep = match p {
             Program::Texture2d => Some(0),
             Program::DotProductTexture2d { .. } => Some(dot[i - 1].max(prev)),
+            Program::DotProductTextureCube { .. }
+            | Program::DotProductReflectCube { .. }
+            | Program::DotProductConstEyeReflectCube { .. } => {
+                Some(dot[i - 2].max(dot[i - 1]).max(prev))
+            }
             p if p.texture_kind().is_some() => Some(prev),
             _ => None,
         };
@@ -242,8 +258,51 @@ pub fn rtl(u: &TextureShader, top: &str) -> Result<RtlUnit, String> {
             let r = reg_at(&mut sh.m, &format!("dot{i}"), cw, sc.dot[i], sb, d);
             dots[i] = Some(r);
         }
-        // texture coordinates (s, t) and the level
+        // texture coordinates (s, t) and the level; a cube map's face and face coordinates
+        let mut face: Option<String> = None;
         let st_expr: Option<(String, String)> = match prog {
+            Program::TextureCube => {
+                let m = &mut sh.m;
+                let d = std::array::from_fn(|k| raw_word(m, &coords[i][k], &coord.format));
+                let (fc, s, t) = cube::face(m, &d, f);
+                face = Some(fc);
+                Some((s, t))
+            }
+            Program::DotProductTextureCube { .. }
+            | Program::DotProductReflectCube { .. }
+            | Program::DotProductConstEyeReflectCube { .. } => {
+                let missing =
+                    || format!("texture shader: stage {i}: the stages before have no dot products");
+                let ds = [
+                    dots[i - 2].clone().ok_or_else(missing)?,
+                    dots[i - 1].clone().ok_or_else(missing)?,
+                    own_dot.clone().ok_or_else(missing)?,
+                ];
+                let m = &mut sh.m;
+                let nv: [Fx; 3] = std::array::from_fn(|k| raw_word(m, &ds[k], &coord.format));
+                let dir = match prog {
+                    Program::DotProductTextureCube { .. } => nv,
+                    _ => {
+                        let e: [Fx; 3] = match prog {
+                            Program::DotProductConstEyeReflectCube { eye, .. } => {
+                                std::array::from_fn(|k| {
+                                    let v = coord.encode(eye[k]) as i128;
+                                    make(m, "eye", v, v, 0, &super::verilog::lit(v))
+                                })
+                            }
+                            _ => std::array::from_fn(|k| {
+                                raw_word(m, &coords[i + k - 2][3], &coord.format)
+                            }),
+                        };
+                        let refl = format!("{top}_refl{i}");
+                        let r = cube::reflect(m, &nv, &e, &coord, (&refl, &mut subs));
+                        std::array::from_fn(|k| raw_word(m, &r[k], &coord.format))
+                    }
+                };
+                let (fc, s, t) = cube::face(m, &dir, f);
+                face = Some(fc);
+                Some((s, t))
+            }
             Program::Texture2d => {
                 // s/q and t/q: one divider module (synthesised once), two instances
                 let name = format!("{top}_div");
@@ -339,8 +398,16 @@ pub fn rtl(u: &TextureShader, top: &str) -> Result<RtlUnit, String> {
                 1
             };
             let ce = sc.coord[i];
-            let sr = reg_at(&mut sh.m, &format!("s{i}"), cw, ce, sb, &se);
-            let tr = reg_at(&mut sh.m, &format!("t{i}"), cw, ce, sb, &te);
+            // a cube face's coordinates lie in [0, 1] at f fraction bits
+            let (scoord, rw) = match face {
+                Some(_) => (Encoding::fixed(Format::s(f as u8 + 2, f as u8)), f + 2),
+                None => (coord, cw),
+            };
+            let sr = reg_at(&mut sh.m, &format!("s{i}"), rw, ce, sb, &se);
+            let tr = reg_at(&mut sh.m, &format!("t{i}"), rw, ce, sb, &te);
+            let fr = face
+                .as_ref()
+                .map(|fc| reg_at(&mut sh.m, &format!("f{i}"), 3, ce, sb, fc));
             let level = match (&lod, levels > 1) {
                 (Some(l), true) => {
                     let le = p.lod.unwrap_or(coord);
@@ -365,11 +432,20 @@ pub fn rtl(u: &TextureShader, top: &str) -> Result<RtlUnit, String> {
                 tex,
                 sampler: &st.spec.sampler,
                 levels,
-                coord,
+                faces: if fr.is_some() { 6 } else { 1 },
+                coord: scoord,
                 out: enc,
             };
-            let codes = sample::fetch(&mut sh, &fe, &sr, &tr, level.as_deref(), &format!("tex{i}"))
-                .map_err(|e| format!("texture shader: stage {i}: {e}"))?;
+            let codes = sample::fetch(
+                &mut sh,
+                &fe,
+                &sr,
+                &tr,
+                level.as_deref(),
+                fr.as_deref(),
+                &format!("tex{i}"),
+            )
+            .map_err(|e| format!("texture shader: stage {i}: {e}"))?;
             let m = &mut sh.m;
             let mut w: Vec<String> = codes;
             for l in st.lanes as usize..4 {

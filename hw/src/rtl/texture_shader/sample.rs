@@ -22,19 +22,21 @@ pub(super) struct Fetch<'a> {
     pub sampler: &'a Sampler,
     /// Levels stored (1: level 0 only).
     pub levels: usize,
+    /// Faces stored (6: a cube map's level 0, face-major, read with a face select).
+    pub faces: usize,
     /// The coordinate encoding (its fraction bits address the texels).
     pub coord: Encoding,
     /// The stage's result encoding.
     pub out: Encoding,
 }
 
-/// The texel words of level `l`, lanes packed from bit 0.
-fn level_words(tex: &Texture, l: usize) -> Vec<u128> {
+/// The texel words of the first `faces` faces of level `l`, lanes packed from bit 0.
+fn level_words(tex: &Texture, l: usize, faces: usize) -> Vec<u128> {
     let level = tex.level_at(l);
     let texel = tex.texel();
     let wt = texel.width();
     let lanes = tex.lanes() as usize;
-    (0..(level.width() * level.height()) as usize)
+    (0..faces * (level.width() * level.height()) as usize)
         .map(|k| {
             let c = level.code(k);
             (0..lanes).fold(0u128, |acc, ln| {
@@ -46,7 +48,9 @@ fn level_words(tex: &Texture, l: usize) -> Vec<u128> {
 
 /// The fetch of `f` at the coordinate words `s`, `t` (coordinate raw words, stable from the
 /// clock before the memory's read edge until the result is registered) from level `level`
-/// (a wire, `None`: level 0). The memory is `{top}_{mem}`, one port per tap, one clock.
+/// (a wire, `None`: level 0) and face `face` (a 3-bit wire of a cube map, `f.faces` 6: the
+/// face's texels from `face 2^(log_w + log_h)`). The memory is `{top}_{mem}`, one port per
+/// tap, one clock.
 /// Returns one code wire per texture lane (in `f.out`), valid after the read edge.
 pub(super) fn fetch(
     sh: &mut Shell,
@@ -54,6 +58,7 @@ pub(super) fn fetch(
     s: &str,
     t: &str,
     level: Option<&str>,
+    face: Option<&str>,
     mem: &str,
 ) -> Result<Vec<String>, String> {
     let tex = f.tex;
@@ -73,7 +78,7 @@ pub(super) fn fetch(
             ));
         }
         bases.push(words.len() as u128);
-        words.extend(level_words(tex, l));
+        words.extend(level_words(tex, l, f.faces));
     }
     let abits = unsigned_bits(words.len().saturating_sub(1) as u128).max(1);
     let [am_s, am_t] = sampler.address();
@@ -125,13 +130,21 @@ pub(super) fn fetch(
     } else {
         None
     };
+    // a cube face's texels from face 2^(log_w + log_h) (level 0 only)
+    let (lw, lh) = tex.level_at(0).logs();
+    let fbase = match (face, f.faces > 1) {
+        (Some(fc), true) if lw + lh > 0 => Some(format!("{{{fc}, {}'d0}}", lw + lh)),
+        (Some(fc), true) => Some(fc.to_string()),
+        _ => None,
+    };
     let addrs: Vec<(String, u32)> = offs
         .iter()
         .map(|o| {
             let off = m.select_bits(lsel, o, abits);
-            let a = match &base {
-                Some(b) => m.uwire("taddr", abits, &format!("{off} + {b}")),
-                None => off,
+            let a = match (&base, &fbase) {
+                (Some(b), _) => m.uwire("taddr", abits, &format!("{off} + {b}")),
+                (None, Some(b)) => m.uwire("taddr", abits, &format!("{off} | {b}")),
+                (None, None) => off,
             };
             (a, abits)
         })

@@ -299,6 +299,97 @@ pub(super) fn hemisphere_z(t: &CostTable, r: Rg, df: u32) -> f64 {
     ge
 }
 
+/// The reflection of `eval.rs`: `N.N` (three squares), `N.E`, per component
+/// `2 N_k (N.E) - E_k (N.N)` and its rounded division by `N.N` into the coordinate format
+/// (`rtl::texture_shader::cube::reflect`), N and E words of the coordinate encoding (E the
+/// constants `eye` of DOT_PRODUCT_CONST_EYE_REFLECT_CUBE_MAP, whose products are shifts and
+/// adds).
+pub(super) fn reflection(t: &CostTable, coord: &Encoding, eye: Option<[i128; 3]>) -> GateBudget {
+    let c = Rg::of(&coord.format);
+    let mut g = GateBudget::new();
+    let w = c.width();
+    // a square: the folded array of the magnitude and the sign row
+    let sq = t.squarer(c.mag()) + t.adder(c.mag() + 1);
+    let nn = Rg {
+        lo: 0,
+        hi: 3 * (c.lo * c.lo).max(c.hi * c.hi),
+        frac: 2 * c.frac,
+    };
+    let (_, prod) = mul(t, c, c);
+    let ne = Rg {
+        lo: 3 * prod.lo,
+        hi: 3 * prod.hi,
+        frac: prod.frac,
+    };
+    let by_eye = |t: &CostTable, x: Rg, k: usize| match eye {
+        Some(e) => t.constant_multiplier(x.width(), e[k].unsigned_abs()),
+        None => mul(t, c, x).0,
+    };
+    let ne_products: f64 = (0..3).map(|k| by_eye(t, c, k)).sum();
+    g.add(
+        format!(
+            "reflection: N.N (3 squares {w}) and N.E (3 products), sums {}",
+            ne.width()
+        ),
+        1,
+        3.0 * sq + ne_products + 2.0 * (t.adder(nn.width()) + t.adder(ne.width())),
+    );
+    let (p1, a) = mul(t, c, ne);
+    let b = Rg {
+        lo: c.lo.min(-c.hi) * nn.hi,
+        hi: c.hi.max(-c.lo) * nn.hi,
+        frac: c.frac + nn.frac,
+    };
+    let (_, num) = sum(t, &[a, a, b]);
+    let nb = num.width() + 1;
+    let db = bit_length(nn.hi as u128) + 1;
+    for k in 0..3 {
+        g.add(
+            format!(
+                "reflection {k}: 2 N (N.E) - E (N.N) ({w}x{}, the difference {} and 2 num + N.N)",
+                ne.width(),
+                num.width()
+            ),
+            1,
+            p1 + by_eye(t, nn, k) + t.adder(num.width()) + t.adder(nb),
+        );
+    }
+    // the quotient saturates into the coordinate (w steps at the divisor's width, the
+    // numerator's top bits compared with the divisor once) or wraps (every numerator bit);
+    // the numerator's magnitude and rounding, the signed quotient; -E when N = 0
+    let steps = if !matches!(coord.overflow, Overflow::Wrap) {
+        (w, true)
+    } else {
+        (nb, false)
+    };
+    g.add(
+        format!("reflection: divider {nb} / {db}, the signs and the zero select"),
+        3,
+        negate(t, nb)
+            + t.adder(nb)
+            + t.comparator(nb.saturating_sub(w))
+            + restoring(t, steps, db)
+            + 2.0 * negate(t, w + 1)
+            + t.mux(w, 2),
+    );
+    g
+}
+
+/// The cube-face select and projection of a direction of coordinate words of range `c`
+/// (`rtl::texture_shader::cube::face`): the three magnitudes, the major-axis comparators,
+/// the selects of `sc`, `tc`, `ma` by the face (of 4, 3 and 3 distinct values: `-z, z, x, -x`;
+/// `-y, z, -z`; the three magnitudes), and per face coordinate the numerator
+/// `(sc + ma) 2^f + ma` and an `f + 1`-step restoring division by `2 ma`.
+pub(super) fn cube_face(t: &CostTable, c: Rg) -> f64 {
+    let w = c.width() + 1;
+    let f = c.frac;
+    3.0 * negate(t, w)
+        + 3.0 * t.comparator(w)
+        + t.mux(w, 4)
+        + 2.0 * t.mux(w, 3)
+        + 2.0 * (2.0 * t.adder(w + 1) + restoring(t, (f + 1, true), w) + t.mux(f + 2, 2))
+}
+
 /// One dot product of a stage: N mapped from the previous stage's texel, three products
 /// with `(s, t, r)`, their sum and the cast into the coordinate format.
 /// `shared`: the mapping is the one an earlier stage applies to the same texel (synthesis
@@ -436,6 +527,7 @@ fn luminance(g: &mut GateBudget, t: &CostTable, p: &ShaderParams, st: &Compiled,
 pub(super) fn configured(u: &TextureShader, t: &CostTable) -> GateBudget {
     let p = u.params();
     let cw = p.coord.width();
+    let c = Rg::of(&p.coord.format);
     let mut g = GateBudget::new();
     let progs = u.programs();
     let mut registers = 0u32;
@@ -490,6 +582,20 @@ pub(super) fn configured(u: &TextureShader, t: &CostTable) -> GateBudget {
                 );
                 registers += 4 * n;
             }
+            Program::TextureCube | Program::DotProductTextureCube { .. } => {
+                s.add("cube face: select and projection", 1, cube_face(t, c));
+            }
+            Program::DotProductReflectCube { .. }
+            | Program::DotProductConstEyeReflectCube { .. } => {
+                let eye = match prog {
+                    Program::DotProductConstEyeReflectCube { eye, .. } => {
+                        Some(eye.map(|x| p.coord.encode(x) as i128))
+                    }
+                    _ => None,
+                };
+                s.add_part("", 1, reflection(t, &p.coord, eye));
+                s.add("cube face: select and projection", 1, cube_face(t, c));
+            }
             Program::CullFragment { .. } => {
                 s.add(
                     "cull test: 4 sign bits and the OR",
@@ -507,6 +613,16 @@ pub(super) fn configured(u: &TextureShader, t: &CostTable) -> GateBudget {
                 1
             };
             let sampler = &st.spec.sampler;
+            // a cube face's coordinates: [0, 1] at the coordinate's fraction bits, and the face
+            let cube = prog.texture_kind() == Some(true);
+            let f = p.coord.format.frac;
+            let scoord = if cube {
+                registers += 3;
+                Encoding::fixed(Format::s(f + 2, f))
+            } else {
+                p.coord
+            };
+            let sw = scoord.width();
             let mut ax = [(0, 0); 2];
             // the coordinate bits the addresses and weights read (the others are not kept)
             let mut kept = [0u32; 2];
@@ -514,7 +630,7 @@ pub(super) fn configured(u: &TextureShader, t: &CostTable) -> GateBudget {
                 ax = address_gates(
                     &mut s,
                     t,
-                    &p.coord,
+                    &scoord,
                     tex.level_at(l as usize).logs(),
                     sampler,
                     1,
@@ -526,7 +642,7 @@ pub(super) fn configured(u: &TextureShader, t: &CostTable) -> GateBudget {
                     } else {
                         ax[a].0.max(log)
                     };
-                    kept[a] = kept[a].max(bits.min(cw));
+                    kept[a] = kept[a].max(bits.min(sw));
                 }
             }
             let eff = [ax[0].1, ax[1].1];

@@ -23,7 +23,7 @@
 //! configured datapath (`Unit::generated_gates`).
 
 use super::price::{
-    cast_fixed, divider, hemisphere_z, mapping, mul, pass_lane, restoring, sum, Rg,
+    cast_fixed, cube_face, divider, hemisphere_z, mapping, mul, pass_lane, reflection, sum, Rg,
 };
 use super::{DotMapping, TextureShader};
 use crate::format::{Codec, Encoding, Format};
@@ -186,18 +186,12 @@ pub(super) fn programmable(u: &TextureShader, t: &CostTable) -> GateBudget {
         4 * n,
         pass_lane(t, p, &p.pass_through),
     );
-    // the cube-face select: |x|, |y|, |z|, the major axis and the two divisions
     g.add(
-        format!("cube-face select: 3 magnitudes and comparators {w}, face muxes x{n}"),
+        format!("cube face: magnitudes, major axis, selects and the two projections x{n}"),
         n,
-        3.0 * ((t.inv + t.half_adder) * w as f64 + t.mux(w, 2) + t.comparator(w) + t.mux(w, 3)),
+        cube_face(t, c),
     );
-    g.add(
-        format!("cube-face projection divider {w} x2 x{n}"),
-        2 * n,
-        divider(t, &p.coord),
-    );
-    reflection(&mut g, t, c, w);
+    g.add_part("", 1, reflection(t, &p.coord, None));
     if let Some(l) = p.lod {
         let lw = l.width();
         g.add(
@@ -229,43 +223,6 @@ pub(super) fn programmable(u: &TextureShader, t: &CostTable) -> GateBudget {
     );
     g.add("sequencer", 1, t.sequencer(u.latency()));
     g
-}
-
-/// The reflection of `eval.rs` (one per part): `N.N` (three squares), `N.E`, per component
-/// `2 N_k (N.E) - E_k (N.N)` and its rounded division by `N.N` into the coordinate format.
-fn reflection(g: &mut GateBudget, t: &CostTable, c: Rg, w: u32) {
-    let (pq, sq) = mul(t, c, c);
-    let (pn, nn) = sum(t, &[sq, sq, sq]);
-    let nn = Rg { lo: 0, ..nn };
-    let (pe, ne) = sum(t, &[sq, sq, sq]);
-    g.add(
-        format!("reflection: N.N and N.E ({w}x{w} x6, sums {})", nn.width()),
-        1,
-        6.0 * pq + pn + pe,
-    );
-    let (p1, a) = mul(t, c, ne);
-    let (p2, b) = mul(t, c, nn);
-    let (ps, num) = sum(t, &[a, b]);
-    g.add(
-        format!(
-            "reflection: 2 N (N.E) - E (N.N) ({w}x{} x2, sum {}) x3",
-            ne.width(),
-            num.width()
-        ),
-        3,
-        p1 + p2 + ps,
-    );
-    // the quotient saturates into the coordinate: w steps at the divisor's width, the sign
-    // logic as the projective divider's
-    let nb = num.width();
-    g.add(
-        format!("reflection: divider {nb} / {} x3", nn.width()),
-        3,
-        (t.inv + t.half_adder) * nb as f64
-            + t.mux(nb, 2)
-            + t.adder(nb)
-            + restoring(t, (w, true), nn.width()),
-    );
 }
 
 /// A stage's fetch of any texture: the addressing of the largest (bilinear, clamp, the mirror

@@ -821,7 +821,7 @@ fn the_programmable_price_covers_each_configured_program() {
             .map(|i| i.ge)
             .sum()
     };
-    let parts: Vec<(&str, Vec<StageSpec>)> = vec![
+    let mut parts: Vec<(&str, Vec<StageSpec>)> = vec![
         (
             "tex2d",
             vec![
@@ -886,6 +886,19 @@ fn the_programmable_price_covers_each_configured_program() {
             ],
         ),
     ];
+    let mapping = DotMapping::Minus1To1Gl;
+    parts.push((
+        "reflect",
+        vec![
+            StageSpec::new(Program::Texture2d, Some(t8.clone())),
+            StageSpec::new(Program::DotProduct { prev: 0, mapping }, None),
+            StageSpec::new(Program::DotProduct { prev: 0, mapping }, None),
+            StageSpec::new(
+                Program::DotProductReflectCube { prev: 0, mapping },
+                Some(cube("c")),
+            ),
+        ],
+    ));
     for (name, stages) in parts {
         let with = |datapath| {
             let params = ShaderParams {
@@ -902,6 +915,8 @@ fn the_programmable_price_covers_each_configured_program() {
             "dot products",
             "offset",
             "lerp multiplier",
+            "reflection",
+            "cube face",
         ] {
             let (kc, kp) = (kind(&c, what), kind(&p, what));
             assert!(
