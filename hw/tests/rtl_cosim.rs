@@ -479,46 +479,6 @@ fn a_wrong_texture_shader_word_is_reported() {
     );
 }
 
-#[test]
-fn texture_shader_programs_without_a_generator_say_so() {
-    use bumpsim_hw::units::texture_shader::{DotMapping, Program};
-    use rtl_units::texture_shader::{cube, flat, stage_spec, unit};
-    let mapping = DotMapping::Minus1To1Gl;
-    let u = unit(vec![
-        stage_spec(Program::Texture2d, flat()),
-        stage_spec(Program::DotProduct { prev: 0, mapping }, None),
-        stage_spec(Program::DotProductDiffuseCube { prev: 0, mapping }, cube()),
-        stage_spec(Program::DotProductReflectCube { prev: 0, mapping }, cube()),
-    ]);
-    let e = bumpsim_hw::rtl::texture_shader::rtl(&u, "ts").unwrap_err();
-    assert_eq!(
-        e,
-        "texture shader: stage 2: DOT_PRODUCT_DIFFUSE_CUBE_MAP has no generator"
-    );
-    let u = unit(vec![
-        stage_spec(Program::Texture2d, flat()),
-        stage_spec(
-            Program::DotProduct {
-                prev: 0,
-                mapping: DotMapping::Minus1To1Gl,
-            },
-            None,
-        ),
-        stage_spec(
-            Program::DotProductDepthReplace {
-                prev: 0,
-                mapping: DotMapping::Minus1To1Gl,
-            },
-            None,
-        ),
-    ]);
-    let e = bumpsim_hw::rtl::texture_shader::rtl(&u, "ts").unwrap_err();
-    assert_eq!(
-        e,
-        "texture shader: stage 2: DOT_PRODUCT_DEPTH_REPLACE has no generator"
-    );
-}
-
 /// Same config, same text.
 #[test]
 fn texture_shader_verilog_is_deterministic() {

@@ -88,8 +88,8 @@ fn model_is_within_band_of_synthesis_per_unit() {
 
 /// The texture-shader cases of `rtl_units::texture_shader::narrow` that the suite leaves
 /// out for time (yosys: mip levels 4 minutes, the HILO hemispheres 1.5 (from RGBA8) to 4
-/// (16-bit, dot_frac 16), the NDF path 1.5, the reflections 2 (constant eye) and 4; about 16
-/// minutes on two cores): `cargo test -p bumpsim-hw --test rtl_synth -- --ignored`.
+/// (16-bit, dot_frac 16), the NDF path 1.5, the reflections 2 (constant eye) to 7 (with the
+/// diffuse cube); about 23 minutes on two cores): `cargo test -p bumpsim-hw --test rtl_synth -- --ignored`.
 #[test]
 #[ignore]
 fn texture_shaders_slow_cases() {

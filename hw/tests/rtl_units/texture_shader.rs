@@ -121,8 +121,9 @@ pub fn narrow() -> Vec<Case> {
 
 /// The narrow cases whose synthesis takes under a minute each (the suite's band,
 /// `rtl_synth.rs`); the others are checked by the ignored `texture_shaders_slow_cases`.
-pub const FAST: [&str; 10] = [
+pub const FAST: [&str; 11] = [
     "ts_cube",
+    "ts_depth_replace",
     "ts_tex2d_narrow",
     "ts_tex2d_pass",
     "ts_dependent",
@@ -513,6 +514,43 @@ fn cases_with(d: impl Fn() -> ShaderParams + Copy) -> Vec<Case> {
             d(),
             dot_cube(Some(Some([0.25, -0.5, 0.75]))),
         ),
+        // DOT_PRODUCT_DIFFUSE_CUBE_MAP before a reflection: its lookup at the three dots
+        case("ts_diffuse_reflect_cube", d(), {
+            let mut st = dot_cube(Some(None));
+            st[2] = stage(
+                Program::DotProductDiffuseCube {
+                    prev: 0,
+                    mapping: DotMapping::Minus1To1Gl,
+                },
+                cube_map(80, 4),
+                (Filter::Nearest, Address::Clamp),
+            );
+            st
+        }),
+        // DOT_PRODUCT_DEPTH_REPLACE: the depth output, the previous dot over this one
+        case(
+            "ts_depth_replace",
+            d(),
+            vec![
+                stage(Program::Texture2d, tex(72, (8, 8, 4), uu(8)), BW),
+                stage(
+                    Program::DotProduct {
+                        prev: 0,
+                        mapping: DotMapping::Minus1To1,
+                    },
+                    None,
+                    BW,
+                ),
+                stage(
+                    Program::DotProductDepthReplace {
+                        prev: 0,
+                        mapping: DotMapping::Minus1To1,
+                    },
+                    None,
+                    BW,
+                ),
+            ],
+        ),
     ]
 }
 
@@ -572,24 +610,4 @@ pub fn cull() -> Case {
             ),
         ],
     )
-}
-
-/// The shader of `stages` under the default part, for the refusal tests.
-pub fn unit(stages: Vec<StageSpec>) -> TextureShader {
-    TextureShader::new(ShaderParams::default(), stages).unwrap()
-}
-
-/// A cube map of 4 x 4 faces.
-pub fn cube() -> Option<Arc<Texture>> {
-    let f = (0..6).map(|k| texels(40 + k, 4, 4, 3, &uu(8))).collect();
-    Some(Arc::new(Texture::cube("cube", uu(8), f).unwrap()))
-}
-
-pub fn stage_spec(program: Program, texture: Option<Arc<Texture>>) -> StageSpec {
-    stage(program, texture, BW)
-}
-
-/// A 4 x 4 RGB texture.
-pub fn flat() -> Option<Arc<Texture>> {
-    tex(50, (4, 4, 3), uu(8))
 }

@@ -5,13 +5,14 @@
 //!
 //! The generator is specialised to the configured program of each stage (the programs are
 //! fixed by the config, like ROM contents): each stage gets the datapath of its program only.
-//! Programs with a generator: NONE, TEXTURE_2D, PASS_THROUGH, CULL_FRAGMENT, DEPENDENT_AR /
-//! _GB, DOT_PRODUCT, DOT_PRODUCT_TEXTURE_2D (every dot mapping), OFFSET_TEXTURE_2D and
-//! OFFSET_TEXTURE_2D_SCALE (the specified clamp, and the NV2A luminance reading with or
-//! without the colour converter), TEXTURE_CUBE_MAP, DOT_PRODUCT_TEXTURE_CUBE_MAP and the two
-//! reflections (DOT_PRODUCT_REFLECT_CUBE_MAP, _CONST_EYE_REFLECT_CUBE_MAP; [`cube`]).
-//! DIFFUSE_CUBE_MAP and DEPTH_REPLACE are refused ("has no generator"). A stage whose
-//! consistency rule is broken runs NONE, as the model.
+//! Every program has a generator: NONE, TEXTURE_2D, PASS_THROUGH, CULL_FRAGMENT,
+//! DEPENDENT_AR / _GB, DOT_PRODUCT, DOT_PRODUCT_TEXTURE_2D (every dot mapping),
+//! OFFSET_TEXTURE_2D and OFFSET_TEXTURE_2D_SCALE (the specified clamp, and the NV2A luminance
+//! reading with or without the colour converter), TEXTURE_CUBE_MAP,
+//! DOT_PRODUCT_TEXTURE_CUBE_MAP, DOT_PRODUCT_DIFFUSE_CUBE_MAP, the two reflections
+//! (DOT_PRODUCT_REFLECT_CUBE_MAP, _CONST_EYE_REFLECT_CUBE_MAP; [`cube`]) and
+//! DOT_PRODUCT_DEPTH_REPLACE. A stage whose consistency rule is broken runs NONE, as the
+//! model.
 //!
 //! Datapath per program (coordinates are the coordinate encoding's raw words, `f` fraction
 //! bits):
@@ -57,7 +58,10 @@
 //! (and scaled) texel is written into the stage's output registers on edge `d + 3`; a
 //! DOT_PRODUCT stage registers its dot on the edge after its texel; PASS_THROUGH and the cull
 //! test are written on edge 1; NONE and the result of DOT_PRODUCT and CULL_FRAGMENT are
-//! constant wires, as is `depth` (0: DEPTH_REPLACE has no generator). The latency is the last
+//! constant wires, as is `depth` without DEPTH_REPLACE (with it, a register loaded the edge
+//! after the two dots, through the projective divider's module); a DIFFUSE_CUBE_MAP stage's
+//! lookup is scheduled with the reflection after it, which supplies its third dot. The
+//! latency is the last
 //! edge: 3 for one texture stage, 6 for a dependent read of it, 10 for the NDF hardware
 //! path (TEXTURE_2D, DEPENDENT_GB, DOT_PRODUCT, DOT_PRODUCT_TEXTURE_2D); the model's is one
 //! clock per stage plus 3.
@@ -75,27 +79,6 @@ use super::{Plan, RtlUnit, Shell};
 use crate::format::{Codec, Encoding, Format, Overflow, Quant};
 use crate::unit::Unit;
 use crate::units::texture_shader::{DotMapping, Program, TextureShader};
-
-/// Whether a program has a generator.
-fn supported(p: &Program) -> bool {
-    matches!(
-        p,
-        Program::None
-            | Program::Texture2d
-            | Program::PassThrough
-            | Program::CullFragment { .. }
-            | Program::DependentAr { .. }
-            | Program::DependentGb { .. }
-            | Program::DotProduct { .. }
-            | Program::DotProductTexture2d { .. }
-            | Program::OffsetTexture2d { .. }
-            | Program::OffsetTexture2dScale { .. }
-            | Program::TextureCube
-            | Program::DotProductTextureCube { .. }
-            | Program::DotProductReflectCube { .. }
-            | Program::DotProductConstEyeReflectCube { .. }
-    )
-}
 
 /// The edges of each stage: its result (0: constant or none), its dot product, and for a
 /// texture stage the edge that loads its coordinate registers.
@@ -123,15 +106,24 @@ fn schedule(progs: &[Program]) -> Schedule {
             | Program::DotProductConstEyeReflectCube { .. } => {
                 Some(dot[i - 2].max(dot[i - 1]).max(prev))
             }
+            // read with the next stage's dot: scheduled with it (below)
+            Program::DotProductDiffuseCube { .. } => None,
             p if p.texture_kind().is_some() => Some(prev),
             _ => None,
         };
         if let Some(d) = dep {
             coord[i] = d + 1;
             result[i] = d + 3;
+            if i > 0 && matches!(progs[i - 1], Program::DotProductDiffuseCube { .. }) {
+                (coord[i - 1], result[i - 1]) = (coord[i], result[i]);
+            }
         }
         if matches!(p, Program::PassThrough) {
             result[i] = 1;
+        }
+        if matches!(p, Program::DotProductDepthReplace { .. }) {
+            // the depth register: after this dot and the previous stage's are valid
+            result[i] = dot[i].max(dot[i - 1]) + 1;
         }
         last = last.max(result[i]).max(dot[i]);
     }
@@ -168,6 +160,34 @@ fn reg_at(m: &mut Module, name: &str, w: u32, k: u32, sb: u32, expr: &str) -> St
     name.to_string()
 }
 
+/// `a / b` of two coordinate words as the model's `FixedArith::div`, into the coordinate
+/// encoding: an instance of the one divider module `{top}_div` ([`arith::divide`], added to
+/// `subs` with its first instance, so synthesised once).
+fn divider(
+    m: &mut Module,
+    top: &str,
+    coord: &Encoding,
+    subs: &mut Vec<String>,
+    a: &str,
+    b: &str,
+) -> String {
+    let cw = coord.width();
+    let name = format!("{top}_div");
+    let mut dm = Module::new(&name);
+    dm.input("a", cw);
+    dm.input("b", cw);
+    let q = arith::divide(&mut dm, "a", "b", &coord.format, coord.overflow);
+    dm.output_wire("y", q.width(), &q.name);
+    let text = dm.text();
+    if !subs.contains(&text) {
+        subs.push(text);
+    }
+    let net = m.net("quo", q.width());
+    m.stmt(format!("{name} {net}_i (.a({a}), .b({b}), .y({net}));"));
+    let r = make(m, "quo", q.lo, q.hi, 0, &format!("$signed({net})"));
+    overflow(m, &r, &coord.format, coord.overflow)
+}
+
 /// An integer wire `v` (0 fraction bits) as a `w`-bit unsigned code (its low bits).
 fn low(m: &mut Module, v: &Fx, w: u32) -> String {
     overflow(m, v, &Format::u(w as u8, 0), Overflow::Wrap)
@@ -178,14 +198,6 @@ pub fn rtl(u: &TextureShader, top: &str) -> Result<RtlUnit, String> {
     let p = *u.params();
     let n = u.stages.len();
     let progs = u.programs();
-    for (i, pr) in progs.iter().enumerate() {
-        if !supported(pr) {
-            return Err(format!(
-                "texture shader: stage {i}: {} has no generator",
-                pr.name()
-            ));
-        }
-    }
     let coord = p.coord;
     let cw = coord.width();
     let f = coord.format.frac as u32;
@@ -211,8 +223,8 @@ pub fn rtl(u: &TextureShader, top: &str) -> Result<RtlUnit, String> {
     let mut dots: Vec<Option<String>> = vec![None; n];
     let mut fails = Vec::new();
     let mut subs: Vec<String> = Vec::new();
-    let mut has_div = false;
     let mut mapped: Vec<((usize, DotMapping), [Fx; 3])> = Vec::new();
+    let mut depth: Option<(u32, String, String)> = None;
     for i in 0..n {
         let st = &u.stages[i];
         let prog = progs[i];
@@ -254,12 +266,22 @@ pub fn rtl(u: &TextureShader, top: &str) -> Result<RtlUnit, String> {
         } else {
             None
         };
-        if let (Program::DotProduct { .. }, Some(d)) = (prog, &own_dot) {
+        if let (Program::DotProductDepthReplace { .. }, Some(d)) = (prog, &own_dot) {
+            let p = dots[i.saturating_sub(1)].clone().ok_or_else(|| {
+                format!("texture shader: stage {i}: the previous stage has no dot product")
+            })?;
+            depth = Some((sc.result[i], p, d.clone()));
+        }
+        if let (Program::DotProduct { .. } | Program::DotProductDiffuseCube { .. }, Some(d)) =
+            (prog, &own_dot)
+        {
             let r = reg_at(&mut sh.m, &format!("dot{i}"), cw, sc.dot[i], sb, d);
             dots[i] = Some(r);
         }
         // texture coordinates (s, t) and the level; a cube map's face and face coordinates
         let mut face: Option<String> = None;
+        // the DIFFUSE_CUBE_MAP stage before a reflection: its lookup at the three dots
+        let mut diffuse: Option<(String, String, String)> = None;
         let st_expr: Option<(String, String)> = match prog {
             Program::TextureCube => {
                 let m = &mut sh.m;
@@ -280,6 +302,9 @@ pub fn rtl(u: &TextureShader, top: &str) -> Result<RtlUnit, String> {
                 ];
                 let m = &mut sh.m;
                 let nv: [Fx; 3] = std::array::from_fn(|k| raw_word(m, &ds[k], &coord.format));
+                if matches!(progs[i - 1], Program::DotProductDiffuseCube { .. }) {
+                    diffuse = Some(cube::face(m, &nv, f));
+                }
                 let dir = match prog {
                     Program::DotProductTextureCube { .. } => nv,
                     _ => {
@@ -305,27 +330,10 @@ pub fn rtl(u: &TextureShader, top: &str) -> Result<RtlUnit, String> {
             }
             Program::Texture2d => {
                 // s/q and t/q: one divider module (synthesised once), two instances
-                let name = format!("{top}_div");
-                let mut dm = Module::new(&name);
-                dm.input("a", cw);
-                dm.input("b", cw);
-                let q = arith::divide(&mut dm, "a", "b", &coord.format, coord.overflow);
-                dm.output_wire("y", q.width(), &q.name);
-                if !has_div {
-                    subs.push(dm.text());
-                    has_div = true;
-                }
-                let m = &mut sh.m;
-                let mut div = |x: &str| {
-                    let net = m.net("quo", q.width());
-                    m.stmt(format!(
-                        "{name} {net}_i (.a({x}), .b({}), .y({net}));",
-                        coords[i][3]
-                    ));
-                    let r = make(m, "quo", q.lo, q.hi, 0, &format!("$signed({net})"));
-                    overflow(m, &r, &coord.format, coord.overflow)
-                };
-                Some((div(&coords[i][0]), div(&coords[i][1])))
+                let q = &coords[i][3];
+                let s = divider(&mut sh.m, top, &coord, &mut subs, &coords[i][0], q);
+                let t = divider(&mut sh.m, top, &coord, &mut subs, &coords[i][1], q);
+                Some((s, t))
             }
             Program::DependentAr { prev } | Program::DependentGb { prev } => {
                 let (ls, lt) = if matches!(prog, Program::DependentAr { .. }) {
@@ -385,82 +393,35 @@ pub fn rtl(u: &TextureShader, top: &str) -> Result<RtlUnit, String> {
             }
             _ => None,
         };
+        if let Some((fc, ds, dt)) = diffuse {
+            results[i - 1] = texture_stage(
+                &mut sh,
+                u,
+                (i - 1, progs[i - 1]),
+                (ds, dt, Some(fc)),
+                None,
+                &sc,
+                sb,
+                None,
+            )?;
+        }
         let word: Vec<String> = if let Some((se, te)) = st_expr {
-            let tex = st.spec.texture.as_ref().ok_or_else(|| {
-                format!(
-                    "texture shader: stage {i}: {} without a texture",
-                    prog.name()
-                )
-            })?;
-            let levels = if matches!(prog, Program::Texture2d) && lod.is_some() {
-                tex.levels()
-            } else {
-                1
-            };
-            let ce = sc.coord[i];
-            // a cube face's coordinates lie in [0, 1] at f fraction bits
-            let (scoord, rw) = match face {
-                Some(_) => (Encoding::fixed(Format::s(f as u8 + 2, f as u8)), f + 2),
-                None => (coord, cw),
-            };
-            let sr = reg_at(&mut sh.m, &format!("s{i}"), rw, ce, sb, &se);
-            let tr = reg_at(&mut sh.m, &format!("t{i}"), rw, ce, sb, &te);
-            let fr = face
-                .as_ref()
-                .map(|fc| reg_at(&mut sh.m, &format!("f{i}"), 3, ce, sb, fc));
-            let level = match (&lod, levels > 1) {
-                (Some(l), true) => {
-                    let le = p.lod.unwrap_or(coord);
-                    if le.codec != Codec::Fixed {
-                        return Err(format!(
-                            "texture shader: a LOD of codec {:?}: the generator reads a fixed-point LOD",
-                            le.codec
-                        ));
-                    }
-                    let m = &mut sh.m;
-                    m.comment("the mip level: floor(lod + 1/2), clamped to the levels");
-                    let lf = le.format.frac as u32;
-                    let lx = raw_word(m, l, &le.format).at_frac(lf);
-                    let r = shift_round(m, &lx, lf, Quant::Rnd);
-                    let c = clamp(m, &r, Some((0, 0)), Some((levels as i128 - 1, 0)));
-                    let lb = unsigned_bits(levels as u128 - 1);
-                    Some(overflow(m, &c, &Format::u(lb as u8, 0), Overflow::Wrap))
+            let mag = match prog {
+                Program::OffsetTexture2dScale { prev, .. } => {
+                    Some(results[prev][st.offset.lanes[2]].clone())
                 }
                 _ => None,
             };
-            let fe = sample::Fetch {
-                tex,
-                sampler: &st.spec.sampler,
-                levels,
-                faces: if fr.is_some() { 6 } else { 1 },
-                coord: scoord,
-                out: enc,
-            };
-            let codes = sample::fetch(
+            texture_stage(
                 &mut sh,
-                &fe,
-                &sr,
-                &tr,
-                level.as_deref(),
-                fr.as_deref(),
-                &format!("tex{i}"),
-            )
-            .map_err(|e| format!("texture shader: stage {i}: {e}"))?;
-            let m = &mut sh.m;
-            let mut w: Vec<String> = codes;
-            for l in st.lanes as usize..4 {
-                let x = if l == 3 { 1.0 } else { 0.0 };
-                w.push(code_wire(m, &enc, enc.encode(x)));
-            }
-            if let Program::OffsetTexture2dScale { prev, .. } = prog {
-                w = luminance(m, &w, &results[prev][st.offset.lanes[2]], u, i, prev)?;
-            }
-            let o = sh.output(i, &outs[i]);
-            let ek = edge(sc.result[i], sb);
-            for (r, c) in o.iter().zip(&w) {
-                sh.m.stmt(format!("always @(posedge clk) if ({ek}) {r} <= {c};"));
-            }
-            o
+                u,
+                (i, prog),
+                (se, te, face),
+                lod.as_deref(),
+                &sc,
+                sb,
+                mag.as_deref(),
+            )?
         } else if matches!(prog, Program::PassThrough) {
             let m = &mut sh.m;
             let codes: Vec<String> = (0..4)
@@ -491,6 +452,9 @@ pub fn rtl(u: &TextureShader, top: &str) -> Result<RtlUnit, String> {
                 sh.m.stmt(format!("always @(posedge clk) if ({ek}) {r} <= {c};"));
             }
             o
+        } else if matches!(prog, Program::DotProductDiffuseCube { .. }) {
+            // written by the next stage (above)
+            Vec::new()
         } else {
             if let Program::CullFragment { gequal } = prog {
                 let m = &mut sh.m;
@@ -507,8 +471,15 @@ pub fn rtl(u: &TextureShader, top: &str) -> Result<RtlUnit, String> {
         };
         results.push(word);
     }
-    let m = &mut sh.m;
-    let z = code_wire(m, &coord, 0);
+    // DEPTH_REPLACE: the previous stage's dot over this one's, registered the edge after
+    // both are valid
+    let z = match depth {
+        Some((e, a, b)) => {
+            let q = divider(&mut sh.m, top, &coord, &mut subs, &a, &b);
+            reg_at(&mut sh.m, "depth_q", cw, e, sb, &q)
+        }
+        None => code_wire(&mut sh.m, &coord, 0),
+    };
     sh.output_wires(n, &outs[n], &[z]);
     if !culls.is_empty() {
         sh.m.stmt(format!(
@@ -522,6 +493,104 @@ pub fn rtl(u: &TextureShader, top: &str) -> Result<RtlUnit, String> {
         r.verilog += &text;
     }
     Ok(r)
+}
+
+/// The texture read of stage `i` running `prog` at the coordinate words `se`, `te` (and the
+/// cube face `face`): the coordinate registers, the level from `lod`, the fetch, the missing
+/// lanes, the luminance scale of OFFSET_TEXTURE_2D_SCALE by the magnitude code `mag`, and the
+/// stage's output registers written on its result edge. Returns the output registers.
+#[allow(clippy::too_many_arguments)]
+fn texture_stage(
+    sh: &mut Shell,
+    u: &TextureShader,
+    (i, prog): (usize, Program),
+    (se, te, face): (String, String, Option<String>),
+    lod: Option<&str>,
+    sc: &Schedule,
+    sb: u32,
+    mag: Option<&str>,
+) -> Result<Vec<String>, String> {
+    let st = &u.stages[i];
+    let enc = st.out_enc;
+    let p = *u.params();
+    let coord = p.coord;
+    let cw = coord.width();
+    let f = coord.format.frac as u32;
+    let tex = st.spec.texture.as_ref().ok_or_else(|| {
+        format!(
+            "texture shader: stage {i}: {} without a texture",
+            prog.name()
+        )
+    })?;
+    let levels = if matches!(prog, Program::Texture2d) && lod.is_some() {
+        tex.levels()
+    } else {
+        1
+    };
+    let ce = sc.coord[i];
+    // a cube face's coordinates lie in [0, 1] at f fraction bits
+    let (scoord, rw) = match face {
+        Some(_) => (Encoding::fixed(Format::s(f as u8 + 2, f as u8)), f + 2),
+        None => (coord, cw),
+    };
+    let sr = reg_at(&mut sh.m, &format!("s{i}"), rw, ce, sb, &se);
+    let tr = reg_at(&mut sh.m, &format!("t{i}"), rw, ce, sb, &te);
+    let fr = face
+        .as_ref()
+        .map(|fc| reg_at(&mut sh.m, &format!("f{i}"), 3, ce, sb, fc));
+    let level = match (lod, levels > 1) {
+        (Some(l), true) => {
+            let le = p.lod.unwrap_or(coord);
+            if le.codec != Codec::Fixed {
+                return Err(format!(
+                    "texture shader: a LOD of codec {:?}: the generator reads a fixed-point LOD",
+                    le.codec
+                ));
+            }
+            let m = &mut sh.m;
+            m.comment("the mip level: floor(lod + 1/2), clamped to the levels");
+            let lf = le.format.frac as u32;
+            let lx = raw_word(m, l, &le.format).at_frac(lf);
+            let r = shift_round(m, &lx, lf, Quant::Rnd);
+            let c = clamp(m, &r, Some((0, 0)), Some((levels as i128 - 1, 0)));
+            let lb = unsigned_bits(levels as u128 - 1);
+            Some(overflow(m, &c, &Format::u(lb as u8, 0), Overflow::Wrap))
+        }
+        _ => None,
+    };
+    let fe = sample::Fetch {
+        tex,
+        sampler: &st.spec.sampler,
+        levels,
+        faces: if fr.is_some() { 6 } else { 1 },
+        coord: scoord,
+        out: enc,
+    };
+    let codes = sample::fetch(
+        sh,
+        &fe,
+        &sr,
+        &tr,
+        level.as_deref(),
+        fr.as_deref(),
+        &format!("tex{i}"),
+    )
+    .map_err(|e| format!("texture shader: stage {i}: {e}"))?;
+    let m = &mut sh.m;
+    let mut w: Vec<String> = codes;
+    for l in st.lanes as usize..4 {
+        let x = if l == 3 { 1.0 } else { 0.0 };
+        w.push(code_wire(m, &enc, enc.encode(x)));
+    }
+    if let (Program::OffsetTexture2dScale { prev, .. }, Some(mag)) = (prog, mag) {
+        w = luminance(m, &w, mag, u, i, prev)?;
+    }
+    let o = sh.output(i, &u.outputs()[i]);
+    let ek = edge(sc.result[i], sb);
+    for (r, c) in o.iter().zip(&w) {
+        sh.m.stmt(format!("always @(posedge clk) if ({ek}) {r} <= {c};"));
+    }
+    Ok(o)
 }
 
 /// OFFSET_TEXTURE_2D_SCALE: the RGB lanes of `w` scaled by the luminance of the magnitude

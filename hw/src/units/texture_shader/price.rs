@@ -540,7 +540,10 @@ pub(super) fn configured(u: &TextureShader, t: &CostTable) -> GateBudget {
             let shared = mapped.contains(&(k, mp));
             mapped.push((k, mp));
             dot(&mut s, t, p, (mp, shared), &u.stages[k]);
-            if matches!(prog, Program::DotProduct { .. }) {
+            if matches!(
+                prog,
+                Program::DotProduct { .. } | Program::DotProductDiffuseCube { .. }
+            ) {
                 registers += cw;
             }
         }
@@ -582,7 +585,13 @@ pub(super) fn configured(u: &TextureShader, t: &CostTable) -> GateBudget {
                 );
                 registers += 4 * n;
             }
-            Program::TextureCube | Program::DotProductTextureCube { .. } => {
+            Program::DotProductDepthReplace { .. } => {
+                s.add(format!("depth divider {cw}"), 1, divider(t, &p.coord));
+                registers += cw;
+            }
+            Program::TextureCube
+            | Program::DotProductTextureCube { .. }
+            | Program::DotProductDiffuseCube { .. } => {
                 s.add("cube face: select and projection", 1, cube_face(t, c));
             }
             Program::DotProductReflectCube { .. }
