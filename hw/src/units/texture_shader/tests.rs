@@ -821,6 +821,17 @@ fn the_programmable_price_covers_each_configured_program() {
             .map(|i| i.ge)
             .sum()
     };
+    // a texel, a dot product and a dot-product lookup of it
+    let dots = |tex: &Arc<Texture>, mapping| {
+        vec![
+            StageSpec::new(Program::Texture2d, Some(tex.clone())),
+            StageSpec::new(Program::DotProduct { prev: 0, mapping }, None),
+            StageSpec::new(
+                Program::DotProductTexture2d { prev: 0, mapping },
+                Some(t8.clone()),
+            ),
+        ]
+    };
     let mut parts: Vec<(&str, Vec<StageSpec>)> = vec![
         (
             "tex2d",
@@ -829,46 +840,8 @@ fn the_programmable_price_covers_each_configured_program() {
                 StageSpec::new(Program::Texture2d, Some(t8.clone())),
             ],
         ),
-        (
-            "dot",
-            vec![
-                StageSpec::new(Program::Texture2d, Some(t8.clone())),
-                StageSpec::new(
-                    Program::DotProduct {
-                        prev: 0,
-                        mapping: DotMapping::Minus1To1Gl,
-                    },
-                    None,
-                ),
-                StageSpec::new(
-                    Program::DotProductTexture2d {
-                        prev: 0,
-                        mapping: DotMapping::Minus1To1Gl,
-                    },
-                    Some(t8.clone()),
-                ),
-            ],
-        ),
-        (
-            "hilo",
-            vec![
-                StageSpec::new(Program::Texture2d, Some(hilo.clone())),
-                StageSpec::new(
-                    Program::DotProduct {
-                        prev: 0,
-                        mapping: DotMapping::HiloHemisphere,
-                    },
-                    None,
-                ),
-                StageSpec::new(
-                    Program::DotProductTexture2d {
-                        prev: 0,
-                        mapping: DotMapping::HiloHemisphere,
-                    },
-                    Some(t8.clone()),
-                ),
-            ],
-        ),
+        ("dot", dots(&t8, DotMapping::Minus1To1Gl)),
+        ("hilo", dots(&hilo, DotMapping::HiloHemisphere)),
         (
             "offset",
             vec![
