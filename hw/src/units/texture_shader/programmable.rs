@@ -5,8 +5,8 @@
 //! runs:
 //!
 //! * the projective divider pair per stage (the calibrated restoring divider);
-//! * the dot mapping: the worst of the four 8-bit readings per component and the worst HILO
-//!   reading with the hemisphere's squares and root, a select between them; the three
+//! * the dot mapping: the four 8-bit readings side by side for three components and the four
+//!   HILO readings for two with one hemisphere z (squares and root), their selects; the three
 //!   products on the widest mapped range, their sum and cast;
 //! * the offset with the matrix in registers (four true multipliers of the 9-bit reading of
 //!   an 8-bit code, signed or not, by an `offset_frac + 2`-bit entry), the luminance scale
@@ -14,9 +14,9 @@
 //! * the PASS_THROUGH converter's four lanes;
 //! * the fetch of the largest texture (4096 x 4096, bilinear, clamp and mirror addressing),
 //!   the filter of the wider of four 8-bit and two 16-bit lanes;
-//! * the cube-face select and its two divisions per stage, and one reflection per part
-//!   (`2 N (N.E) - E (N.N)` over `N.N`, as `eval.rs` computes it), which have no Verilog
-//!   and are priced on the same items without a synthesis of their own;
+//! * the cube face per stage and one reflection per part (`2 N (N.E) - E (N.N)` over `N.N`,
+//!   as `eval.rs` computes it): the items of the configured cube-map programs, whose Verilog
+//!   synthesis confirms;
 //! * program selection, stage state and result registers, the sequencer.
 //!
 //! The figure therefore moves with the calibrated items; what synthesis confirms is the
