@@ -20,12 +20,14 @@ fn engine_line(stdout: &str) -> &str {
 fn the_engine_top_replays_the_frames_own_fragments() {
     // four units with host registers and a texture memory (sgi-teapot); a concatenation wire
     // `cat(dot.d0, dot.d1)` (dependent-dot-lookup); a swizzled output and 107 host registers
-    // (nv20-combiner-bump); a unit with a frame phase (quantized-sn16)
+    // (nv20-combiner-bump); a unit with a frame phase (quantized-sn16); the cube-map
+    // programs with a reflection and four concatenations (nv20-reflect-cube)
     for (name, latency, regs) in [
         ("sgi-teapot", 13, 15),
         ("dependent-dot-lookup", 12, 0),
         ("nv20-combiner-bump", 15, 107),
         ("quantized-sn16", 7, 9),
+        ("nv20-reflect-cube", 17, 107),
     ] {
         let Some((_s, out, o)) = rtl_cosim(name, "150", "top-replay") else {
             return;

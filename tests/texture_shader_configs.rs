@@ -128,3 +128,89 @@ fn texture_shader_programs_are_checked_with_the_stage_and_the_rule() {
     );
     assert!(e.contains("skew"), "{e}");
 }
+
+#[test]
+fn reflect_cube_map_lights_the_bumps_through_the_world_normal_and_the_eye() {
+    // measured at 128 x 128 (algorithm PSNR dB): 32.6 with the bricks, 43.5 without bumps
+    // (what the cube maps' Phong lobe for Blinn-Phong and their sampling cost), 28.3 when the
+    // reflection takes a constant eye (the camera's direction) instead of each vertex's: the
+    // local viewer is worth 4 dB here
+    let r = config_report("nv20-reflect-cube", &SMALL);
+    let a = |r: &Report| r.error.algorithm.psnr_db;
+    assert!(a(&r) > 31.5, "{}", a(&r));
+    let mut flat = SMALL.to_vec();
+    flat.push("scene.bump=Flat");
+    let flat = config_report("nv20-reflect-cube", &flat);
+    assert!(
+        a(&flat) > 42.0 && a(&flat) > a(&r) + 9.0,
+        "{} {}",
+        a(&flat),
+        a(&r)
+    );
+    let program = "engine.units.shader.unit.programs[3].program";
+    let const_eye = format!(
+        "{program}=DotProductConstEyeReflectCube(prev: 0, mapping: Minus1To1, eye: (0.0, 0.24, 0.97))"
+    );
+    let distant = config_report("nv20-reflect-cube", &[SMALL[0], SMALL[1], &const_eye]);
+    assert!(a(&distant) < a(&r) - 3.0, "{} {}", a(&distant), a(&r));
+    // s16.12 coordinates and 8-bit texels: the bit-accurate path is near the exact one
+    // (51.9 dB, at most 9.8 codes)
+    assert!(
+        r.error.quantization.psnr_db > 50.0,
+        "{:?}",
+        r.error.quantization
+    );
+    assert!(
+        r.error.quantization.max_abs_lsb < 12.0,
+        "{:?}",
+        r.error.quantization
+    );
+    // a wrapping address takes a direction on a face's edge (s = 1 exactly in bit-accurate
+    // mode) to the far side of the face: 25 codes where clamping has 10
+    let wrap = config_report(
+        "nv20-reflect-cube",
+        &[
+            SMALL[0],
+            SMALL[1],
+            "engine.units.shader.unit.programs[3].texture.address=Wrap",
+        ],
+    );
+    assert!(
+        wrap.error.quantization.max_abs_lsb > 20.0,
+        "{:?}",
+        wrap.error.quantization
+    );
+    // three textures of the memory: the normal map and two cube maps of six faces
+    let names: Vec<&String> = r.bandwidth.texture_memory.keys().collect();
+    assert_eq!(names, ["shader.tex0", "shader.tex2", "shader.tex3"]);
+}
+
+#[test]
+fn cube_sources_and_frame_rows_are_checked() {
+    let e = config_error("nv20-reflect-cube", &["engine.attributes[1].source.row=3"]);
+    assert!(
+        e.contains("engine.attributes[1].source.row: TangentRow row 3: expected 0, 1 or 2"),
+        "{e}"
+    );
+    let e = config_error(
+        "nv20-reflect-cube",
+        &["engine.units.shader.unit.programs[3].texture.source.size=1024"],
+    );
+    assert!(
+        e.contains("size 1024: expected a power of two from 1 to 512 (a cube map's face)"),
+        "{e}"
+    );
+    let e = config_error(
+        "sgi-teapot",
+        &["engine.units.fetch.unit.source=CubeLighting(size: 8, light: 0, term: Diffuse)"],
+    );
+    assert!(
+        e.contains("a cube map: expected it bound to a texture-shader stage"),
+        "{e}"
+    );
+    let e = config_error(
+        "nv20-reflect-cube",
+        &["engine.units.shader.unit.programs[2].texture.source.light=1"],
+    );
+    assert!(e.contains("light 1: the scene has 1 lights"), "{e}");
+}

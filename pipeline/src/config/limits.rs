@@ -97,6 +97,19 @@ fn texture_source(s: &TextureSource) -> Result<(), Bad> {
         TextureSource::NdfLookup { size, .. }
         | TextureSource::NdfShading { size, .. }
         | TextureSource::NdfShading2d { size, .. } => ndf_side("source.size", size),
+        TextureSource::CubeLighting { size, .. } => {
+            let max = crate::engine::units::MAX_CUBE_SIDE;
+            if size.is_power_of_two() && size <= max {
+                Ok(())
+            } else {
+                Err((
+                    "source.size".into(),
+                    format!(
+                        "size {size}: expected a power of two from 1 to {max} (a cube map's face)"
+                    ),
+                ))
+            }
+        }
         TextureSource::ColorTexture => Ok(()),
     }
 }
@@ -446,6 +459,8 @@ pub fn estimate(c: &Config) -> Estimate {
                     }
                     // at most 4096 a side (the PNG limit), counted when it is read
                     TextureSource::ColorTexture => 0.0,
+                    // six faces (a fetch unit rejects a cube map when it builds)
+                    TextureSource::CubeLighting { size, .. } => f64::from(size) * 6f64.sqrt(),
                 };
                 let texels = size * size;
                 e.add(

@@ -364,6 +364,17 @@ pub enum AttrSource {
     /// 1/2, 0, 1)`: the environment-map coordinates of Direct3D 6 bump mapping with a diffuse
     /// and specular lighting map (Ernst et al. §3.3), read by a `SphereLighting` texture.
     SphereMap,
+    /// Row `row` (0 to 2) of the matrix whose columns are the vertex's tangent frame `(T, B,
+    /// N)` in world space (the frame of `LightDir(frame: Tangent)`): `(T[row], B[row],
+    /// N[row])`, so that the three rows' dot products with a tangent-space normal give it in
+    /// world space. NV_texture_shader's bump-reflect setup sends these rows as the `(s, t, r)`
+    /// of texture coordinate sets 1 to 3 and the eye vector in their `q`
+    /// (DOT_PRODUCT_REFLECT_CUBE_MAP; wire `cat(row0, eye.r)` with a `ViewDir(frame: World)`
+    /// attribute `eye`).
+    TangentRow { row: u8 },
+    /// Unit direction from the vertex toward the eye in `frame` (the scene camera's eye: a
+    /// local viewer).
+    ViewDir { frame: VecFrame },
 }
 
 impl AttrSource {
@@ -887,6 +898,15 @@ fn validate(l: &Loaded) -> Result<(), InputError> {
                     &format!("{field}.source.size"),
                     &format!("\"{}\"", a.name),
                     format!("Lod size {size}: expected a power of two from 1 to 16384"),
+                ));
+            }
+        }
+        if let AttrSource::TangentRow { row } = a.source {
+            if row > 2 {
+                return Err(l.error(
+                    &format!("{field}.source.row"),
+                    &format!("\"{}\"", a.name),
+                    format!("TangentRow row {row}: expected 0, 1 or 2"),
                 ));
             }
         }

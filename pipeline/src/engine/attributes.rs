@@ -120,6 +120,11 @@ pub fn compute(scene: &Scene, attrs: &[AttributeConfig]) -> VertexData {
                 .to_array(),
             AttrSource::QuatScale { rule } => frames::quaternion_frame(frame.n, pu, pv, rule).1,
             AttrSource::Uvq => [uv[0], uv[1], 0.0, 1.0],
+            AttrSource::TangentRow { row } => {
+                let r = usize::from(row).min(2);
+                [frame.t[r], frame.b[r], frame.n[r], 0.0]
+            }
+            AttrSource::ViewDir { frame: f } => local(f, view),
             AttrSource::SphereMap => {
                 let n = (view_rot * frame.n).normalize_or_zero();
                 [n.x / 2.0 + 0.5, n.y / 2.0 + 0.5, 0.0, 1.0]

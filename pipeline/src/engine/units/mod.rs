@@ -56,7 +56,7 @@ pub use shade::ShadeSpec;
 pub use tex_fetch::TexFetchSpec;
 pub use texram_frame::TexramFrameSpec;
 pub use texture_shader::{StageConfig, StageTexture, TextureShaderSpec};
-pub use textures::TextureSource;
+pub use textures::{cube_direction, CubeTerm, TextureSource, MAX_CUBE_SIDE};
 
 use crate::engine::memory::TextureMemory;
 use crate::scene::Scene;

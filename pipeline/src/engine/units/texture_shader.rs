@@ -2,7 +2,7 @@
 //! `docs/units/texture-shader.md`).
 
 use super::ports::input;
-use super::textures::{key, mip_levels, texels, TextureSource};
+use super::textures::{cube_faces, key, mip_levels, texels, TextureSource};
 use super::{BuildCtx, Spec};
 use bumpsim_hw::units::texture_shader::{
     Datapath, OnBroken, Program, ShaderParams, StageSpec, TextureShader, MAX_STAGES,
@@ -159,6 +159,9 @@ impl Spec for TextureShaderSpec {
             let tex = ctx
                 .memory
                 .get_or_build(&memory_key, &format!("{}.tex{i}", ctx.unit), |name| {
+                    if t.source.is_cube() {
+                        return Texture::cube(name, t.texel, cube_faces(&t.source, ctx)?);
+                    }
                     let mut tex = Texture::new(name, t.texel, texels(&t.source, ctx)?)?;
                     let mips = mip_levels(&t.source, ctx)?;
                     if !mips.is_empty() {

@@ -97,6 +97,105 @@ pub enum TextureSource {
     },
     /// The NDF as a 2-D texture at `(n_m · h, |t_m · h|)` (the anisotropic variant).
     NdfShading2d { size: u32, light: usize },
+    /// A cube map of six `size` x `size` faces holding one lighting term of light `light`
+    /// for the world-space direction `d` of each texel centre (faces +X, -X, +Y, -Y, +Z, -Z
+    /// by OpenGL 1.3 table 3.19, the inverse of `bumpsim_hw::sampler::cube_face`), each
+    /// channel clamped to [0, 1]: the "lighting environment in a cube map" that NV20 texture
+    /// shaders read with DOT_PRODUCT_DIFFUSE_CUBE_MAP at the world normal and
+    /// DOT_PRODUCT_REFLECT_CUBE_MAP at the reflected eye vector. A directional light's
+    /// direction, a point light's direction from the camera's target (a cube map holds
+    /// distant lighting). `term`: see [`CubeTerm`]. A cube map is read by a texture-shader
+    /// stage with a cube-map program only, with `address: Clamp` (a direction on the edge
+    /// of two faces reads s or t = 1 exactly, which `Wrap` takes to the far side of the
+    /// face); faces are at most 512 texels a side.
+    CubeLighting {
+        size: u32,
+        light: usize,
+        term: CubeTerm,
+    },
+}
+
+/// The lighting term a [`TextureSource::CubeLighting`] map holds at direction `d` (unit), with
+/// `L` the light's direction, `c` its colour and the scene material's colours.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum CubeTerm {
+    /// `ambient + c diffuse max(d . L, 0)`: read at the normal.
+    Diffuse,
+    /// `c specular max(d . L, 0)^(shininess / 4)`: read at the reflected eye vector `R`, the
+    /// Phong lobe `(R . L)^n` with the exponent that approximates the scene's Blinn-Phong
+    /// `(N . H)^shininess` (the angle between `R` and `L` is about twice the angle between `N`
+    /// and `H`, so `n = shininess / 4` gives a highlight of about the same width; Fisher and
+    /// Woo, "R.E versus N.H specular highlights", Graphics Gems IV, 1994).
+    Specular,
+}
+
+/// The largest side of a cube map's faces (6 x 512^2 texels).
+pub const MAX_CUBE_SIDE: u32 = 512;
+
+/// The world-space direction (not normalised, major axis 1) of `face` (0 to 5, +X, -X, +Y,
+/// -Y, +Z, -Z) at face coordinates `(s, t)` in [0, 1]: the inverse of OpenGL 1.3 table 3.19
+/// (`bumpsim_hw::sampler::cube_face`).
+pub fn cube_direction(face: usize, s: f64, t: f64) -> glam::DVec3 {
+    let (sc, tc) = (2.0 * s - 1.0, 2.0 * t - 1.0);
+    let [x, y, z] = match face {
+        0 => [1.0, -tc, -sc],
+        1 => [-1.0, -tc, sc],
+        2 => [sc, 1.0, tc],
+        3 => [sc, -1.0, -tc],
+        4 => [sc, -tc, 1.0],
+        _ => [-sc, -tc, -1.0],
+    };
+    glam::DVec3::new(x, y, z)
+}
+
+impl TextureSource {
+    /// Whether the source is a cube map ([`cube_faces`]).
+    pub fn is_cube(&self) -> bool {
+        matches!(self, TextureSource::CubeLighting { .. })
+    }
+}
+
+/// The six faces of a cube-map source (+X, -X, +Y, -Y, +Z, -Z), its size checked.
+pub(super) fn cube_faces(source: &TextureSource, ctx: &BuildCtx) -> Result<Vec<Texels>, String> {
+    let TextureSource::CubeLighting { size, light, term } = *source else {
+        return Err(format!("{source:?}: expected a cube-map source"));
+    };
+    if !size.is_power_of_two() || size > MAX_CUBE_SIDE {
+        return Err(format!(
+            "size {size}: expected a power of two from 1 to {MAX_CUBE_SIDE} (a cube map's face)"
+        ));
+    }
+    let scene = ctx.scene;
+    let l = scene.lights.get(light).ok_or_else(|| {
+        format!(
+            "light {light}: the scene has {} lights: expected an index below that",
+            scene.lights.len()
+        )
+    })?;
+    let dir = l.dir_from(glam::DVec3::from(scene.camera.target));
+    let (m, color) = (&scene.material, l.color());
+    let n = f64::from(size);
+    let face = |f: usize| {
+        let values = (0..size)
+            .flat_map(|j| (0..size).map(move |i| (i, j)))
+            .map(|(i, j)| {
+                let d = cube_direction(f, (f64::from(i) + 0.5) / n, (f64::from(j) + 0.5) / n)
+                    .normalize();
+                let dl = d.dot(dir).max(0.0);
+                let mut v = [0.0; 4];
+                for c in 0..3 {
+                    v[c] = match term {
+                        CubeTerm::Diffuse => m.ambient[c] + color[c] * m.diffuse[c] * dl,
+                        CubeTerm::Specular => color[c] * m.specular[c] * dl.powf(m.shininess / 4.0),
+                    }
+                    .clamp(0.0, 1.0);
+                }
+                v
+            })
+            .collect();
+        square(size, 3, values)
+    };
+    Ok((0..6).map(face).collect())
 }
 
 /// The texels of `source` (its size checked).
@@ -259,6 +358,10 @@ pub(super) fn texels(source: &TextureSource, ctx: &BuildCtx) -> Result<Texels, S
         TextureSource::NdfShading2d { size, light } => {
             crate::ndf::sources::shading_2d(ctx.scene, size, light)
         }
+        TextureSource::CubeLighting { .. } => Err(
+            "a cube map: expected it bound to a texture-shader stage with a cube-map program"
+                .into(),
+        ),
         TextureSource::ColorTexture => {
             let img =
                 ctx.scene.color_texture.as_ref().ok_or(
@@ -342,4 +445,34 @@ pub(super) fn normalise_heights(h: &[f64]) -> Vec<f64> {
         return vec![0.5; h.len()];
     }
     h.iter().map(|x| (x - lo) / (hi - lo)).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::cube_direction;
+    use bumpsim_hw::sampler::cube_face;
+
+    #[test]
+    fn cube_directions_invert_the_face_table() {
+        // every texel centre of every face of an 8 x 8 cube map, and the corners' neighbours
+        let n = 8.0;
+        for face in 0..6 {
+            for j in 0..8 {
+                for i in 0..8 {
+                    let (s, t) = ((f64::from(i) + 0.5) / n, (f64::from(j) + 0.5) / n);
+                    let d = cube_direction(face, s, t);
+                    let (f, s2, t2) = cube_face(d.to_array());
+                    assert_eq!(f, face, "{face} {i} {j} {d}");
+                    assert!(
+                        (s2 - s).abs() < 1e-12 && (t2 - t).abs() < 1e-12,
+                        "{face} {i} {j}"
+                    );
+                }
+            }
+        }
+        // neighbouring faces meet: +X's edge s = 1 is -Z's edge s = 0 (x = 1, z = -1), -X's
+        // edge s = 1 is +Z's edge s = 0 (x = -1, z = 1)
+        assert_eq!(cube_direction(0, 1.0, 0.5), cube_direction(5, 0.0, 0.5));
+        assert_eq!(cube_direction(1, 1.0, 0.5), cube_direction(4, 0.0, 0.5));
+    }
 }
