@@ -153,6 +153,9 @@ pub struct Stage {
     unit: Box<dyn Unit>,
     in_wires: Vec<Wire>,
     out_slots: Vec<usize>,
+    /// `out_slots` as one range of consecutive slots, when they are (the usual case: a
+    /// unit's signals are allocated together): the unit then writes the token in place.
+    out_range: Option<std::ops::Range<usize>>,
     latency: u64,
     interval: u64,
     max_in_flight: usize,
@@ -185,11 +188,16 @@ impl Stage {
         let interval = u64::from(unit.interval().max(1));
         let max_in_flight = latency.div_ceil(interval) as usize;
         let kills = unit.can_kill();
+        let out_range = out_slots.first().and_then(|&a| {
+            let consecutive = out_slots.iter().enumerate().all(|(k, &s)| s == a + k);
+            consecutive.then(|| a..a + out_slots.len())
+        });
         Stage {
             name: name.into(),
             unit,
             in_wires,
             out_slots,
+            out_range,
             latency,
             interval,
             max_in_flight,
@@ -245,6 +253,18 @@ impl Stage {
         ins.resize(self.in_wires.len(), Word::default());
         for (w, wire) in ins.iter_mut().zip(&self.in_wires) {
             *w = wire.read(&token.slots);
+        }
+        if let Some(r) = self
+            .out_range
+            .clone()
+            .filter(|r| r.end <= token.slots.len())
+        {
+            let outs = &mut token.slots[r];
+            self.unit.eval(mode, ins, outs);
+            if self.kills && !self.unit.live(mode, ins, outs) {
+                token.live = false;
+            }
+            return;
         }
         outs.resize(self.out_slots.len(), Word::default());
         self.unit.eval(mode, ins, outs);
