@@ -128,12 +128,7 @@ fn rgb8(n: DVec3) -> [f64; 4] {
 /// clamped (the material's diffuse is not used: "All our renderings were done with the NDF
 /// only", §6).
 pub fn colour(scene: &Scene, light: usize, d: f64) -> Result<[f64; 4], String> {
-    let l = scene.lights.get(light).ok_or_else(|| {
-        format!(
-            "light {light}: the scene has {} lights: expected an index below that",
-            scene.lights.len()
-        )
-    })?;
+    let l = scene.light(light)?;
     let (m, c) = (&scene.material, l.color());
     let mut v = [0.0; 4];
     for k in 0..3 {

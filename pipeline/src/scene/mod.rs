@@ -260,6 +260,15 @@ pub struct SceneKey {
 }
 
 impl Scene {
+    /// Light `light`, or the error a texture source that names a light the scene lacks gives.
+    pub fn light(&self, light: usize) -> Result<&Light, String> {
+        self.lights.get(light).ok_or_else(|| {
+            format!(
+                "light {light}: the scene has {} lights: expected an index below that",
+                self.lights.len()
+            )
+        })
+    }
     /// The material id at a surface point: texture coordinates `uv`, world-space perturbed
     /// normal `n` (taken back to object space by the transpose of the model's 3x3 part).
     pub fn material_id(&self, uv: glam::DVec2, n: DVec3) -> u8 {

@@ -166,12 +166,7 @@ pub(super) fn cube_faces(source: &TextureSource, ctx: &BuildCtx) -> Result<Vec<T
         ));
     }
     let scene = ctx.scene;
-    let l = scene.lights.get(light).ok_or_else(|| {
-        format!(
-            "light {light}: the scene has {} lights: expected an index below that",
-            scene.lights.len()
-        )
-    })?;
+    let l = scene.light(light)?;
     let dir = l.dir_from(glam::DVec3::from(scene.camera.target));
     let (m, color) = (&scene.material, l.color());
     let n = f64::from(size);
@@ -256,12 +251,7 @@ pub(super) fn texels(source: &TextureSource, ctx: &BuildCtx) -> Result<Texels, S
         } => {
             check_size(size)?;
             let scene = ctx.scene;
-            let l = scene.lights.get(light).ok_or_else(|| {
-                format!(
-                    "light {light}: the scene has {} lights: expected an index below that",
-                    scene.lights.len()
-                )
-            })?;
+            let l = scene.light(light)?;
             let view = glam::DMat3::from_mat4(scene.camera.view());
             let world = match built_for {
                 Some((x, y, z)) => {
@@ -321,12 +311,7 @@ pub(super) fn texels(source: &TextureSource, ctx: &BuildCtx) -> Result<Texels, S
         TextureSource::LightingTable { size, light } => {
             check_size(size)?;
             let scene = ctx.scene;
-            let l = scene.lights.get(light).ok_or_else(|| {
-                format!(
-                    "light {light}: the scene has {} lights: expected an index below that",
-                    scene.lights.len()
-                )
-            })?;
+            let l = scene.light(light)?;
             let m = &scene.material;
             let color = l.color();
             let n = f64::from(size);
