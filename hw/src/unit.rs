@@ -40,6 +40,19 @@ pub struct Sample {
     pub raw: i64,
 }
 
+impl Sample {
+    /// `x` quantized into a fixed-point encoding `enc` whose LSB is `lsb` (the caller's, once
+    /// per word): the raw word by the encoding's rounding and overflow modes, and its value.
+    #[inline]
+    pub fn fixed(enc: &Encoding, lsb: f64, x: f64) -> Sample {
+        let raw = enc.format.from_f64(x, enc.quant, enc.overflow);
+        Sample {
+            x: raw as f64 * lsb,
+            raw,
+        }
+    }
+}
+
 /// The value on a port: up to [`MAX_LANES`] lanes.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Word {
@@ -85,13 +98,9 @@ impl Word {
         let mut w = Word::default();
         if enc.codec == Codec::Fixed {
             // the codec's match and the scale once per word, not per lane
-            let (f, lsb) = (&enc.format, enc.format.lsb());
+            let lsb = enc.format.lsb();
             for (l, &x) in w.lanes.iter_mut().zip(xs) {
-                let raw = f.from_f64(x, enc.quant, enc.overflow);
-                *l = Sample {
-                    x: raw as f64 * lsb,
-                    raw,
-                };
+                *l = Sample::fixed(enc, lsb, x);
             }
             return w;
         }

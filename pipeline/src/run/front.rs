@@ -83,8 +83,8 @@ impl Front<'_> {
                 )
             } else if mode == Mode::BitAccurate && attr.enc.codec == Codec::Fixed {
                 // [`attributes::interpolate_snapped`] and [`Word::quantize`] of a fixed-point
-                // word, the same sums and roundings, written in place (the common case: a
-                // word built and copied through three calls cost a quarter of a frame)
+                // word, the same sums and roundings, written in place (the common case: the
+                // word built and copied through three calls was the profile's top entry)
                 let values = &self.values[a];
                 let mut v = tri.map(|i| &values[i as usize]);
                 let flipped;
@@ -95,16 +95,12 @@ impl Front<'_> {
                     v = [&flipped[0], &flipped[1], &flipped[2]];
                 }
                 let (e, b) = (&attr.enc, frag.bary);
-                let (f, lsb) = (&e.format, e.format.lsb());
+                let lsb = e.format.lsb();
                 let w = &mut t.slots[a];
                 for (l, s) in w.lanes.iter_mut().enumerate() {
                     *s = if l < lanes {
                         let x = b[0] * v[0][l] + b[1] * v[1][l] + b[2] * v[2][l];
-                        let raw = f.from_f64(x, e.quant, e.overflow);
-                        Sample {
-                            x: raw as f64 * lsb,
-                            raw,
-                        }
+                        Sample::fixed(e, lsb, x)
                     } else {
                         Sample::default()
                     };
