@@ -112,6 +112,10 @@ pub enum TextureSource {
         size: u32,
         light: usize,
         term: CubeTerm,
+        /// The Specular term's exponent (default `None`: the scene's shininess / 4); above 0,
+        /// at most 10^4.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        exponent: Option<f64>,
     },
 }
 
@@ -121,7 +125,8 @@ pub enum TextureSource {
 pub enum CubeTerm {
     /// `ambient + c diffuse max(d . L, 0)`: read at the normal.
     Diffuse,
-    /// `c specular max(d . L, 0)^(shininess / 4)`: read at the reflected eye vector `R`, the
+    /// `c specular max(d . L, 0)^(shininess / 4)` (or the source's `exponent`): read at the
+    /// reflected eye vector `R`, the
     /// Phong lobe `(R . L)^n` with the exponent that approximates the scene's Blinn-Phong
     /// `(N . H)^shininess` (the angle between `R` and `L` is about twice the angle between `N`
     /// and `H`, so `n = shininess / 4` gives a highlight of about the same width; Fisher and
@@ -157,7 +162,13 @@ impl TextureSource {
 
 /// The six faces of a cube-map source (+X, -X, +Y, -Y, +Z, -Z), its size checked.
 pub(super) fn cube_faces(source: &TextureSource, ctx: &BuildCtx) -> Result<Vec<Texels>, String> {
-    let TextureSource::CubeLighting { size, light, term } = *source else {
+    let TextureSource::CubeLighting {
+        size,
+        light,
+        term,
+        exponent,
+    } = *source
+    else {
         return Err(format!("{source:?}: expected a cube-map source"));
     };
     if !size.is_power_of_two() || size > MAX_CUBE_SIDE {
@@ -169,6 +180,12 @@ pub(super) fn cube_faces(source: &TextureSource, ctx: &BuildCtx) -> Result<Vec<T
     let l = scene.light(light)?;
     let dir = l.dir_from(glam::DVec3::from(scene.camera.target));
     let (m, color) = (&scene.material, l.color());
+    let exponent = exponent.unwrap_or(m.shininess / 4.0);
+    if !(exponent > 0.0 && exponent <= 1e4) {
+        return Err(format!(
+            "exponent {exponent}: expected a number above 0, at most 10000"
+        ));
+    }
     let n = f64::from(size);
     let face = |f: usize| {
         let values = (0..size)
@@ -181,7 +198,7 @@ pub(super) fn cube_faces(source: &TextureSource, ctx: &BuildCtx) -> Result<Vec<T
                 for c in 0..3 {
                     v[c] = match term {
                         CubeTerm::Diffuse => m.ambient[c] + color[c] * m.diffuse[c] * dl,
-                        CubeTerm::Specular => color[c] * m.specular[c] * dl.powf(m.shininess / 4.0),
+                        CubeTerm::Specular => color[c] * m.specular[c] * dl.powf(exponent),
                     }
                     .clamp(0.0, 1.0);
                 }
