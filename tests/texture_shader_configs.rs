@@ -230,15 +230,24 @@ fn the_cube_maps_phong_exponent_a_quarter_of_the_shininess_stands_in_for_blinn_p
         if let Some(s) = &s {
             sets.push(s);
         }
-        config_report("nv20-reflect-cube", &sets).error.algorithm.psnr_db
+        config_report("nv20-reflect-cube", &sets)
+            .error
+            .algorithm
+            .psnr_db
     };
     let (default, quarter) = (psnr(None), psnr(Some(8.0)));
     assert_eq!(default, quarter);
     let (half, double) = (psnr(Some(4.0)), psnr(Some(16.0)));
-    assert!(quarter > half + 10.0 && quarter > double + 10.0, "{half} {quarter} {double}");
+    assert!(
+        quarter > half + 10.0 && quarter > double + 10.0,
+        "{half} {quarter} {double}"
+    );
     let e = config_error(
         "nv20-reflect-cube",
         &["engine.units.shader.unit.programs[3].texture.source.exponent=Some(0.0)"],
     );
-    assert!(e.contains("exponent 0: expected a number above 0, at most 10000"), "{e}");
+    assert!(
+        e.contains("exponent 0: expected a number above 0, at most 10000"),
+        "{e}"
+    );
 }
