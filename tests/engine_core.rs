@@ -168,3 +168,128 @@ fn combiner_ports_and_programs_are_checked() {
         &["width", "expected 9 to 24"],
     );
 }
+
+/// The 8-bit RGB pixels of two images that differ, and the largest channel difference.
+fn differing(a: &image::RgbImage, b: &image::RgbImage) -> (usize, u8) {
+    let mut n = (0, 0);
+    for (p, q) in a.pixels().zip(b.pixels()) {
+        let d = (0..3).map(|c| p.0[c].abs_diff(q.0[c])).max().unwrap();
+        if d > 0 {
+            n = (n.0 + 1, n.1.max(d));
+        }
+    }
+    n
+}
+
+#[test]
+fn tarinis_blend_passes_go_through_the_rop_and_charge_what_it_read_and_wrote() {
+    for (stem, names) in [
+        (
+            "quantized-bunny-wood-eq1",
+            &[
+                "tex.t",
+                "eq. (1): dst = dst alpha",
+                "eq. (1): dst = src (1 - dst) + dst",
+            ][..],
+        ),
+        (
+            "quantized-bunny-wood-eq2",
+            &["tex.t", "eq. (2): dst = src (1 - dst) + dst alpha"][..],
+        ),
+    ] {
+        let r = render(&load(stem, &[]));
+        let p = &r.report.passes;
+        let got: Vec<&str> = p.passes.iter().map(|q| q.name.as_str()).collect();
+        assert_eq!(got, names, "{stem}");
+        let c = &r.report.cycles;
+        let stream = c.total - c.frame;
+        assert_eq!(p.total_cycles, c.frame + names.len() as u64 * stream);
+        // pass 1 (depth Less, written): the rasterizer's early test lets every fragment through
+        // the ROP's, so it reads depth for each and writes colour and depth for each
+        let (first, covered) = (&p.passes[0], r.report.image.covered_pixels);
+        assert_eq!(first.fb_read_bits, c.fragments * 24, "{stem}");
+        assert_eq!(first.fb_write_bits, c.fragments * 48, "{stem}");
+        // a blend pass (depth Equal, no depth write) reads depth for every fragment and blends
+        // only the one left on top at each pixel: colour read and written once per pixel
+        for q in &p.passes[1..] {
+            assert_eq!(q.fb_read_bits, c.fragments * 24 + covered * 24, "{stem}");
+            assert_eq!(q.fb_write_bits, covered * 24, "{stem}");
+        }
+        // overdraw: 3,067 of the 18,724 fragments are hidden at 192 x 192
+        assert_eq!((c.fragments, covered), (18_724, 15_657), "{stem}");
+    }
+}
+
+#[test]
+fn the_rop_passes_and_the_fused_fbblend_unit_differ_only_in_the_blends_rounding() {
+    // FbBlend computes the same equation inside the pipe in one pass; its framebuffer words
+    // decode unit codes by bit replication (c * 257 / 2^16 for 8 bits), the ROP divides by
+    // 255 exactly (GL): 2^-16 relative apart, so a blend within a hundredth of a code of a
+    // half rounds apart
+    for (stem, eq) in [
+        ("quantized-bunny-wood-eq1", "Exact"),
+        ("quantized-bunny-wood-eq2", "Approx"),
+    ] {
+        let l = load(stem, &[]);
+        let passes = render(&l);
+        let mut fused = l.clone();
+        let unit = format!(
+            "(name: \"blend\", unit: FbBlend(equation: {eq}, fb: (format: (signed: false, width: 8, frac: 0), codec: UnitUnsigned)), inputs: {{\"base\": \"tex.t\", \"entry\": \"qnm.c\"}})"
+        );
+        fused
+            .config
+            .engine
+            .units
+            .push(ron::from_str(&unit).unwrap());
+        fused.config.engine.output = "blend.c".into();
+        fused.config.engine.passes.clear();
+        let fused = render(&fused);
+        assert_eq!(fused.report.passes.passes.len(), 1, "{stem}: one pass");
+        // exact mode: the same f64 equation, the same image
+        assert_eq!(differing(&passes.exact, &fused.exact), (0, 0), "{stem}");
+        assert_eq!(
+            passes.report.error.algorithm, fused.report.error.algorithm,
+            "{stem}"
+        );
+        // bit-accurate: 55 (eq. 1) or 54 (eq. 2) of 15,657 pixels one code apart
+        let (n, d) = differing(&passes.image, &fused.image);
+        assert_eq!((n, d), (if eq == "Exact" { 55 } else { 54 }, 1), "{stem}");
+    }
+}
+
+#[test]
+fn bad_passes_are_errors_naming_the_pass() {
+    let err = |sets: &[&str]| {
+        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        let l = config::load(&config("quantized-bunny-wood-eq2"), &sets).unwrap();
+        match run::run(&l, None) {
+            Ok(_) => panic!("{sets:?} rendered"),
+            Err(e) => e.to_string(),
+        }
+    };
+    // RGBA into a pass whose ROP reads no alpha
+    let e = err(&["engine.passes.0.rop.blend=Some((One, One))"]);
+    assert!(
+        e.contains("engine.passes[0].output") && e.contains("4 lanes"),
+        "{e}"
+    );
+    let e = err(&["engine.passes.0.output=\"nowhere.c\""]);
+    assert!(e.contains("engine.passes[0].output"), "{e}");
+    let e = err(&["engine.passes.0.rop.color_bits=10"]);
+    assert!(
+        e.contains("engine.passes[0].rop.color_bits") && e.contains("one framebuffer"),
+        "{e}"
+    );
+    let e = err(&[
+        "engine.passes.0.rop.alpha_test=Some((Greater, 0))",
+        "engine.passes.0.output=\"tex.t\"",
+    ]);
+    assert!(e.contains("engine.passes[0].rop"), "{e}");
+    let pass = "(name: \"p\", output: \"qnm.c\", rop: (depth: Equal, depth_write: false, blend: Some((Zero, SrcAlpha))))";
+    let many = format!("engine.passes=[{}]", vec![pass; 8].join(", "));
+    let e = err(&[&many]);
+    assert!(
+        e.contains("engine.passes") && e.contains("at most 7"),
+        "{e}"
+    );
+}

@@ -58,6 +58,18 @@ impl AsRopFragment for RopFragment {
     }
 }
 
+/// What one pass's fragments did at the ROP.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct PassCounts {
+    /// Live fragments that reached the ROP's tests.
+    pub tested: u64,
+    /// Fragments that passed the alpha test (each reads depth).
+    pub depth_tested: u64,
+    /// Fragments that passed both tests (each writes colour, and depth if the pass writes it;
+    /// a blending pass reads their colour first).
+    pub written: u64,
+}
+
 /// The frame buffer after the ROP has taken `outputs` (by fragment; `None` = killed).
 pub struct Framebuffer {
     /// The colour that reached each pixel (clamped to [0, 1], blended in f64): what the
@@ -71,16 +83,12 @@ pub struct Framebuffer {
     /// The triangle of the last fragment written at each pixel
     /// ([`crate::edges::NO_TRIANGLE`] where none was): what the edge measure reads.
     pub tri: Vec<u32>,
-    /// Live fragments that reached the ROP's tests.
-    pub tested: u64,
-    /// Fragments that passed the alpha test (each reads depth).
-    pub depth_tested: u64,
-    /// Fragments that passed both tests (each writes colour and depth).
-    pub written: u64,
+    /// Each pass's counts, in order (one for a one-pass frame).
+    pub passes: Vec<PassCounts>,
 }
 
 /// The frame buffer of a `w` x `h` image after `rop` has written `outputs` of `frags` in
-/// `mode`.
+/// `mode`: a one-pass frame.
 pub fn write(
     rop: &Rop,
     mode: Mode,
@@ -89,23 +97,41 @@ pub fn write(
     frags: &[impl AsRopFragment],
     outputs: &Outputs,
 ) -> Framebuffer {
+    write_passes(&[(rop, outputs)], mode, w, h, frags)
+}
+
+/// The frame buffer of a `w` x `h` image after every pass of `passes` (the ROP state of the
+/// pass and its outputs, by fragment of `frags`) has written, in order, in `mode`. Every pass
+/// streams the same fragments; colour codes and depth carry from one pass to the next.
+pub fn write_passes(
+    passes: &[(&Rop, &Outputs)],
+    mode: Mode,
+    w: u32,
+    h: u32,
+    frags: &[impl AsRopFragment],
+) -> Framebuffer {
+    let rop = passes[0].0;
     let mut fb = rop.clear(w, h);
-    let (mut tested, mut depth_tested, mut written) = (0, 0, 0);
     let mut tri = vec![crate::edges::NO_TRIANGLE; w as usize * h as usize];
-    for (k, f) in frags.iter().enumerate().take(outputs.len()) {
-        let Some(o) = outputs.word(k) else { continue };
-        let f = f.rop_fragment();
-        tested += 1;
-        let i = (f.y as usize) * (w as usize) + f.x as usize;
-        match rop.write(&mut fb, mode, i, f.depth, &o) {
-            Outcome::AlphaFailed => {}
-            Outcome::DepthFailed => depth_tested += 1,
-            Outcome::Written => {
-                depth_tested += 1;
-                written += 1;
-                tri[i] = f.tri;
+    let mut counts = Vec::with_capacity(passes.len());
+    for &(rop, outputs) in passes {
+        let mut n = PassCounts::default();
+        for (k, f) in frags.iter().enumerate().take(outputs.len()) {
+            let Some(o) = outputs.word(k) else { continue };
+            let f = f.rop_fragment();
+            n.tested += 1;
+            let i = (f.y as usize) * (w as usize) + f.x as usize;
+            match rop.write(&mut fb, mode, i, f.depth, &o) {
+                Outcome::AlphaFailed => {}
+                Outcome::DepthFailed => n.depth_tested += 1,
+                Outcome::Written => {
+                    n.depth_tested += 1;
+                    n.written += 1;
+                    tri[i] = f.tri;
+                }
             }
         }
+        counts.push(n);
     }
     let one = (1i64 << rop.params().color_bits) - 1;
     let to8 = |c: u16| ((2 * i64::from(c) * 255 + one) / (2 * one)) as u8;
@@ -124,8 +150,6 @@ pub fn write(
         rgb8,
         mask: fb.written,
         tri,
-        tested,
-        depth_tested,
-        written,
+        passes: counts,
     }
 }

@@ -331,6 +331,45 @@ impl Prepared {
         )
     }
 
+    /// The outputs of every pass after the first in `mode`, in order, without timing (a pass
+    /// streams the same fragments through the engine as the first, and its timing is the
+    /// first's: `passes.rs`).
+    pub fn pass_outputs(&self, mode: Mode) -> Vec<sim::Outputs> {
+        let front = self.front(mode, false);
+        let attrs = &self.engine.attributes;
+        let fill = |f: usize, t: &mut Token| front.fill(attrs, mode, f, t);
+        self.engine
+            .passes
+            .iter()
+            .map(|p| {
+                sim::evaluate_lanes(
+                    &self.engine.stages,
+                    mode,
+                    p.output.wire,
+                    &p.output.spec,
+                    front.frags.len(),
+                    self.engine.slots(),
+                    &fill,
+                )
+            })
+            .collect()
+    }
+
+    /// The framebuffer of `mode` after every pass: `first` is the first pass's outputs,
+    /// `extra` the others' ([`Self::pass_outputs`]).
+    pub fn framebuffer(
+        &self,
+        mode: Mode,
+        first: &sim::Outputs,
+        extra: &[sim::Outputs],
+        frags: &[impl crate::rop::AsRopFragment],
+    ) -> crate::rop::Framebuffer {
+        let (w, h) = (self.scene.width, self.scene.height);
+        let mut list = vec![(&self.engine.rop, first)];
+        list.extend(self.engine.passes.iter().map(|p| &p.rop).zip(extra));
+        crate::rop::write_passes(&list, mode, w, h, frags)
+    }
+
     /// The token of fragment `f` after every stage in `mode` (every signal's value, raw words
     /// included): for tests of the units in their configured engines.
     pub fn fragment_token(&self, mode: Mode, f: usize) -> Token {
@@ -415,7 +454,7 @@ fn timed_call<T>(f: impl FnOnce() -> T) -> (T, std::time::Duration) {
 
 /// Run a loaded config.
 /// The gate budgets of `engine` as the report states them: every unit, the fixed-point
-/// interpolator if there is one, the ROP.
+/// interpolator if there is one, the ROP (serving every pass).
 fn engine_gates(cfg: &crate::config::Config, engine: &Engine) -> Gates {
     let mut units: Vec<(String, String, bumpsim_hw::GateBudget)> = engine
         .stages
@@ -427,7 +466,7 @@ fn engine_gates(cfg: &crate::config::Config, engine: &Engine) -> Gates {
         let g = attributes::interpolator_gates(&engine.attributes, weight_bits, &cfg.cost);
         units.push(("attribute interpolator".into(), "interpolator".into(), g));
     }
-    let mut g = Gates::new(&units, &engine.rop.gates(&cfg.cost), cfg.cost.tables);
+    let mut g = Gates::new(&units, &engine.rop_gates(&cfg.cost), cfg.cost.tables);
     for uc in &cfg.engine.units {
         if let Some(u) = g.per_unit.get_mut(&uc.name) {
             u.tables = uc.tables.map(|k| k.name());
@@ -485,7 +524,12 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
         ..
     } = paths;
     let (w, h) = (p.scene.width, p.scene.height);
-    let (frags, bit) = (&p.raster.fragments, &p.engine);
+    // the passes after the first, in both modes, while the full fragment list is there
+    let (extra_exact, extra_bit) = rayon::join(
+        || p.pass_outputs(Mode::Exact),
+        || p.pass_outputs(Mode::BitAccurate),
+    );
+    let frags = &p.raster.fragments;
     // The two framebuffers one after the other, each mode's outputs freed once its ROP has
     // read them (a framebuffer being written holds 39 bytes per pixel: two at once were the
     // peak of a large frame).
@@ -493,10 +537,11 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
     // framebuffers are built, and the full one freed.
     let frags: Vec<crate::rop::RopFragment> = frags.iter().map(Into::into).collect();
     p.raster.fragments = Vec::new();
-    let mut fb_exact = crate::rop::write(&bit.rop, Mode::Exact, w, h, &frags, &exact_out);
-    drop(exact_out);
-    let fb = crate::rop::write(&bit.rop, Mode::BitAccurate, w, h, &frags, &result.outputs);
-    drop((result.outputs, frags));
+    let mut fb_exact = p.framebuffer(Mode::Exact, &exact_out, &extra_exact, &frags);
+    drop((exact_out, extra_exact));
+    let fb = p.framebuffer(Mode::BitAccurate, &result.outputs, &extra_bit, &frags);
+    drop((result.outputs, extra_bit, frags));
+    let bit = &p.engine;
     // the two modes' triangle maps are one where the same fragments were written (the
     // usual case): keep one
     let shared_tri = fb_exact.tri == fb.tri;
@@ -542,22 +587,34 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
     let baseline = PacketLayout::baseline_textured_gouraud();
     let bits = packet.bits_per_triangle();
     let base_bits = baseline.bits_per_triangle();
-    let blend = cfg.engine.units.iter().find_map(|u| match u.unit {
-        engine::units::UnitSpec::FbBlend(ref fb) => Some(fb.equation),
-        _ => None,
-    });
+    let color_bits = |r: &bumpsim_hw::units::Rop| 3 * u64::from(r.params().color_bits);
+    let runs: Vec<crate::passes::PassRun> = std::iter::once((
+        if bit.passes.is_empty() {
+            "shade".to_string()
+        } else {
+            bit.output.name.clone()
+        },
+        &bit.rop,
+    ))
+    .chain(bit.passes.iter().map(|q| (q.name.clone(), &q.rop)))
+    .zip(&fb.passes)
+    .map(|((name, rop), &counts)| crate::passes::PassRun {
+        name,
+        counts,
+        blends: rop.params().blend.is_some(),
+        depth_write: rop.params().depth_write,
+    })
+    .collect();
     let passes = crate::passes::passes(
         crate::passes::Frame {
             frame_cycles: result.cycles.frame,
             stream_cycles: result.cycles.total - result.cycles.frame,
             triangles: result.cycles.triangles,
-            fragments: fb.depth_tested,
-            written: fb.written,
             bits_per_triangle: bits,
-            color_bits: 3 * u64::from(bit.rop.params().color_bits),
+            color_bits: color_bits(&bit.rop),
             depth_bits: u64::from(cfg.raster.depth_bits),
         },
-        blend,
+        &runs,
     );
     let fragments = result.cycles.fragments;
     let report = Report {

@@ -21,8 +21,10 @@
 //! value half up (`floor(x (2^b - 1) + 1/2)`, clamped), blends on the codes (8-bit factor
 //! codes, products exact, one rounding to nearest of the sum divided by `2^b - 1`) and stores
 //! codes. Exact mode keeps f64 colours without rounding. In both modes the unit also keeps the
-//! colour value that reached it (clamped to [0, 1], blended in f64): the measure of the
-//! engine's error before the framebuffer's rounding.
+//! colour value that reached it (clamped to [0, 1], blended in f64 with the destination as the
+//! framebuffer holds it: its codes in bit-accurate mode, so that a blend pass reads back what
+//! an earlier pass stored): the measure of the engine's error before the framebuffer's last
+//! rounding.
 
 use crate::format::{Codec, Encoding};
 use crate::gates::{CostTable, GateBudget};
@@ -341,8 +343,14 @@ impl Rop {
                 } else {
                     1.0
                 };
+                // the destination as the framebuffer holds it: its codes in bit-accurate mode
+                // (a blend pass reads back what an earlier pass stored), its value in exact mode
+                let d_of = |l: usize| match mode {
+                    Mode::BitAccurate => dst.code[l] as f64 / one as f64,
+                    Mode::Exact => dst.x[l],
+                };
                 px.x = std::array::from_fn(|l| {
-                    let (s, d) = (x[l], dst.x[l]);
+                    let (s, d) = (x[l], d_of(l));
                     (fs.of(s, d, a, 0.0, 1.0) * s + fd.of(s, d, a, 0.0, 1.0) * d).min(1.0)
                 });
                 match mode {

@@ -481,6 +481,32 @@ pub struct EngineConfig {
     /// test, no blending, 8 bits; left out of the canonical config when it is the default).
     #[serde(default, skip_serializing_if = "RopParams::is_default")]
     pub rop: RopParams,
+    /// Rendering passes after the first (`output` through `rop`), in order: each re-sends the
+    /// geometry, re-rasterises every triangle and writes its own output through its own ROP
+    /// state into the same framebuffer (Tarini et al. §7's blend passes: `docs/units/rop.md`,
+    /// "Passes"). Default none; left out of the canonical config, and so of the hash, when
+    /// empty. At most [`MAX_PASSES`] in all.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub passes: Vec<PassConfig>,
+}
+
+/// The most rendering passes of a frame (the first and `engine.passes`).
+pub const MAX_PASSES: usize = 8;
+
+/// A rendering pass after the first: what it writes and how the ROP writes it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PassConfig {
+    /// The pass's name in the report.
+    pub name: String,
+    /// The signal (or wire expression) the pass writes: RGB, or RGBA when its ROP tests or
+    /// blends with alpha.
+    pub output: String,
+    /// The ROP's state in this pass (default as `engine.rop`'s: depth `Less` with writes, no
+    /// blending); a blend pass over the first pass's surface tests depth `Equal` without
+    /// writing it.
+    #[serde(default)]
+    pub rop: RopParams,
 }
 
 /// The attribute interpolator of the bit-accurate engine (`engine/attributes.rs`).

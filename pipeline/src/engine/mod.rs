@@ -55,6 +55,15 @@ pub struct Engine {
     pub normal_maps: Vec<crate::quantize::NormalMapError>,
     /// The raster operations writing the output to the framebuffer.
     pub rop: Rop,
+    /// The passes after the first (`engine.passes`), in order.
+    pub passes: Vec<Pass>,
+}
+
+/// A rendering pass after the first: its output and the ROP state that writes it.
+pub struct Pass {
+    pub name: String,
+    pub output: Output,
+    pub rop: Rop,
 }
 
 impl Engine {
@@ -75,6 +84,23 @@ impl Engine {
             || p.alpha_test.is_some()
             || p.depth != bumpsim_hw::units::rop::Compare::Less
             || !p.depth_write
+    }
+
+    /// The gate budget of the ROP that runs every pass: the first pass's, and each circuit
+    /// that a later pass needs and it lacks (a blender, an alpha test, another colour
+    /// conversion), once: the union of the passes' budgets by item, each at its dearest.
+    pub fn rop_gates(&self, t: &bumpsim_hw::CostTable) -> GateBudget {
+        let mut g = self.rop.gates(t);
+        for p in &self.passes {
+            for item in p.rop.gates(t).items {
+                match g.items.iter_mut().find(|i| i.what == item.what) {
+                    Some(i) if i.ge < item.ge => *i = item,
+                    Some(_) => {}
+                    None => g.items.push(item),
+                }
+            }
+        }
+        g
     }
 
     /// Triangle packet from geometry to rasterizer: per vertex x, y, z and 1/w as 32-bit words
@@ -266,35 +292,42 @@ pub fn build(l: &Loaded, scene: &Scene) -> Result<Engine, InputError> {
         gates.push((u.name.clone(), unit.gates(&u.cost(&l.config.cost))));
         stages.push(Stage::new(u.name.clone(), unit, in_wires, out_slots));
     }
-    let output = wire::resolve(&cfg.output, &signals)
-        .map(|r| Output {
-            name: cfg.output.clone(),
-            spec: r.spec,
-            wire: r.wire,
-        })
-        .map_err(|m| l.error("engine.output", &format!("\"{}\"", cfg.output), m))?;
-    let rgba = output.spec.lanes == 4;
-    if output.spec.lanes != 3 && !(rgba && cfg.rop.reads_alpha()) {
+    let (output, rop) = pass_output(l, &signals, "engine", &cfg.output, cfg.rop)?;
+    if cfg.passes.len() + 1 > crate::config::MAX_PASSES {
         return Err(l.error(
-            "engine.output",
-            &format!("\"{}\"", cfg.output),
+            "engine.passes",
+            "passes",
             format!(
-                "signal {:?} has {} lanes: expected an RGB signal of 3 (or RGBA of 4 when engine.rop tests or blends with alpha)",
-                cfg.output, output.spec.lanes
+                "{} passes after the first: expected at most {}",
+                cfg.passes.len(),
+                crate::config::MAX_PASSES - 1
             ),
         ));
     }
-    let enc = output.spec.enc;
-    let rop = Rop::new(
-        cfg.rop,
-        enc,
-        rgba.then_some(enc),
-        l.config.raster.depth_bits,
-    )
-    .map_err(|m| l.error("engine.rop", "rop", m))?;
+    let mut passes = Vec::with_capacity(cfg.passes.len());
+    for (i, p) in cfg.passes.iter().enumerate() {
+        let field = format!("engine.passes[{i}]");
+        let (output, rop) = pass_output(l, &signals, &field, &p.output, p.rop)?;
+        if p.rop.color_bits != cfg.rop.color_bits {
+            return Err(l.error(
+                &format!("{field}.rop.color_bits"),
+                "color_bits",
+                format!(
+                    "{} bits per channel: expected engine.rop's {} (the passes write one framebuffer)",
+                    p.rop.color_bits, cfg.rop.color_bits
+                ),
+            ));
+        }
+        passes.push(Pass {
+            name: p.name.clone(),
+            output,
+            rop,
+        });
+    }
     normal_maps.sort_by_key(|m| m.0);
     Ok(Engine {
         rop,
+        passes,
         stages,
         signals,
         attributes: cfg.attributes.clone(),
@@ -303,6 +336,40 @@ pub fn build(l: &Loaded, scene: &Scene) -> Result<Engine, InputError> {
         gates,
         normal_maps: normal_maps.into_iter().map(|m| m.1).collect(),
     })
+}
+
+/// The output of a pass (`field`: `engine` or `engine.passes[i]`) and its ROP: the signal
+/// `name` resolved, RGB or, when `rop` tests or blends with alpha, RGBA.
+fn pass_output(
+    l: &Loaded,
+    signals: &[Signal],
+    field: &str,
+    name: &str,
+    rop: bumpsim_hw::units::rop::RopParams,
+) -> Result<(Output, Rop), InputError> {
+    let needle = format!("\"{name}\"");
+    let output = wire::resolve(name, signals)
+        .map(|r| Output {
+            name: name.to_string(),
+            spec: r.spec,
+            wire: r.wire,
+        })
+        .map_err(|m| l.error(&format!("{field}.output"), &needle, m))?;
+    let rgba = output.spec.lanes == 4;
+    if output.spec.lanes != 3 && !(rgba && rop.reads_alpha()) {
+        return Err(l.error(
+            &format!("{field}.output"),
+            &needle,
+            format!(
+                "signal {name:?} has {} lanes: expected an RGB signal of 3 (or RGBA of 4 when {field}.rop tests or blends with alpha)",
+                output.spec.lanes
+            ),
+        ));
+    }
+    let enc = output.spec.enc;
+    let rop = Rop::new(rop, enc, rgba.then_some(enc), l.config.raster.depth_bits)
+        .map_err(|m| l.error(&format!("{field}.rop"), "rop", m))?;
+    Ok((output, rop))
 }
 
 /// Units in dependency order (config order among independent ones); a cycle is an error.

@@ -29,16 +29,9 @@ pub struct Share {
 fn mask_image(config: &Path, sets: &[String], force: bool) -> Result<image::RgbImage, InputError> {
     let l = config::load_with(config, sets, LoadOptions { force })?;
     let p = crate::run::prepare(&l)?;
-    let (w, h) = (p.scene.width, p.scene.height);
     let bit = p.simulate_lanes(None);
-    let fb = crate::rop::write(
-        &p.engine.rop,
-        Mode::BitAccurate,
-        w,
-        h,
-        &p.raster.fragments,
-        &bit.outputs,
-    );
+    let extra = p.pass_outputs(Mode::BitAccurate);
+    let fb = p.framebuffer(Mode::BitAccurate, &bit.outputs, &extra, &p.raster.fragments);
     Ok(fb.rgb8)
 }
 
