@@ -114,19 +114,22 @@ pub(crate) fn build(eng: &Engine, units: &[UnitRtl]) -> Result<RtlUnit, String> 
         }
         sources.push(s);
     }
-    let out: &PortSpec = &eng.output.spec;
+    // every signal a pass writes (engine.output, then engine.passes' others), one port each
     let mut outputs = Vec::new();
-    for l in 0..out.lanes as usize {
-        let s = source(eng.output.wire, l).map_err(|e| format!("output: {e}"))?;
-        outputs.push((
-            Lane {
-                name: format!("out_{}_{l}", ident(&eng.output.name)),
-                port: 0,
-                lane: l,
-                enc: out.enc,
-            },
-            s,
-        ));
+    for (port, o) in eng.pass_outputs().into_iter().enumerate() {
+        let out: &PortSpec = &o.spec;
+        for l in 0..out.lanes as usize {
+            let s = source(o.wire, l).map_err(|e| format!("output {}: {e}", o.name))?;
+            outputs.push((
+                Lane {
+                    name: format!("out_{}_{l}", ident(&o.name)),
+                    port,
+                    lane: l,
+                    enc: out.enc,
+                },
+                s,
+            ));
+        }
     }
     let parts: Vec<Part> = parts_of
         .iter()
@@ -141,7 +144,8 @@ pub(crate) fn build(eng: &Engine, units: &[UnitRtl]) -> Result<RtlUnit, String> 
 }
 
 /// `n` fragments spread evenly over the frame: the attribute words (one per attribute, in
-/// the engine's order) and the engine's output word of each, in bit-accurate mode.
+/// the engine's order) and the engine's output words of each (one per signal a pass writes:
+/// `Engine::pass_outputs`), in bit-accurate mode.
 pub(crate) fn fragment_vectors(p: &Prepared, n: usize) -> (Vec<Vec<Word>>, Vec<Vec<Word>>) {
     let total = p.raster.fragments.len();
     let n = n.min(total);
@@ -152,7 +156,8 @@ pub(crate) fn fragment_vectors(p: &Prepared, n: usize) -> (Vec<Vec<Word>>, Vec<V
             let ins = (0..attrs)
                 .map(|a| t.slots[p.engine.signals[a].slot])
                 .collect();
-            (ins, vec![p.engine.output.wire.read(&t.slots)])
+            let outs = p.engine.pass_outputs();
+            (ins, outs.iter().map(|o| o.wire.read(&t.slots)).collect())
         })
         .unzip()
 }

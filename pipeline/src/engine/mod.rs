@@ -86,6 +86,18 @@ impl Engine {
             || !p.depth_write
     }
 
+    /// The signals the passes write, each once, the first pass's first: what the engine
+    /// computes for the ROP.
+    pub fn pass_outputs(&self) -> Vec<&Output> {
+        let mut out = vec![&self.output];
+        for p in &self.passes {
+            if !out.iter().any(|o| o.name == p.output.name) {
+                out.push(&p.output);
+            }
+        }
+        out
+    }
+
     /// The gate budget of the ROP that runs every pass: the first pass's, and each circuit
     /// that a later pass needs and it lacks (a blender, an alpha test, another colour
     /// conversion), once: the union of the passes' budgets by item, each at its dearest.
