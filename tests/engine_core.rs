@@ -286,7 +286,7 @@ fn bad_passes_are_errors_naming_the_pass() {
     ]);
     assert!(e.contains("engine.passes[0].rop"), "{e}");
     let pass = "(name: \"p\", output: \"qnm.c\", rop: (depth: Equal, depth_write: false, blend: Some((Zero, SrcAlpha))))";
-    let many = format!("engine.passes=[{}]", vec![pass; 8].join(", "));
+    let many = format!("engine.passes=[{}]", [pass; 8].join(", "));
     let e = err(&[&many]);
     assert!(
         e.contains("engine.passes") && e.contains("at most 7"),
