@@ -293,3 +293,116 @@ fn bad_passes_are_errors_naming_the_pass() {
         "{e}"
     );
 }
+
+/// The report's texture cache of `stem` with the cache `cache` (RON) and `sets`.
+fn cache_of(stem: &str, cache: &str, sets: &[&str]) -> serde_json::Value {
+    let set = format!("engine.texture_cache=Some({cache})");
+    let mut all = vec![set.as_str()];
+    all.extend(sets);
+    let r = render(&load(stem, &all));
+    serde_json::to_value(&r.report.bandwidth.texture_cache).unwrap()
+}
+
+#[test]
+fn a_texture_cache_sees_every_texel_read_and_fills_a_block_per_miss() {
+    let c = cache_of("sgi-teapot", "(lines: 64, ways: 4, block: 4)", &[]);
+    let k = &c["caches"][0];
+    assert_eq!(k["readers"], serde_json::json!(["fetch"]));
+    // every bilinear tap of every fragment: 24,921 fragments x 4, the texture memory's count
+    assert_eq!(k["reads"], 99_684);
+    assert_eq!(k["uncached_bits"], 99_684 * 24);
+    assert_eq!(k["misses"], 36_193);
+    // a miss fills a 4 x 4 block of 24-bit texels
+    assert_eq!(k["fill_bits"], 36_193 * 16 * 24);
+    assert_eq!(c["data_bits"], serde_json::json!([64 * 16 * 24]));
+    // the teapot minifies its 256 x 256 map (twice repeated) without mipmaps: blocks are
+    // evicted before their texels are used, and the cache fills 5.8 times the bits the reads
+    // take (the case for mipmaps, Hakura and Gupta 1997)
+    let ratio = c["traffic_ratio"].as_f64().unwrap();
+    assert!((ratio - 5.809).abs() < 1e-3, "{ratio}");
+    // fully associative LRU caches of 1, 4, 16 and 64 lines: each holds what the smaller one
+    // holds (LRU's inclusion), so misses never grow with the size
+    let misses: Vec<u64> = [1, 4, 16, 64]
+        .map(|n| {
+            let c = cache_of(
+                "sgi-teapot",
+                &format!("(lines: {n}, ways: {n}, block: 4)"),
+                &[],
+            );
+            c["caches"][0]["misses"].as_u64().unwrap()
+        })
+        .to_vec();
+    assert_eq!(misses, [48_235, 36_708, 36_347, 36_170]);
+    // at 512 x 512 the map is nearer one texel a pixel: more reuse
+    let big = cache_of(
+        "sgi-teapot",
+        "(lines: 64, ways: 4, block: 4)",
+        &["scene.width=512", "scene.height=512"],
+    );
+    let hit = big["caches"][0]["hit_rate"].as_f64().unwrap();
+    assert!(
+        hit > 0.75 && hit > k["hit_rate"].as_f64().unwrap() + 0.1,
+        "{hit}"
+    );
+}
+
+#[test]
+fn a_shared_texture_cache_takes_every_readers_reads_in_fragment_order() {
+    let each = cache_of(
+        "quantized-bunny-wood-eq2",
+        "(lines: 64, ways: 4, block: 4)",
+        &[],
+    );
+    let readers: Vec<(String, u64)> = each["caches"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|k| {
+            (
+                k["readers"][0].as_str().unwrap().to_string(),
+                k["reads"].as_u64().unwrap(),
+            )
+        })
+        .collect();
+    // the palette index once a fragment (nearest), the wood texture's four bilinear taps
+    assert_eq!(
+        readers,
+        [("qnm".to_string(), 18_724), ("tex".to_string(), 4 * 18_724)]
+    );
+    let shared = cache_of(
+        "quantized-bunny-wood-eq2",
+        "(lines: 64, ways: 4, block: 4, shared: true)",
+        &[],
+    );
+    let k = &shared["caches"][0];
+    assert_eq!(k["readers"], serde_json::json!(["qnm", "tex"]));
+    assert_eq!(k["reads"], 5 * 18_724);
+    assert_eq!(k["misses"], 13_029);
+    assert_eq!(shared["uncached_bits"], each["uncached_bits"]);
+}
+
+#[test]
+fn bad_texture_caches_are_errors_naming_the_field() {
+    for (cache, field) in [
+        ("(lines: 48, ways: 4, block: 4)", "lines"),
+        ("(lines: 131072, ways: 4, block: 4)", "lines"),
+        ("(lines: 64, ways: 128, block: 4)", "ways"),
+        ("(lines: 8, ways: 16, block: 4)", "ways"),
+        ("(lines: 64, ways: 4, block: 3)", "block"),
+        ("(lines: 64, ways: 4, block: 32)", "block"),
+    ] {
+        let set = vec![format!("engine.texture_cache=Some({cache})")];
+        let l = config::load(&config("sgi-teapot"), &set).unwrap();
+        let e = run::run(&l, None).err().expect("an error").to_string();
+        assert!(
+            e.contains(&format!("engine.texture_cache.{field}")),
+            "{cache}: {e}"
+        );
+    }
+    let set = vec!["engine.texture_cache=Some((lines: 64, ways: 4, block: 4, size: 1))".into()];
+    let e = config::load(&config("sgi-teapot"), &set)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(e.contains("size"), "{e}");
+}

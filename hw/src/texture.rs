@@ -64,10 +64,92 @@ impl Level {
     pub fn value(&self, k: usize) -> &[f64; MAX_LANES] {
         &self.values[k]
     }
-    /// The raw words of the texel at a memory index (bit-accurate mode).
+    /// The raw words of the texel at a memory index (bit-accurate mode). While a thread
+    /// [`reads::record`]s, the read is appended to its stream.
     #[inline]
     pub fn code(&self, k: usize) -> &[i64; MAX_LANES] {
+        if reads::ACTIVE.load(std::sync::atomic::Ordering::Relaxed) != 0 {
+            reads::push(self, k);
+        }
         &self.codes[k]
+    }
+}
+
+/// The stream of texel reads a thread makes (bit-accurate mode: every read of a texel's raw
+/// words goes through [`Level::code`]): the addresses a texture cache sees, in the order the
+/// units read them. Off unless a thread records; then each read costs a thread-local push on
+/// that thread, and a thread-local check on the others.
+pub mod reads {
+    use super::Level;
+    use std::cell::RefCell;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    /// Threads recording now.
+    pub(super) static ACTIVE: AtomicUsize = AtomicUsize::new(0);
+
+    thread_local! {
+        static STREAM: RefCell<Option<Vec<Read>>> = const { RefCell::new(None) };
+    }
+
+    /// One texel read: the level (its address, which [`Read::is_of`] compares) and the
+    /// memory index in it (face-major: `face * width * height + j * width + i`).
+    #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+    pub struct Read {
+        level: usize,
+        pub index: u32,
+    }
+
+    impl Read {
+        /// Whether the read is of level `l`.
+        pub fn is_of(&self, l: &Level) -> bool {
+            self.level == l as *const Level as usize
+        }
+        /// A key of the level read, equal for reads of one level (its address).
+        pub fn level_key(&self) -> usize {
+            self.level
+        }
+    }
+
+    /// The key [`Read::level_key`] gives reads of `l`.
+    pub fn level_key(l: &Level) -> usize {
+        l as *const Level as usize
+    }
+
+    #[cold]
+    pub(super) fn push(l: &Level, k: usize) {
+        STREAM.with(|s| {
+            if let Some(v) = s.borrow_mut().as_mut() {
+                v.push(Read {
+                    level: level_key(l),
+                    index: k as u32,
+                });
+            }
+        });
+    }
+
+    /// Run `f` on this thread with its texel reads recorded: `f` gets a drain that hands it
+    /// the reads since the last drain, in order.
+    pub fn record<T>(f: impl FnOnce(&mut dyn FnMut() -> Vec<Read>) -> T) -> T {
+        STREAM.with(|s| *s.borrow_mut() = Some(Vec::new()));
+        ACTIVE.fetch_add(1, Ordering::Relaxed);
+        // stop recording however `f` ends
+        struct Stop;
+        impl Drop for Stop {
+            fn drop(&mut self) {
+                ACTIVE.fetch_sub(1, Ordering::Relaxed);
+                STREAM.with(|s| *s.borrow_mut() = None);
+            }
+        }
+        let _stop = Stop;
+        let mut drain = || {
+            STREAM.with(|s| {
+                s.borrow_mut()
+                    .as_mut()
+                    .map(std::mem::take)
+                    .unwrap_or_default()
+            })
+        };
+        f(&mut drain)
     }
 }
 

@@ -26,5 +26,6 @@ mod scratch;
 pub mod sim;
 pub mod study;
 pub mod sweep;
+pub mod texcache;
 pub mod trace;
 pub mod wang;

@@ -208,6 +208,9 @@ pub struct Bandwidth {
     /// The engine's texture memory: each texture (named after its first reader), its
     /// readers, stored bits and texel traffic per frame.
     pub texture_memory: BTreeMap<String, TextureStats>,
+    /// The texel traffic through `engine.texture_cache` (absent without one).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub texture_cache: Option<crate::texcache::CacheReport>,
     pub packet: PacketLayout,
 }
 

@@ -355,6 +355,22 @@ impl Prepared {
             .collect()
     }
 
+    /// The texel reads of the frame through `engine.texture_cache` (`None` without one):
+    /// every fragment in rasterization order, bit-accurate, on this thread.
+    pub fn texture_cache(&self) -> Option<crate::texcache::CacheReport> {
+        let c = self.engine.texture_cache.as_ref()?;
+        let front = self.front(Mode::BitAccurate, true);
+        let attrs = &self.engine.attributes;
+        let fill = |f: usize, t: &mut Token| front.fill(attrs, Mode::BitAccurate, f, t);
+        Some(crate::texcache::simulate(
+            c,
+            &self.engine.stages,
+            front.frags.len(),
+            self.engine.slots(),
+            &fill,
+        ))
+    }
+
     /// The framebuffer of `mode` after every pass: `first` is the first pass's outputs,
     /// `extra` the others' ([`Self::pass_outputs`]).
     pub fn framebuffer(
@@ -525,9 +541,15 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
     } = paths;
     let (w, h) = (p.scene.width, p.scene.height);
     // the passes after the first, in both modes, while the full fragment list is there
-    let (extra_exact, extra_bit) = rayon::join(
-        || p.pass_outputs(Mode::Exact),
-        || p.pass_outputs(Mode::BitAccurate),
+    // and the texel reads through the texture cache
+    let ((extra_exact, extra_bit), cache) = rayon::join(
+        || {
+            rayon::join(
+                || p.pass_outputs(Mode::Exact),
+                || p.pass_outputs(Mode::BitAccurate),
+            )
+        },
+        || p.texture_cache(),
     );
     let frags = &p.raster.fragments;
     // The two framebuffers one after the other, each mode's outputs freed once its ROP has
@@ -642,6 +664,7 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
             bits_per_texel: bit.texels.first().map_or(0, |t| t.1),
             textures: bit.texels.iter().cloned().collect(),
             texture_memory: engine::memory::stats(&bit.stages, fragments),
+            texture_cache: cache,
             packet,
         },
         passes,

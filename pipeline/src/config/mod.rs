@@ -488,6 +488,56 @@ pub struct EngineConfig {
     /// empty. At most [`MAX_PASSES`] in all.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub passes: Vec<PassConfig>,
+    /// A texture cache on the units' texel reads (`pipeline/src/texcache.rs`): the report's
+    /// `bandwidth.texture_cache` gives the texel bits the memory delivers through it. Default
+    /// none; left out of the canonical config, and so of the hash, when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub texture_cache: Option<TextureCacheConfig>,
+}
+
+/// A blocked texture cache (`pipeline/src/texcache.rs`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TextureCacheConfig {
+    /// Lines of one cache: a power of two, 1 to 65,536.
+    pub lines: u32,
+    /// Lines of a set: a power of two, at most `lines` and 64 (`lines`: fully associative).
+    pub ways: u32,
+    /// Texels a side of a line's square block: 1, 2, 4, 8 or 16.
+    pub block: u32,
+    /// One cache for every reading unit instead of one each (default false).
+    #[serde(default)]
+    pub shared: bool,
+}
+
+impl TextureCacheConfig {
+    /// `(field, message)` of the first value out of range.
+    pub fn check(&self) -> Result<(), (&'static str, String)> {
+        let pow2 = |x: u32| x.is_power_of_two();
+        if !pow2(self.lines) || self.lines > 1 << 16 {
+            return Err((
+                "lines",
+                format!("{}: expected a power of two from 1 to 65536", self.lines),
+            ));
+        }
+        if !pow2(self.ways) || self.ways > self.lines.min(64) {
+            return Err((
+                "ways",
+                format!(
+                    "{}: expected a power of two from 1 to {} (at most lines and 64)",
+                    self.ways,
+                    self.lines.min(64)
+                ),
+            ));
+        }
+        if !pow2(self.block) || self.block > 16 {
+            return Err((
+                "block",
+                format!("{}: expected 1, 2, 4, 8 or 16 texels", self.block),
+            ));
+        }
+        Ok(())
+    }
 }
 
 /// The most rendering passes of a frame (the first and `engine.passes`).

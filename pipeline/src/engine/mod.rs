@@ -57,6 +57,8 @@ pub struct Engine {
     pub rop: Rop,
     /// The passes after the first (`engine.passes`), in order.
     pub passes: Vec<Pass>,
+    /// The texture cache the report simulates on the texel reads (`engine.texture_cache`).
+    pub texture_cache: Option<crate::config::TextureCacheConfig>,
 }
 
 /// A rendering pass after the first: its output and the ROP state that writes it.
@@ -316,6 +318,10 @@ pub fn build(l: &Loaded, scene: &Scene) -> Result<Engine, InputError> {
             ),
         ));
     }
+    if let Some(c) = &cfg.texture_cache {
+        c.check()
+            .map_err(|(field, m)| l.error(&format!("engine.texture_cache.{field}"), field, m))?;
+    }
     let mut passes = Vec::with_capacity(cfg.passes.len());
     for (i, p) in cfg.passes.iter().enumerate() {
         let field = format!("engine.passes[{i}]");
@@ -340,6 +346,7 @@ pub fn build(l: &Loaded, scene: &Scene) -> Result<Engine, InputError> {
     Ok(Engine {
         rop,
         passes,
+        texture_cache: cfg.texture_cache,
         stages,
         signals,
         attributes: cfg.attributes.clone(),

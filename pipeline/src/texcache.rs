@@ -1,0 +1,277 @@
+//! A texture cache on the engine's texel reads: how many texel bits the memory must deliver
+//! once the units read through a cache (`engine.texture_cache`, `docs/units/texture_memory.md`,
+//! "Texture cache").
+//!
+//! The model is the blocked cache of Hakura and Gupta ("The design and analysis of a cache
+//! architecture for texture mapping", ISCA 1997) that texture units of the period built: a
+//! line holds a square block of `block x block` texels of one level (and face) of one
+//! texture, so the four taps of a bilinear read and the neighbours the next fragment reads
+//! fall in one or a few lines; `lines` lines in sets of `ways`, least recently used replaced.
+//! The set of a block interleaves its block coordinates in 2D (`set = (bx mod a) + a (by mod
+//! b)`, `a b` = sets), so that a square of neighbouring blocks maps to different sets.
+//!
+//! The address stream is the bit-accurate engine's own: every fragment in rasterization order
+//! through every stage, each texel read as the unit makes it (`bumpsim_hw::texture::reads`).
+//! A cache per reading unit (each texture unit of the period had its own), or one shared by
+//! all (`shared: true`). The cache changes traffic, not timing: a miss costs no cycles here
+//! (the units' latencies are constants; `docs/units/rop.md` and ARCHITECTURE.md say so).
+
+use crate::config::TextureCacheConfig;
+use bumpsim_hw::texture::reads::{self, Read};
+use bumpsim_hw::{Mode, Scratch, Stage, Texture, Token};
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+/// One cache's counts over a frame.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct CacheStats {
+    /// The units that read through it.
+    pub readers: Vec<String>,
+    /// Texel reads.
+    pub reads: u64,
+    /// Reads that missed (each fills a line).
+    pub misses: u64,
+    /// `1 - misses / reads` (1 without reads).
+    pub hit_rate: f64,
+    /// Texel bits the reads take without a cache: each read's texel.
+    pub uncached_bits: u64,
+    /// Texel bits the memory delivers: each miss a line of `block^2` texels.
+    pub fill_bits: u64,
+}
+
+/// The cache report of a frame.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CacheReport {
+    pub config: TextureCacheConfig,
+    /// Bits of one cache's data: `lines x block^2` texels of the widest texel it holds.
+    pub data_bits: Vec<u64>,
+    /// One per reading unit, or one (`shared`).
+    pub caches: Vec<CacheStats>,
+    pub uncached_bits: u64,
+    pub fill_bits: u64,
+    /// `fill_bits / uncached_bits`: the memory traffic the cache leaves.
+    pub traffic_ratio: f64,
+}
+
+/// A line's tag: the level's key, face and block coordinates.
+type Tag = (usize, u32, u32, u32);
+
+/// One set-associative cache with least-recently-used replacement.
+struct Cache {
+    ways: usize,
+    /// Per set, the tags and their last use, most recent last.
+    sets: Vec<Vec<Tag>>,
+    split: (u32, u32),
+    stats: CacheStats,
+    widest: u32,
+}
+
+impl Cache {
+    fn new(c: &TextureCacheConfig) -> Cache {
+        let sets = (c.lines / c.ways) as usize;
+        // a = 2^ceil(log2(sets) / 2), b = sets / a
+        let log = sets.trailing_zeros();
+        let a = 1u32 << log.div_ceil(2);
+        Cache {
+            ways: c.ways as usize,
+            sets: vec![Vec::with_capacity(c.ways as usize); sets],
+            split: (a, sets as u32 / a),
+            stats: CacheStats::default(),
+            widest: 0,
+        }
+    }
+
+    /// Read `tag`: a hit moves it to most recent; a miss fills it, evicting the least recent.
+    fn access(&mut self, tag: Tag) -> bool {
+        let (a, b) = self.split;
+        let set = (tag.2 % a + a * (tag.3 % b)) as usize;
+        let s = &mut self.sets[set];
+        if let Some(p) = s.iter().position(|t| *t == tag) {
+            let t = s.remove(p);
+            s.push(t);
+            return true;
+        }
+        if s.len() == self.ways {
+            s.remove(0);
+        }
+        s.push(tag);
+        false
+    }
+}
+
+/// What the cache needs of a level: its texture's bits per texel, its width and face size.
+struct LevelInfo {
+    bits: u32,
+    width: u32,
+    face: u32,
+}
+
+/// The texel reads of every fragment through `stages` (bit-accurate mode, rasterization
+/// order), through the caches `c` describes. `fill` builds fragment `f`'s token.
+pub fn simulate(
+    c: &TextureCacheConfig,
+    stages: &[Stage],
+    nfrag: usize,
+    slots: usize,
+    fill: &(dyn Fn(usize, &mut Token) + Sync),
+) -> CacheReport {
+    let mut levels: BTreeMap<usize, LevelInfo> = BTreeMap::new();
+    let mut textures: Vec<Vec<Arc<Texture>>> = Vec::with_capacity(stages.len());
+    for s in stages {
+        let ts: Vec<Arc<Texture>> = s.unit().textures().into_iter().map(|r| r.texture).collect();
+        for t in &ts {
+            for k in 0..t.levels() {
+                let l = t.level_at(k);
+                levels.insert(
+                    reads::level_key(l),
+                    LevelInfo {
+                        bits: t.bits_per_texel(),
+                        width: l.width(),
+                        face: l.width() * l.height(),
+                    },
+                );
+            }
+        }
+        textures.push(ts);
+    }
+    // the readers and their caches: one per unit with textures, or one for all
+    let readers: Vec<usize> = (0..stages.len())
+        .filter(|&i| !textures[i].is_empty())
+        .collect();
+    let ncaches = if c.shared { 1 } else { readers.len() };
+    let mut caches: Vec<Cache> = (0..ncaches.max(1)).map(|_| Cache::new(c)).collect();
+    let mut cache_of = vec![usize::MAX; stages.len()];
+    for (k, &i) in readers.iter().enumerate() {
+        let slot = if c.shared { 0 } else { k };
+        cache_of[i] = slot;
+        caches[slot].stats.readers.push(stages[i].name.clone());
+        let widest = textures[i].iter().map(|t| t.bits_per_texel()).max();
+        caches[slot].widest = caches[slot].widest.max(widest.unwrap_or(0));
+    }
+    let shift = c.block.trailing_zeros();
+    let line_texels = u64::from(c.block) * u64::from(c.block);
+    let mut t = Token {
+        id: 0,
+        x: 0,
+        y: 0,
+        live: true,
+        slots: vec![bumpsim_hw::Word::default(); slots],
+    };
+    let mut scratch = Scratch::default();
+    reads::record(|drain| {
+        for f in 0..nfrag {
+            t.live = true;
+            fill(f, &mut t);
+            for (i, s) in stages.iter().enumerate() {
+                s.eval_token(&mut t, Mode::BitAccurate, &mut scratch);
+                let got: Vec<Read> = drain();
+                let Some(cache) = caches.get_mut(cache_of[i]) else {
+                    continue;
+                };
+                for r in got {
+                    let Some(l) = levels.get(&r.level_key()) else {
+                        continue;
+                    };
+                    let face = r.index / l.face;
+                    let within = r.index % l.face;
+                    let (x, y) = (within % l.width, within / l.width);
+                    let hit = cache.access((r.level_key(), face, x >> shift, y >> shift));
+                    let st = &mut cache.stats;
+                    st.reads += 1;
+                    st.uncached_bits += u64::from(l.bits);
+                    if !hit {
+                        st.misses += 1;
+                        st.fill_bits += line_texels * u64::from(l.bits);
+                    }
+                }
+            }
+        }
+    });
+    let caches: Vec<Cache> = caches
+        .into_iter()
+        .filter(|k| !k.stats.readers.is_empty())
+        .collect();
+    let data_bits = caches
+        .iter()
+        .map(|k| u64::from(c.lines) * line_texels * u64::from(k.widest))
+        .collect();
+    let stats: Vec<CacheStats> = caches
+        .into_iter()
+        .map(|k| {
+            let mut s = k.stats;
+            s.hit_rate = if s.reads == 0 {
+                1.0
+            } else {
+                1.0 - s.misses as f64 / s.reads as f64
+            };
+            s
+        })
+        .collect();
+    let uncached_bits = stats.iter().map(|s| s.uncached_bits).sum();
+    let fill_bits = stats.iter().map(|s| s.fill_bits).sum();
+    CacheReport {
+        config: *c,
+        data_bits,
+        caches: stats,
+        uncached_bits,
+        fill_bits,
+        traffic_ratio: if uncached_bits == 0 {
+            0.0
+        } else {
+            fill_bits as f64 / uncached_bits as f64
+        },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cache(lines: u32, ways: u32) -> Cache {
+        Cache::new(&TextureCacheConfig {
+            lines,
+            ways,
+            block: 4,
+            shared: false,
+        })
+    }
+
+    #[test]
+    fn least_recently_used_is_evicted_within_a_set() {
+        // one set of two ways
+        let mut c = cache(2, 2);
+        let (a, b, d) = ((0, 0, 0, 0), (0, 0, 1, 0), (0, 0, 2, 0));
+        assert!(!c.access(a));
+        assert!(!c.access(b));
+        assert!(c.access(a)); // a is now the most recent
+        assert!(!c.access(d)); // evicts b
+        assert!(c.access(a));
+        assert!(!c.access(b));
+        // direct-mapped: 4 sets in a 2 x 2 tiling of blocks
+        let mut c = cache(4, 1);
+        assert_eq!(c.split, (2, 2));
+        for (bx, by) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+            assert!(!c.access((0, 0, bx, by)));
+        }
+        // the four neighbours sit in four sets: all hit
+        for (bx, by) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+            assert!(c.access((0, 0, bx, by)));
+        }
+        // (2, 0) maps onto (0, 0)'s set and evicts it
+        assert!(!c.access((0, 0, 2, 0)));
+        assert!(!c.access((0, 0, 0, 0)));
+        assert!(c.access((0, 0, 1, 1)));
+        // another level's block at the same coordinates is another line
+        assert!(!c.access((1, 0, 1, 1)));
+    }
+
+    #[test]
+    fn sets_tile_the_blocks_for_every_power_of_two() {
+        for log in 0..12 {
+            let c = cache(1 << log, 1);
+            assert_eq!(c.split.0 * c.split.1, 1 << log);
+            assert!(c.split.0 >= c.split.1 && c.split.0 <= 2 * c.split.1);
+        }
+    }
+}
