@@ -183,3 +183,27 @@ fn a_frame_sets_per_frame_inputs_only_and_bad_frames_are_errors_before_rendering
     assert!(o.stderr.contains("over all frames"), "{}", o.stderr);
     assert!(!out.exists(), "nothing is written on an error");
 }
+
+#[test]
+fn a_frame_uploads_the_textures_whose_words_changed() {
+    // the orbit rebuilds the palette's colours (frame work) and leaves the index texture as
+    // it is: nothing to upload
+    let (_, a, _) = animate(&SMALL64);
+    assert_eq!(a.upload_bits, 0);
+    assert!(a.per_frame.iter().all(|r| r.upload_bits == 0));
+    // Direct3D 6 bump mapping's environment map holds the lighting for one light: a frame
+    // whose light moved uploads it again (256 x 256 x 24 bits), one whose light stayed does not
+    let sets = vec![
+        "scene.width=64".to_string(),
+        "scene.height=64".to_string(),
+        "frames=[[\"scene.lights[0].kind=Directional(dir: (1.0, 1.0, 1.0))\"], [\"scene.lights[0].kind=Directional(dir: (1.0, 1.0, 1.0))\"], [\"scene.lights[0].kind=Directional(dir: (-1.0, 1.0, 1.0))\"]]".to_string(),
+    ];
+    let l = config::load(&config("d3d6-embm-quad"), &sets).unwrap();
+    let r = animation::run(&l).unwrap();
+    let a = r.first.report.animation.unwrap();
+    let up: Vec<u64> = a.per_frame.iter().map(|f| f.upload_bits).collect();
+    let map = r.first.report.bandwidth.texture_memory["shader.tex1"].stored_bits;
+    assert_eq!(map, 256 * 256 * 24);
+    assert_eq!(up, [0, map, 0, map]);
+    assert_eq!(a.upload_bits, 2 * map);
+}

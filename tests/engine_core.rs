@@ -406,3 +406,39 @@ fn bad_texture_caches_are_errors_naming_the_field() {
         .to_string();
     assert!(e.contains("size"), "{e}");
 }
+
+#[test]
+fn a_blocking_texture_caches_misses_stall_the_reader_and_leave_the_image() {
+    let run_with = |m: u32| {
+        let set =
+            format!("engine.texture_cache=Some((lines: 64, ways: 4, block: 4, miss_cycles: {m}))");
+        render(&load("sgi-teapot", &[&set]))
+    };
+    let plain = render(&load("sgi-teapot", &[]));
+    let (r0, r4, r16) = (run_with(0), run_with(4), run_with(16));
+    // traffic only: the timing of the engine without a cache
+    assert_eq!(r0.report.cycles, plain.report.cycles);
+    // the function does not change
+    assert_eq!(r16.image, plain.image);
+    let total = |r: &RunResult| r.report.cycles.total;
+    assert_eq!(
+        [total(&r0), total(&r4), total(&r16)],
+        [68_186, 183_515, 613_721]
+    );
+    // 36,193 misses: the fetch unit is busy at least their stalls, and the frame grows by at
+    // most them (it overlapped some with the scan's gaps)
+    for (r, m) in [(&r4, 4u64), (&r16, 16)] {
+        let busy = r.report.cycles.per_unit["fetch"].busy;
+        assert!(busy >= 36_193 * m, "{busy}");
+        assert!(total(r) - total(&r0) <= 36_193 * m);
+    }
+    let e = config::load(
+        &config("sgi-teapot"),
+        &["engine.texture_cache=Some((lines: 64, ways: 4, block: 4, miss_cycles: 5000))".into()],
+    )
+    .and_then(|l| run::run(&l, None).map(|_| ()))
+    .err()
+    .unwrap()
+    .to_string();
+    assert!(e.contains("engine.texture_cache.miss_cycles"), "{e}");
+}

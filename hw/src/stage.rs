@@ -161,6 +161,9 @@ pub struct Stage {
     max_in_flight: usize,
     /// The unit may kill fragments ([`Unit::can_kill`]).
     kills: bool,
+    /// Extra cycles of each fragment (by id) on the latency and the interval: the stall of a
+    /// blocking texture cache's misses ([`Stage::set_extra`]); none by default.
+    extra: Option<std::sync::Arc<[u32]>>,
     /// (cycle the result is ready, fragment id).
     in_flight: VecDeque<(u64, u64)>,
     next_accept: u64,
@@ -202,6 +205,7 @@ impl Stage {
             interval,
             max_in_flight,
             kills,
+            extra: None,
             in_flight: VecDeque::new(),
             next_accept: 0,
             counters: Counters::default(),
@@ -210,6 +214,13 @@ impl Stage {
 
     pub fn unit(&self) -> &dyn Unit {
         self.unit.as_ref()
+    }
+
+    /// Add `extra[id]` cycles to the latency and the interval of fragment `id` (a blocking
+    /// unit that waits for its texture cache's fills: it takes the next fragment only after);
+    /// a fragment beyond the list takes none.
+    pub fn set_extra(&mut self, extra: std::sync::Arc<[u32]>) {
+        self.extra = Some(extra);
     }
 
     /// Where each input port reads its word in the token.
@@ -308,10 +319,15 @@ impl Stage {
                 if probe {
                     accepted = Some((id, Vec::new()));
                 }
+                let extra = self
+                    .extra
+                    .as_ref()
+                    .and_then(|e| e.get(id as usize))
+                    .map_or(0, |&x| u64::from(x));
                 // saturating: a latency or interval from a config cannot wrap the clock
                 self.in_flight
-                    .push_back((cycle.saturating_add(self.latency), id));
-                self.next_accept = cycle.saturating_add(self.interval);
+                    .push_back((cycle.saturating_add(self.latency + extra), id));
+                self.next_accept = cycle.saturating_add(self.interval + extra);
                 self.counters.accepted += 1;
                 did_accept = true;
             }
@@ -430,6 +446,27 @@ mod tests {
             assert!(cycle < 10_000);
         }
         (out, stages)
+    }
+
+    #[test]
+    fn a_tokens_extra_cycles_delay_it_and_the_tokens_behind_it() {
+        // latency 2, interval 1; token 1 waits 3 more cycles (a blocking miss)
+        let mut s = Stage::new("s", inc(2, 1), vec![Wire::Slot(0)], vec![0]);
+        s.set_extra(std::sync::Arc::from(vec![0u32, 3, 0]));
+        let (mut input, mut output) = (Fifo::new(4), Fifo::new(4));
+        for id in 0..4 {
+            input.push(id);
+        }
+        let mut out = Vec::new();
+        for cycle in 0..20 {
+            s.tick(cycle, &mut input, &mut output, false);
+            if let Some(id) = output.pop() {
+                out.push((id, cycle));
+            }
+        }
+        // 0 in at 0, out at 2; 1 in at 1, out at 1 + 2 + 3 = 6; 2 in at 1 + 1 + 3 = 5, out at
+        // 7; 3 (beyond the list: no extra) in at 6, out at 8
+        assert_eq!(out, [(0, 2), (1, 6), (2, 7), (3, 8)]);
     }
 
     #[test]

@@ -309,6 +309,22 @@ impl Texture {
         t
     }
 
+    /// Whether `o` stores the same words: shape, texel encoding, every level's size and raw
+    /// words, and the palette (what the host must upload again when they differ).
+    pub fn same_contents(&self, o: &Texture) -> bool {
+        self.shape == o.shape
+            && self.lanes == o.lanes
+            && self.texel == o.texel
+            && self.palette == o.palette
+            && self.palette_words == o.palette_words
+            && self.levels.len() == o.levels.len()
+            && self
+                .levels
+                .iter()
+                .zip(&o.levels)
+                .all(|(a, b)| a.width == b.width && a.height == b.height && a.codes == b.codes)
+    }
+
     fn level(name: &str, texel: &Encoding, faces: Vec<Texels>, lanes: u8) -> Result<Level, String> {
         let (width, height) = (faces[0].width, faces[0].height);
         let log_w = check_side(&format!("texture {name} width"), width)?;

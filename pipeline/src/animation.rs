@@ -1,7 +1,9 @@
 //! A config's animation (`frames`, [`crate::config::frames`]): every frame rendered as a run of
 //! its own, one after another, and the report of frame 0 extended with a row per frame: the
 //! frame's cycles and its per-frame work (the palette builds and table loads the hardware pays
-//! again each frame), its fragments and texture traffic, its error against the reference, and
+//! again each frame), its fragments and texture traffic, the texture bits the host uploads
+//! again (the textures whose words changed from the frame before: a light-dependent map), its
+//! error against the reference, and
 //! the temporal flicker of the bit-accurate image against the frame before; and over all frames,
 //! the ringing of the bit-accurate path against the exact-mode path ([`Ringing`]).
 
@@ -19,6 +21,8 @@ pub struct AnimationReport {
     pub total_cycles: u64,
     /// Per-frame work (cycles before the first triangle) of all frames.
     pub frame_work_cycles: u64,
+    /// Texture bits uploaded over all frames ([`FrameRow::upload_bits`]).
+    pub upload_bits: u64,
     /// The largest flicker between two successive frames.
     pub max_flicker_lsb: f64,
     /// Temporal ringing of the bit-accurate path against the exact-mode path (the same
@@ -108,6 +112,10 @@ pub struct FrameRow {
     pub killed: u64,
     /// Texel bits read in the frame, all textures.
     pub texture_bits: u64,
+    /// Bits of the textures the host uploads before the frame: every texture whose stored
+    /// words differ from the frame before's (a light-dependent map rebuilt for the moved
+    /// light; a new texture); 0 for frame 0, whose textures are resident.
+    pub upload_bits: u64,
     /// Bit-accurate image against the float reference.
     pub total_psnr_db: f64,
     pub total_max_lsb: f64,
@@ -136,7 +144,7 @@ pub fn run(l: &Loaded) -> Result<Animation, InputError> {
             images: Vec::new(),
         });
     }
-    let mut rows = vec![row(0, &[], &first, None)];
+    let mut rows = vec![row(0, &[], &first, None, None)];
     let mut images = Vec::new();
     let mut prev: Option<RunResult> = None;
     let mut ringing = RingingSum::default();
@@ -148,6 +156,7 @@ pub fn run(l: &Loaded) -> Result<Animation, InputError> {
             k,
             &l.config.frames[k - 1],
             &r,
+            Some(before),
             Some(flicker(before, &r)),
         ));
         images.push(r.image.clone());
@@ -160,6 +169,10 @@ pub fn run(l: &Loaded) -> Result<Animation, InputError> {
             .iter()
             .map(|r| r.frame_work)
             .fold(0, u64::saturating_add),
+        upload_bits: rows
+            .iter()
+            .map(|r| r.upload_bits)
+            .fold(0, u64::saturating_add),
         max_flicker_lsb: rows
             .iter()
             .filter_map(|r| r.flicker_lsb)
@@ -170,7 +183,26 @@ pub fn run(l: &Loaded) -> Result<Animation, InputError> {
     Ok(Animation { first, images })
 }
 
-fn row(k: usize, sets: &[String], r: &RunResult, flicker_lsb: Option<f64>) -> FrameRow {
+/// The stored bits of `b`'s textures that `a` does not hold with the same words.
+fn upload_bits(a: &RunResult, b: &RunResult) -> u64 {
+    b.textures
+        .iter()
+        .filter(|(name, t)| {
+            !a.textures
+                .iter()
+                .any(|(n, u)| n == name && (std::sync::Arc::ptr_eq(t, u) || t.same_contents(u)))
+        })
+        .map(|(_, t)| t.stored_bits())
+        .fold(0, u64::saturating_add)
+}
+
+fn row(
+    k: usize,
+    sets: &[String],
+    r: &RunResult,
+    prev: Option<&RunResult>,
+    flicker_lsb: Option<f64>,
+) -> FrameRow {
     let rep = &r.report;
     FrameRow {
         frame: k as u32,
@@ -185,6 +217,7 @@ fn row(k: usize, sets: &[String], r: &RunResult, flicker_lsb: Option<f64>) -> Fr
             .values()
             .map(|t| t.bits_per_frame)
             .fold(0, u64::saturating_add),
+        upload_bits: prev.map_or(0, |p| upload_bits(p, r)),
         total_psnr_db: rep.error.total.psnr_db,
         total_max_lsb: rep.error.total.max_abs_lsb,
         flicker_lsb,

@@ -41,6 +41,9 @@ pub struct RunResult {
     /// Wall time of each phase, in order (for `render --timings`; never in the report, which
     /// stays deterministic).
     pub timings: Timings,
+    /// The engine's texture memory by texture name: what an animation compares from frame to
+    /// frame (the textures the host uploads again).
+    pub textures: Vec<(String, Arc<bumpsim_hw::Texture>)>,
 }
 
 /// Build the scene a config describes. Errors name the config file and the field. Its
@@ -267,7 +270,11 @@ impl Prepared {
     }
 
     /// The simulator's view of the frame: triangles, their setup cycles, the token filler.
-    fn workload<'a>(&'a self, fill: &'a sim::FillToken<'a>) -> sim::Workload<'a> {
+    fn workload<'a>(
+        &'a self,
+        fill: &'a sim::FillToken<'a>,
+        stalls: crate::texcache::Timing,
+    ) -> sim::Workload<'a> {
         let ranges = triangle_ranges(&self.raster.fragments, self.scene.mesh.triangles.len());
         let setup = self
             .raster
@@ -282,6 +289,7 @@ impl Prepared {
             slots: self.engine.signals.len(),
             attributes: self.engine.attributes.len(),
             fifo_depth: self.fifo_depth,
+            extra: stalls,
         }
     }
 
@@ -293,12 +301,28 @@ impl Prepared {
         let attrs = &self.engine.attributes;
         let fill = |f: usize, t: &mut Token| front.fill(attrs, Mode::BitAccurate, f, t);
         let output = self.engine.output.wire;
-        sim::run(&self.engine.stages, output, self.workload(&fill), trace)
+        let stalls = self.timed_cache().map(|c| c.1).unwrap_or_default();
+        sim::run(
+            &self.engine.stages,
+            output,
+            self.workload(&fill, stalls),
+            trace,
+        )
     }
 
     /// The timed, bit-accurate run of the frame as a render takes it: the timing model and the
     /// function concurrently, the outputs as raw lanes of the output port.
     pub fn simulate_lanes(&self, trace: Option<(u64, u64)>) -> sim::Timed {
+        let stalls = self.timed_cache().map(|c| c.1).unwrap_or_default();
+        self.simulate_lanes_with(trace, stalls)
+    }
+
+    /// [`Self::simulate_lanes`] with the texture cache's stalls given.
+    fn simulate_lanes_with(
+        &self,
+        trace: Option<(u64, u64)>,
+        stalls: crate::texcache::Timing,
+    ) -> sim::Timed {
         let front = self.front(Mode::BitAccurate, true);
         let attrs = &self.engine.attributes;
         let fill = |f: usize, t: &mut Token| front.fill(attrs, Mode::BitAccurate, f, t);
@@ -307,7 +331,7 @@ impl Prepared {
             &self.engine.stages,
             out.wire,
             &out.spec,
-            self.workload(&fill),
+            self.workload(&fill, stalls),
             trace,
         )
     }
@@ -357,7 +381,7 @@ impl Prepared {
 
     /// The texel reads of the frame through `engine.texture_cache` (`None` without one):
     /// every fragment in rasterization order, bit-accurate, on this thread.
-    pub fn texture_cache(&self) -> Option<crate::texcache::CacheReport> {
+    pub fn texture_cache(&self) -> Option<(crate::texcache::CacheReport, crate::texcache::Timing)> {
         let c = self.engine.texture_cache.as_ref()?;
         let front = self.front(Mode::BitAccurate, true);
         let attrs = &self.engine.attributes;
@@ -369,6 +393,13 @@ impl Prepared {
             self.engine.slots(),
             &fill,
         ))
+    }
+
+    /// [`Self::texture_cache`] when its misses stall the units (`miss_cycles > 0`): the timed
+    /// run needs it first.
+    fn timed_cache(&self) -> Option<(crate::texcache::CacheReport, crate::texcache::Timing)> {
+        let timed = self.engine.texture_cache.is_some_and(|c| c.miss_cycles > 0);
+        timed.then(|| self.texture_cache()).flatten()
     }
 
     /// The framebuffer of `mode` after every pass: `first` is the first pass's outputs,
@@ -425,17 +456,33 @@ impl Prepared {
         trace: Option<(u64, u64)>,
         early: Early,
     ) -> Paths {
-        let ((sim, t_sim), ((exact, t_exact), (reference, t_ref))) = rayon::join(
-            || timed_call(|| self.simulate_lanes(trace)),
+        // a texture cache whose misses stall the units runs before the timed run, which
+        // takes the stalls; one that counts traffic only runs beside the paths
+        let (pre, stalls) = match self.timed_cache() {
+            Some((report, stalls)) => (Some(report), stalls),
+            None => (None, Vec::new()),
+        };
+        let untimed_cache = pre.is_none();
+        let ((sim, t_sim), (((exact, t_exact), (reference, t_ref)), late)) = rayon::join(
+            || timed_call(|| self.simulate_lanes_with(trace, stalls)),
             || {
                 rayon::join(
-                    || timed_call(|| self.evaluate_exact()),
-                    || match early {
-                        Some((img, _)) => (img, None),
-                        None => {
-                            let (img, t) = timed_call(|| self.reference(r));
-                            (img, Some(t))
-                        }
+                    || {
+                        rayon::join(
+                            || timed_call(|| self.evaluate_exact()),
+                            || match early {
+                                Some((img, _)) => (img, None),
+                                None => {
+                                    let (img, t) = timed_call(|| self.reference(r));
+                                    (img, Some(t))
+                                }
+                            },
+                        )
+                    },
+                    || {
+                        untimed_cache
+                            .then(|| self.texture_cache().map(|c| c.0))
+                            .flatten()
                     },
                 )
             },
@@ -446,6 +493,7 @@ impl Prepared {
             sim,
             exact,
             reference,
+            cache: pre.or(late),
             walls,
         }
     }
@@ -456,6 +504,8 @@ pub struct Paths {
     pub sim: sim::Timed,
     pub exact: sim::Outputs,
     pub reference: Arc<reference::ReferenceImage>,
+    /// The texture cache's report (`engine.texture_cache`).
+    pub cache: Option<crate::texcache::CacheReport>,
     /// The wall time of each path run here (they overlap; the reference is missing when it
     /// was rendered beside the assets).
     pub walls: Vec<(&'static str, std::time::Duration)>,
@@ -537,19 +587,14 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
         sim: result,
         exact: exact_out,
         reference: refimg,
+        cache,
         ..
     } = paths;
     let (w, h) = (p.scene.width, p.scene.height);
     // the passes after the first, in both modes, while the full fragment list is there
-    // and the texel reads through the texture cache
-    let ((extra_exact, extra_bit), cache) = rayon::join(
-        || {
-            rayon::join(
-                || p.pass_outputs(Mode::Exact),
-                || p.pass_outputs(Mode::BitAccurate),
-            )
-        },
-        || p.texture_cache(),
+    let (extra_exact, extra_bit) = rayon::join(
+        || p.pass_outputs(Mode::Exact),
+        || p.pass_outputs(Mode::BitAccurate),
     );
     let frags = &p.raster.fragments;
     // The two framebuffers one after the other, each mode's outputs freed once its ROP has
@@ -696,6 +741,7 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
         report,
         trace,
         timings,
+        textures: engine::memory::textures(&p.engine.stages),
     })
 }
 

@@ -67,6 +67,9 @@ pub struct Workload<'a> {
     /// probes show.
     pub attributes: usize,
     pub fifo_depth: usize,
+    /// Per stage, the extra cycles of each fragment (a blocking texture cache's miss stalls,
+    /// [`bumpsim_hw::Stage::set_extra`]); empty or `None`: none.
+    pub extra: Vec<Option<std::sync::Arc<[u32]>>>,
 }
 
 /// Fills a token with a fragment's interpolated attributes (and id and position); called from
@@ -326,6 +329,11 @@ fn timing(
 ) -> (CycleReport, Vec<(usize, Probe)>, usize) {
     let nfrag = w.fragments();
     let mut stages = timing_twins(engine);
+    for (s, e) in stages.iter_mut().zip(&w.extra) {
+        if let Some(e) = e {
+            s.set_extra(e.clone());
+        }
+    }
     let nstage = stages.len();
     let mut fifos: Vec<Fifo> = (0..=nstage).map(|_| Fifo::new(w.fifo_depth)).collect();
     // saturating sums and additions of the config-derived cycle counts (frame work, setup):

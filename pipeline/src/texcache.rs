@@ -13,8 +13,9 @@
 //! The address stream is the bit-accurate engine's own: every fragment in rasterization order
 //! through every stage, each texel read as the unit makes it (`bumpsim_hw::texture::reads`).
 //! A cache per reading unit (each texture unit of the period had its own), or one shared by
-//! all (`shared: true`). The cache changes traffic, not timing: a miss costs no cycles here
-//! (the units' latencies are constants; `docs/units/rop.md` and ARCHITECTURE.md say so).
+//! all (`shared: true`). With `miss_cycles`, a miss stalls its reader that many cycles (a
+//! blocking cache: latency and interval of the fragment grow by the stall; [`Timing`]), and
+//! the timed run takes them; by default the cache changes traffic only.
 
 use crate::config::TextureCacheConfig;
 use bumpsim_hw::texture::reads::{self, Read};
@@ -107,15 +108,25 @@ struct LevelInfo {
     face: u32,
 }
 
+/// The stall cycles of each fragment in each stage (`None` for a stage without a miss), for
+/// the timing model (`sim::Workload::extra`): `miss_cycles` per miss of its reads.
+pub type Timing = Vec<Option<Arc<[u32]>>>;
+
 /// The texel reads of every fragment through `stages` (bit-accurate mode, rasterization
-/// order), through the caches `c` describes. `fill` builds fragment `f`'s token.
+/// order), through the caches `c` describes, and with `c.miss_cycles` their stalls. `fill`
+/// builds fragment `f`'s token.
 pub fn simulate(
     c: &TextureCacheConfig,
     stages: &[Stage],
     nfrag: usize,
     slots: usize,
     fill: &(dyn Fn(usize, &mut Token) + Sync),
-) -> CacheReport {
+) -> (CacheReport, Timing) {
+    let mut stall: Vec<Vec<u32>> = if c.miss_cycles > 0 {
+        vec![Vec::new(); stages.len()]
+    } else {
+        Vec::new()
+    };
     let mut levels: BTreeMap<usize, LevelInfo> = BTreeMap::new();
     let mut textures: Vec<Vec<Arc<Texture>>> = Vec::with_capacity(stages.len());
     for s in stages {
@@ -169,6 +180,7 @@ pub fn simulate(
                 let Some(cache) = caches.get_mut(cache_of[i]) else {
                     continue;
                 };
+                let mut missed = 0u32;
                 for r in got {
                     let Some(l) = levels.get(&r.level_key()) else {
                         continue;
@@ -183,6 +195,13 @@ pub fn simulate(
                     if !hit {
                         st.misses += 1;
                         st.fill_bits += line_texels * u64::from(l.bits);
+                        missed = missed.saturating_add(1);
+                    }
+                }
+                if let Some(s) = stall.get_mut(i) {
+                    if missed > 0 {
+                        s.resize(nfrag, 0);
+                        s[f] = missed.saturating_mul(c.miss_cycles);
                     }
                 }
             }
@@ -210,7 +229,11 @@ pub fn simulate(
         .collect();
     let uncached_bits = stats.iter().map(|s| s.uncached_bits).sum();
     let fill_bits = stats.iter().map(|s| s.fill_bits).sum();
-    CacheReport {
+    let timing = stall
+        .into_iter()
+        .map(|s| (!s.is_empty()).then(|| Arc::from(s)))
+        .collect();
+    let report = CacheReport {
         config: *c,
         data_bits,
         caches: stats,
@@ -221,7 +244,8 @@ pub fn simulate(
         } else {
             fill_bits as f64 / uncached_bits as f64
         },
-    }
+    };
+    (report, timing)
 }
 
 #[cfg(test)]
@@ -234,6 +258,7 @@ mod tests {
             ways,
             block: 4,
             shared: false,
+            miss_cycles: 0,
         })
     }
 

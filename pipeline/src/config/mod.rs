@@ -508,6 +508,10 @@ pub struct TextureCacheConfig {
     /// One cache for every reading unit instead of one each (default false).
     #[serde(default)]
     pub shared: bool,
+    /// Cycles a miss stalls the reading unit (a blocking cache: the fragment waits for the
+    /// fill and the unit takes no other meanwhile), 0 to 4096; default 0, traffic only.
+    #[serde(default)]
+    pub miss_cycles: u32,
 }
 
 impl TextureCacheConfig {
@@ -528,6 +532,12 @@ impl TextureCacheConfig {
                     self.ways,
                     self.lines.min(64)
                 ),
+            ));
+        }
+        if self.miss_cycles > 4096 {
+            return Err((
+                "miss_cycles",
+                format!("{}: expected 0 to 4096", self.miss_cycles),
             ));
         }
         if !pow2(self.block) || self.block > 16 {

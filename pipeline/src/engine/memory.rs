@@ -66,6 +66,17 @@ pub struct TextureStats {
     pub bits_per_frame: u64,
 }
 
+/// The textures the stages read, by name (each once, in name order).
+pub fn textures(stages: &[Stage]) -> Vec<(String, Arc<Texture>)> {
+    let mut out: BTreeMap<String, Arc<Texture>> = BTreeMap::new();
+    for s in stages {
+        for r in s.unit().textures() {
+            out.entry(r.texture.name().to_string()).or_insert(r.texture);
+        }
+    }
+    out.into_iter().collect()
+}
+
 /// The textures the stages read, keyed by texture name, with `fragments` fragments per frame
 /// through every stage.
 pub fn stats(stages: &[Stage], fragments: u64) -> BTreeMap<String, TextureStats> {
