@@ -432,6 +432,19 @@ fn a_blocking_texture_caches_misses_stall_the_reader_and_leave_the_image() {
         assert!(busy >= 36_193 * m, "{busy}");
         assert!(total(r) - total(&r0) <= 36_193 * m);
     }
+    // a prefetching unit (Igehy et al. 1998) with a FIFO as deep as the latency hides 64-cycle
+    // misses: the frame takes what it takes without them (68,186 cycles; the FIFO's buffering
+    // even absorbs some of the downstream stalls)
+    let pre = |c: &str| {
+        let set = format!("engine.texture_cache=Some((lines: 64, ways: 4, block: 4, {c}))");
+        render(&load("sgi-teapot", &[&set])).report.cycles.total
+    };
+    assert_eq!(pre("miss_cycles: 64, prefetch: 64"), 66_897);
+    // a shallow FIFO does not cover the latency
+    assert_eq!(pre("miss_cycles: 64, prefetch: 8"), 216_377);
+    // two memory cycles a fill: 36,193 fills take 72,386 cycles of memory, more than the frame
+    let bound = pre("miss_cycles: 64, prefetch: 64, fill_cycles: 2");
+    assert!((72_386..=90_000).contains(&bound), "{bound}");
     let e = config::load(
         &config("sgi-teapot"),
         &["engine.texture_cache=Some((lines: 64, ways: 4, block: 4, miss_cycles: 5000))".into()],
@@ -441,4 +454,15 @@ fn a_blocking_texture_caches_misses_stall_the_reader_and_leave_the_image() {
     .unwrap()
     .to_string();
     assert!(e.contains("engine.texture_cache.miss_cycles"), "{e}");
+    for (c, field) in [
+        ("prefetch: 2000", "prefetch"),
+        ("fill_cycles: 0", "fill_cycles"),
+    ] {
+        let set = format!("engine.texture_cache=Some((lines: 64, ways: 4, block: 4, {c}))");
+        let e = run::run(&load("sgi-teapot", &[&set]), None)
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(e.contains(&format!("engine.texture_cache.{field}")), "{e}");
+    }
 }

@@ -161,13 +161,32 @@ pub struct Stage {
     max_in_flight: usize,
     /// The unit may kill fragments ([`Unit::can_kill`]).
     kills: bool,
-    /// Extra cycles of each fragment (by id) on the latency and the interval: the stall of a
-    /// blocking texture cache's misses ([`Stage::set_extra`]); none by default.
-    extra: Option<std::sync::Arc<[u32]>>,
+    /// How the unit's texture-cache misses delay its fragments ([`Stage::set_misses`]); none
+    /// by default.
+    misses: Option<MissTiming>,
+    /// The cycle the memory can start the next fill (a prefetching unit's fills queue).
+    mem_free: u64,
     /// (cycle the result is ready, fragment id).
     in_flight: VecDeque<(u64, u64)>,
     next_accept: u64,
     pub counters: Counters,
+}
+
+/// How texture-cache misses delay a stage's fragments (the timing of `engine.texture_cache`).
+#[derive(Debug, Clone)]
+pub struct MissTiming {
+    /// Misses of each fragment, by id.
+    pub misses: std::sync::Arc<[u32]>,
+    /// Cycles from a fill's request to its data.
+    pub latency: u32,
+    /// Cycles the memory is busy with one fill (fills one after another).
+    pub occupancy: u32,
+    /// `None`: a blocking unit (a fragment with `n` misses waits `n x latency`, and the unit
+    /// takes no other meanwhile). `Some(d)`: a prefetching unit (Igehy, Eldridge and
+    /// Proudfoot 1998) whose fragments wait in a `d`-deep FIFO: the fills are requested when
+    /// the fragment arrives, queue at the memory (`occupancy` each), and the fragment leaves
+    /// the cycle after its last fill's data or after its own latency, whichever is later.
+    pub prefetch: Option<u32>,
 }
 
 /// Port buffers for [`Stage::eval_token`], one per thread that evaluates tokens.
@@ -205,7 +224,8 @@ impl Stage {
             interval,
             max_in_flight,
             kills,
-            extra: None,
+            misses: None,
+            mem_free: 0,
             in_flight: VecDeque::new(),
             next_accept: 0,
             counters: Counters::default(),
@@ -216,11 +236,47 @@ impl Stage {
         self.unit.as_ref()
     }
 
-    /// Add `extra[id]` cycles to the latency and the interval of fragment `id` (a blocking
-    /// unit that waits for its texture cache's fills: it takes the next fragment only after);
-    /// a fragment beyond the list takes none.
-    pub fn set_extra(&mut self, extra: std::sync::Arc<[u32]>) {
-        self.extra = Some(extra);
+    /// Delay each fragment by its texture-cache misses as `m` says (a fragment beyond
+    /// `m.misses` has none). A prefetching unit keeps up to its FIFO's depth in flight.
+    pub fn set_misses(&mut self, m: MissTiming) {
+        if let Some(d) = m.prefetch {
+            self.max_in_flight = self.max_in_flight.max(d.max(1) as usize);
+        }
+        self.misses = Some(m);
+    }
+
+    /// The cycle fragment `id`, accepted at `cycle`, is ready and the next cycle the unit may
+    /// accept, after its misses.
+    fn schedule(&mut self, cycle: u64, id: u64) -> (u64, u64) {
+        let plain = (
+            cycle.saturating_add(self.latency),
+            cycle.saturating_add(self.interval),
+        );
+        let Some(m) = &self.misses else {
+            return plain;
+        };
+        let n = m.misses.get(id as usize).map_or(0, |&x| u64::from(x));
+        if n == 0 {
+            return plain;
+        }
+        match m.prefetch {
+            // the fragment waits for its fills one after another, the unit with it
+            None => {
+                let extra = n.saturating_mul(u64::from(m.latency));
+                (plain.0.saturating_add(extra), plain.1.saturating_add(extra))
+            }
+            // the fills are requested on arrival and queue at the memory; the fragment waits
+            // in the FIFO for the last and leaves the cycle after it (or after its latency)
+            Some(_) => {
+                let mut done = cycle;
+                for _ in 0..n {
+                    let issue = self.mem_free.max(cycle);
+                    self.mem_free = issue.saturating_add(u64::from(m.occupancy));
+                    done = issue.saturating_add(u64::from(m.latency));
+                }
+                (plain.0.max(done.saturating_add(1)), plain.1)
+            }
+        }
     }
 
     /// Where each input port reads its word in the token.
@@ -319,15 +375,10 @@ impl Stage {
                 if probe {
                     accepted = Some((id, Vec::new()));
                 }
-                let extra = self
-                    .extra
-                    .as_ref()
-                    .and_then(|e| e.get(id as usize))
-                    .map_or(0, |&x| u64::from(x));
                 // saturating: a latency or interval from a config cannot wrap the clock
-                self.in_flight
-                    .push_back((cycle.saturating_add(self.latency + extra), id));
-                self.next_accept = cycle.saturating_add(self.interval + extra);
+                let (ready, next) = self.schedule(cycle, id);
+                self.in_flight.push_back((ready, id));
+                self.next_accept = next;
                 self.counters.accepted += 1;
                 did_accept = true;
             }
@@ -451,22 +502,36 @@ mod tests {
     #[test]
     fn a_tokens_extra_cycles_delay_it_and_the_tokens_behind_it() {
         // latency 2, interval 1; token 1 waits 3 more cycles (a blocking miss)
-        let mut s = Stage::new("s", inc(2, 1), vec![Wire::Slot(0)], vec![0]);
-        s.set_extra(std::sync::Arc::from(vec![0u32, 3, 0]));
-        let (mut input, mut output) = (Fifo::new(4), Fifo::new(4));
-        for id in 0..4 {
-            input.push(id);
-        }
-        let mut out = Vec::new();
-        for cycle in 0..20 {
-            s.tick(cycle, &mut input, &mut output, false);
-            if let Some(id) = output.pop() {
-                out.push((id, cycle));
+        let run = |prefetch: Option<u32>| {
+            let mut s = Stage::new("s", inc(2, 1), vec![Wire::Slot(0)], vec![0]);
+            s.set_misses(MissTiming {
+                misses: std::sync::Arc::from(vec![0u32, 1, 2, 0]),
+                latency: 3,
+                occupancy: 2,
+                prefetch,
+            });
+            let (mut input, mut output) = (Fifo::new(8), Fifo::new(8));
+            for id in 0..5 {
+                input.push(id);
             }
-        }
-        // 0 in at 0, out at 2; 1 in at 1, out at 1 + 2 + 3 = 6; 2 in at 1 + 1 + 3 = 5, out at
-        // 7; 3 (beyond the list: no extra) in at 6, out at 8
-        assert_eq!(out, [(0, 2), (1, 6), (2, 7), (3, 8)]);
+            let mut out = Vec::new();
+            for cycle in 0..30 {
+                s.tick(cycle, &mut input, &mut output, false);
+                if let Some(id) = output.pop() {
+                    out.push(cycle);
+                    assert_eq!(id as usize, out.len() - 1, "in order");
+                }
+            }
+            out
+        };
+        // blocking, latency 2, interval 1: 0 in at 0, out at 2; 1 (one miss) in at 1, out at
+        // 1 + 2 + 3 = 6, next in at 1 + 1 + 3 = 5; 2 (two misses) in at 5, out at 5 + 2 + 6 =
+        // 13, next at 12; 3 in at 12, out at 14; 4 (beyond the list: none) in at 13, out 15
+        assert_eq!(run(None), [2, 6, 13, 14, 15]);
+        // prefetching (a 4-deep FIFO): 1 in at 1 requests a fill (memory busy 1-3, data at 4),
+        // leaves at 5; 2 in at 2 requests two (issued at 3 and 5, data at 8), leaves at 9; 3
+        // and 4 follow in order
+        assert_eq!(run(Some(4)), [2, 5, 9, 10, 11]);
     }
 
     #[test]

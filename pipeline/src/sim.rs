@@ -67,9 +67,9 @@ pub struct Workload<'a> {
     /// probes show.
     pub attributes: usize,
     pub fifo_depth: usize,
-    /// Per stage, the extra cycles of each fragment (a blocking texture cache's miss stalls,
-    /// [`bumpsim_hw::Stage::set_extra`]); empty or `None`: none.
-    pub extra: Vec<Option<std::sync::Arc<[u32]>>>,
+    /// Per stage, how its texture-cache misses delay its fragments
+    /// ([`bumpsim_hw::Stage::set_misses`]); empty or `None`: not at all.
+    pub extra: Vec<Option<bumpsim_hw::stage::MissTiming>>,
 }
 
 /// Fills a token with a fragment's interpolated attributes (and id and position); called from
@@ -331,7 +331,7 @@ fn timing(
     let mut stages = timing_twins(engine);
     for (s, e) in stages.iter_mut().zip(&w.extra) {
         if let Some(e) = e {
-            s.set_extra(e.clone());
+            s.set_misses(e.clone());
         }
     }
     let nstage = stages.len();

@@ -13,9 +13,11 @@
 //! The address stream is the bit-accurate engine's own: every fragment in rasterization order
 //! through every stage, each texel read as the unit makes it (`bumpsim_hw::texture::reads`).
 //! A cache per reading unit (each texture unit of the period had its own), or one shared by
-//! all (`shared: true`). With `miss_cycles`, a miss stalls its reader that many cycles (a
-//! blocking cache: latency and interval of the fragment grow by the stall; [`Timing`]), and
-//! the timed run takes them; by default the cache changes traffic only.
+//! all (`shared: true`). With `miss_cycles`, misses delay their fragments in the timed run
+//! ([`Timing`], `bumpsim_hw::stage::MissTiming`): a blocking unit waits `miss_cycles` per miss
+//! and takes no other fragment meanwhile; a prefetching one (`prefetch`: its fragment FIFO's
+//! depth) requests the fills on arrival, queues them at the memory (`fill_cycles` each) and
+//! lets the fragment wait in the FIFO; by default the cache changes traffic only.
 
 use crate::config::TextureCacheConfig;
 use bumpsim_hw::texture::reads::{self, Read};
@@ -108,9 +110,10 @@ struct LevelInfo {
     face: u32,
 }
 
-/// The stall cycles of each fragment in each stage (`None` for a stage without a miss), for
-/// the timing model (`sim::Workload::extra`): `miss_cycles` per miss of its reads.
-pub type Timing = Vec<Option<Arc<[u32]>>>;
+/// The misses of each fragment in each stage (`None` for a stage without a miss), for the
+/// timing model (`sim::Workload::extra`, with the cache's `miss_cycles`, `fill_cycles` and
+/// `prefetch`).
+pub type Timing = Vec<Option<bumpsim_hw::stage::MissTiming>>;
 
 /// The texel reads of every fragment through `stages` (bit-accurate mode, rasterization
 /// order), through the caches `c` describes, and with `c.miss_cycles` their stalls. `fill`
@@ -201,7 +204,7 @@ pub fn simulate(
                 if let Some(s) = stall.get_mut(i) {
                     if missed > 0 {
                         s.resize(nfrag, 0);
-                        s[f] = missed.saturating_mul(c.miss_cycles);
+                        s[f] = missed;
                     }
                 }
             }
@@ -231,7 +234,14 @@ pub fn simulate(
     let fill_bits = stats.iter().map(|s| s.fill_bits).sum();
     let timing = stall
         .into_iter()
-        .map(|s| (!s.is_empty()).then(|| Arc::from(s)))
+        .map(|s| {
+            (!s.is_empty()).then(|| bumpsim_hw::stage::MissTiming {
+                misses: Arc::from(s),
+                latency: c.miss_cycles,
+                occupancy: c.fill_cycles,
+                prefetch: (c.prefetch > 0).then_some(c.prefetch),
+            })
+        })
         .collect();
     let report = CacheReport {
         config: *c,
@@ -259,6 +269,8 @@ mod tests {
             block: 4,
             shared: false,
             miss_cycles: 0,
+            fill_cycles: 1,
+            prefetch: 0,
         })
     }
 

@@ -508,10 +508,24 @@ pub struct TextureCacheConfig {
     /// One cache for every reading unit instead of one each (default false).
     #[serde(default)]
     pub shared: bool,
-    /// Cycles a miss stalls the reading unit (a blocking cache: the fragment waits for the
-    /// fill and the unit takes no other meanwhile), 0 to 4096; default 0, traffic only.
+    /// Cycles from a fill's request to its data, 0 to 4096; default 0: the cache counts
+    /// traffic only. A blocking unit (`prefetch: 0`) waits this long per miss and takes no
+    /// other fragment meanwhile.
     #[serde(default)]
     pub miss_cycles: u32,
+    /// Cycles the texture memory is busy with one fill (fills one after another), 1 to 4096
+    /// (default 1): what a prefetching unit's misses queue for.
+    #[serde(default = "one_u32")]
+    pub fill_cycles: u32,
+    /// The depth of a prefetching unit's fragment FIFO (Igehy, Eldridge and Proudfoot 1998:
+    /// fills requested when the fragment arrives, the fragment waiting in the FIFO for its
+    /// data while later ones go on), 1 to 1024; 0 (default): a blocking unit.
+    #[serde(default)]
+    pub prefetch: u32,
+}
+
+fn one_u32() -> u32 {
+    1
 }
 
 impl TextureCacheConfig {
@@ -538,6 +552,18 @@ impl TextureCacheConfig {
             return Err((
                 "miss_cycles",
                 format!("{}: expected 0 to 4096", self.miss_cycles),
+            ));
+        }
+        if !(1..=4096).contains(&self.fill_cycles) {
+            return Err((
+                "fill_cycles",
+                format!("{}: expected 1 to 4096", self.fill_cycles),
+            ));
+        }
+        if self.prefetch > 1024 {
+            return Err((
+                "prefetch",
+                format!("{}: expected 0 (blocking) to 1024", self.prefetch),
             ));
         }
         if !pow2(self.block) || self.block > 16 {
