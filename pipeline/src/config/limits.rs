@@ -381,6 +381,27 @@ pub fn estimate(c: &Config) -> Estimate {
         pixels * (1.0 + lights) * (units + 2.0) * cost::CYCLE_STAGE_S,
         0.0,
     );
+    // every pass after the first evaluates the engine again in both modes and keeps its
+    // outputs until the ROP has written them
+    let passes = c.engine.passes.len() as f64;
+    if passes > 0.0 {
+        e.add(
+            format!(
+                "engine.passes: {passes} more x {pixels} pixels x {units} engine units x 2 modes"
+            ),
+            2.0 * passes * pixels * units.max(1.0) * cost::PIXEL_UNIT_S,
+            passes * pixels * cost::PIXEL_BYTES,
+        );
+    }
+    // the texture cache evaluates the engine once more, on one thread, and keeps each
+    // fragment's misses per stage for the timing model
+    if c.engine.texture_cache.is_some() {
+        e.add(
+            format!("engine.texture_cache: {pixels} pixels x {units} engine units, one thread"),
+            pixels * units.max(1.0) * cost::PIXEL_UNIT_S,
+            pixels * units * 4.0,
+        );
+    }
     let (vertices, uv_area) = mesh_size(&s.mesh);
     e.add(
         "scene.mesh".into(),
