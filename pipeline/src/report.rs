@@ -333,6 +333,39 @@ impl Report {
                 t.readers.join(", ")
             );
         }
+        if let Some(c) = &b.texture_cache {
+            let k = &c.config;
+            let timing = match (k.miss_cycles, k.prefetch) {
+                (0, _) => "traffic only".to_string(),
+                (m, 0) => format!("blocking, {m}-cycle misses"),
+                (m, d) => format!(
+                    "prefetching, {d}-deep FIFO, {m}-cycle misses, {} cycles a fill",
+                    k.fill_cycles
+                ),
+            };
+            let _ = writeln!(
+                s,
+                "  texture cache {} lines x {}x{} texels, {}-way{} ({timing}): fills {} bits for {} uncached ({:.3}x)",
+                k.lines,
+                k.block,
+                k.block,
+                k.ways,
+                if k.shared { ", shared" } else { "" },
+                c.fill_bits,
+                c.uncached_bits,
+                c.traffic_ratio
+            );
+            for q in &c.caches {
+                let _ = writeln!(
+                    s,
+                    "    {:<18} {} reads, {} misses, {:.1} % hits",
+                    q.readers.join(", "),
+                    q.reads,
+                    q.misses,
+                    100.0 * q.hit_rate
+                );
+            }
+        }
         let p = &self.passes;
         let _ = writeln!(
             s,
