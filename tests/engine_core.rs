@@ -347,6 +347,21 @@ fn a_texture_cache_sees_every_texel_read_and_fills_a_block_per_miss() {
 }
 
 #[test]
+fn a_row_of_blocks_that_the_tiled_index_crowds_into_few_sets_spreads_with_xor() {
+    // emboss at 512 x 512: its 256 x 256 map twice magnified, read in scanlines; a block row
+    // is 64 blocks, which the tiled index puts in 8 of the 32 two-way sets
+    let misses = |index: &str| {
+        let c = cache_of(
+            "emboss",
+            &format!("(lines: 64, ways: 2, block: 4, index: {index})"),
+            &["scene.width=512", "scene.height=512"],
+        );
+        c["caches"][0]["misses"].as_u64().unwrap()
+    };
+    assert_eq!((misses("Tiled"), misses("Xor")), (47_662, 23_506));
+}
+
+#[test]
 fn a_shared_texture_cache_takes_every_readers_reads_in_fragment_order() {
     let each = cache_of(
         "quantized-bunny-wood-eq2",

@@ -7,8 +7,9 @@
 //! line holds a square block of `block x block` texels of one level (and face) of one
 //! texture, so the four taps of a bilinear read and the neighbours the next fragment reads
 //! fall in one or a few lines; `lines` lines in sets of `ways`, least recently used replaced.
-//! The set of a block interleaves its block coordinates in 2D (`set = (bx mod a) + a (by mod
-//! b)`, `a b` = sets), so that a square of neighbouring blocks maps to different sets.
+//! The set of a block interleaves its block coordinates in 2D (`Tiled`: `set = (bx mod a) +
+//! a (by mod b)`, `a b` = sets), so that a square of neighbouring blocks maps to different
+//! sets, or (`Xor`) XORs `bx` with `by a`, so that a row of blocks uses every set too.
 //!
 //! The address stream is the bit-accurate engine's own: every fragment in rasterization order
 //! through every stage, each texel read as the unit makes it (`bumpsim_hw::texture::reads`).
@@ -66,6 +67,7 @@ struct Cache {
     /// Per set, the tags and their last use, most recent last.
     sets: Vec<Vec<Tag>>,
     split: (u32, u32),
+    index: crate::config::SetIndex,
     stats: CacheStats,
     widest: u32,
 }
@@ -80,6 +82,7 @@ impl Cache {
             ways: c.ways as usize,
             sets: vec![Vec::with_capacity(c.ways as usize); sets],
             split: (a, sets as u32 / a),
+            index: c.index,
             stats: CacheStats::default(),
             widest: 0,
         }
@@ -88,7 +91,10 @@ impl Cache {
     /// Read `tag`: a hit moves it to most recent; a miss fills it, evicting the least recent.
     fn access(&mut self, tag: Tag) -> bool {
         let (a, b) = self.split;
-        let set = (tag.2 % a + a * (tag.3 % b)) as usize;
+        let set = match self.index {
+            crate::config::SetIndex::Tiled => (tag.2 % a + a * (tag.3 % b)) as usize,
+            crate::config::SetIndex::Xor => ((tag.2 ^ tag.3.wrapping_mul(a)) % (a * b)) as usize,
+        };
         let s = &mut self.sets[set];
         if let Some(p) = s.iter().position(|t| *t == tag) {
             let t = s.remove(p);
@@ -268,6 +274,7 @@ mod tests {
             ways,
             block: 4,
             shared: false,
+            index: crate::config::SetIndex::Tiled,
             miss_cycles: 0,
             fill_cycles: 1,
             prefetch: 0,

@@ -508,6 +508,9 @@ pub struct TextureCacheConfig {
     /// One cache for every reading unit instead of one each (default false).
     #[serde(default)]
     pub shared: bool,
+    /// How a block's coordinates choose its set (default `Tiled`).
+    #[serde(default)]
+    pub index: SetIndex,
     /// Cycles from a fill's request to its data, 0 to 4096; default 0: the cache counts
     /// traffic only. A blocking unit (`prefetch: 0`) waits this long per miss and takes no
     /// other fragment meanwhile.
@@ -526,6 +529,18 @@ pub struct TextureCacheConfig {
 
 fn one_u32() -> u32 {
     1
+}
+
+/// The set of a texture cache's block `(bx, by)` among `a b` sets (`a = 2^ceil(log2(sets) / 2)`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum SetIndex {
+    /// `(bx mod a) + a (by mod b)`: a square of `a x b` neighbouring blocks in distinct sets,
+    /// but a row of blocks in only `a` of them.
+    #[default]
+    Tiled,
+    /// `(bx xor (by * a)) mod sets`: the low bits of `bx` and `by` spread over every set, so a
+    /// row of blocks, a column and a square all use them all.
+    Xor,
 }
 
 impl TextureCacheConfig {
