@@ -9,6 +9,8 @@
 use crate::rtl_cmd::{engine_unit, generate, module_name};
 use crate::Failure;
 use bumpsim_hw::rtl::synth::{self, Synth};
+use bumpsim_hw::units::RopDatapath;
+use bumpsim_hw::Unit;
 use bumpsim_pipeline::config::Loaded;
 use bumpsim_pipeline::engine;
 use bumpsim_pipeline::report::{Gates, VERSION};
@@ -28,6 +30,8 @@ struct Row {
     generated: Option<(f64, f64)>,
     /// `Err`: no generator for this kind (or its configuration), with the reason.
     synth: Result<Synth, String>,
+    /// A pass's ROP (`Engine::rops`), not a config unit.
+    rop: bool,
 }
 
 /// Synthesise every unit with a generator (one yosys process per unit, concurrently); the
@@ -52,12 +56,18 @@ fn synthesise(l: &Loaded) -> Result<Vec<Row>, Failure> {
             Ok(None) => Err("no Verilog generator for this kind".to_string()),
             Err(e) => Err(format!("not generated: {e}")),
         };
-        units.push((uc.name.clone(), budget, other, generated));
+        units.push((uc.name.clone(), budget, other, generated, false));
+    }
+    // every pass's ROP (`rtl::rop`), rows `rop`, `rop1`, ...: the figures beside the total
+    for (label, _, rop) in eng.rops() {
+        let u = RopDatapath::new(rop);
+        let rtl = bumpsim_hw::rtl::rop::rtl(&u, &module_name(&label));
+        units.push((label, u.gates(table), None, Ok(rtl), true));
     }
     let synthesised: Vec<Option<Result<Synth, String>>> = std::thread::scope(|sc| {
         let jobs: Vec<_> = units
             .iter()
-            .map(|(name, _, _, g)| {
+            .map(|(name, _, _, g, _)| {
                 let d = dir.path().join(name);
                 g.as_ref()
                     .ok()
@@ -74,7 +84,7 @@ fn synthesise(l: &Loaded) -> Result<Vec<Row>, Failure> {
             .collect()
     });
     let mut rows = Vec::new();
-    for ((name, budget, other, generated), s) in units.into_iter().zip(synthesised) {
+    for ((name, budget, other, generated, rop), s) in units.into_iter().zip(synthesised) {
         let synth = match (generated, s) {
             (Ok(_), Some(Ok(s))) => Ok(s),
             (Ok(_), Some(Err(e))) => {
@@ -89,6 +99,7 @@ fn synthesise(l: &Loaded) -> Result<Vec<Row>, Failure> {
             model_tables: budget.tables(),
             generated: other,
             synth,
+            rop,
         });
     }
     Ok(rows)
@@ -178,7 +189,11 @@ fn text(l: &Loaded, g: &Gates, rows: Option<&[Row]>) -> String {
     for (name, u) in &g.per_unit {
         let _ = write!(s, "  {:<14} {:<16} {:>10.1}", name, u.kind, u.total);
         if let Some(rows) = rows {
-            match rows.iter().find(|r| &r.name == name).map(|r| (r, &r.synth)) {
+            match rows
+                .iter()
+                .find(|r| !r.rop && &r.name == name)
+                .map(|r| (r, &r.synth))
+            {
                 Some((r, Ok(y))) => {
                     let (ml, sl) = (r.logic_model(), y.ge - y.table_ge);
                     let _ = write!(
@@ -211,7 +226,25 @@ fn text(l: &Loaded, g: &Gates, rows: Option<&[Row]>) -> String {
     let _ = writeln!(s, "  {:<31} {:>10.1}", "total", g.total);
     let _ = writeln!(s, "  (beside the total: rop {:.1} GE)", g.rop.total);
     if let Some(rows) = rows {
-        let done: Vec<&Row> = rows.iter().filter(|r| r.synth.is_ok()).collect();
+        // each pass's ROP state synthesised (the report's figure is their union)
+        for r in rows.iter().filter(|r| r.rop) {
+            if let Ok(y) = &r.synth {
+                let _ = writeln!(
+                    s,
+                    "  {:<14} {:<16} {:>10.1} {:>10.1} {:>11.1} {:>11.1} {:>7.3}",
+                    r.name,
+                    "rop",
+                    r.model,
+                    y.ge,
+                    r.model,
+                    y.ge,
+                    r.model / y.ge
+                );
+            }
+        }
+    }
+    if let Some(rows) = rows {
+        let done: Vec<&Row> = rows.iter().filter(|r| !r.rop && r.synth.is_ok()).collect();
         let (m, y) = done.iter().fold((0.0, 0.0), |(m, y), r| {
             let s = r.synth.as_ref().map_or(0.0, |s| s.ge);
             (m + r.generated.map_or(r.model, |g| g.0), y + s)
@@ -233,11 +266,24 @@ pub fn execute(l: &Loaded, synth_on: bool, json_out: bool) -> Result<(), Failure
     if json_out {
         let mut v = serde_json::to_value(&g).map_err(|e| Failure::Internal(e.to_string()))?;
         if let (Some(rows), Some(per_unit)) = (&rows, v["per_unit"].as_object_mut()) {
-            for r in rows {
+            for r in rows.iter().filter(|r| !r.rop) {
                 if let Some(u) = per_unit.get_mut(&r.name) {
                     u["synth"] = synth_json(r);
                 }
             }
+        }
+        if let Some(rows) = &rows {
+            // each pass's ROP state: `rop`, `rop1`, ... (the budget above is their union)
+            let rops: serde_json::Map<String, Value> = rows
+                .iter()
+                .filter(|r| r.rop)
+                .map(|r| {
+                    let mut j = synth_json(r);
+                    j["model_ge"] = json!(round2(r.model));
+                    (r.name.clone(), j)
+                })
+                .collect();
+            v["rop"]["synth"] = Value::Object(rops);
         }
         let out = json!({
             "version": VERSION,

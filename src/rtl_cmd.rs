@@ -22,7 +22,8 @@ use bumpsim_hw::rtl::{
 };
 use bumpsim_hw::units::{
     BlendKind, BumpBlend, BumpBlendParams, CullFragment, EmbossFilter, FbBlend, LightState,
-    Normalize, Perturb, QuantizedFetch, QuatFrame, ShadeInputs, ShadeParams, TexFetch, TexramFrame,
+    Normalize, Perturb, QuantizedFetch, QuatFrame, RopDatapath, ShadeInputs, ShadeParams, TexFetch,
+    TexramFrame,
 };
 use bumpsim_hw::{Mode, PortSpec, Sampler, Unit, Word};
 use bumpsim_pipeline::config::{InputError, Loaded};
@@ -342,6 +343,73 @@ pub(crate) fn generate(
     Ok(Some(g))
 }
 
+/// Co-simulation and synthesis of one generated module, appended to its line of the listing.
+struct Check<'a> {
+    out: &'a Path,
+    /// Vectors to co-simulate (0: none).
+    cosim: usize,
+    synth: bool,
+}
+
+impl Check<'_> {
+    /// Check module `name` (`rtl`, of the unit `model` whose estimate is `(total, tables)`
+    /// GE), vectors from `seed`; a mismatch or a failing tool is added to `failures`.
+    #[allow(clippy::too_many_arguments)]
+    fn run(
+        &self,
+        name: &str,
+        rtl: &RtlUnit,
+        model: &dyn Unit,
+        (model_ge, tables): (f64, f64),
+        seed: u64,
+        line: &mut String,
+        failures: &mut Vec<String>,
+    ) -> Result<(), Failure> {
+        if self.cosim > 0 {
+            let (ins, outs) = vectors::vectors(model, self.cosim, seed);
+            let dir = self.out.join("cosim").join(name);
+            testbench::write(&dir, rtl, &ins, &outs)
+                .map_err(|e| Failure::Internal(format!("{}: {e}", dir.display())))?;
+            match testbench::run_iverilog(&dir) {
+                Ok(r) => {
+                    let _ = write!(
+                        line,
+                        "  cosim {} vectors, {} mismatches",
+                        r.vectors, r.mismatches
+                    );
+                    if r.mismatches > 0 || r.latency_errors > 0 || r.vectors != self.cosim {
+                        failures.push(format!("{name}: co-simulation {r:?}"));
+                    }
+                }
+                Err(e) => failures.push(format!("{name}: {e}")),
+            }
+        }
+        if self.synth {
+            match synth::synthesise(rtl, &self.out.join("synth").join(name)) {
+                Ok(s) => {
+                    let _ = write!(
+                        line,
+                        "  yosys {:.1} GE; logic model {:.1} / yosys {:.1} = {:.3}",
+                        s.ge,
+                        model_ge - tables,
+                        s.ge - s.table_ge,
+                        (model_ge - tables) / (s.ge - s.table_ge),
+                    );
+                    if tables > 0.0 {
+                        let _ = write!(
+                            line,
+                            "; tables model {tables:.1} (loadable) / yosys ROM {:.1}",
+                            s.table_ge
+                        );
+                    }
+                }
+                Err(e) => failures.push(format!("{name}: {e}")),
+            }
+        }
+        Ok(())
+    }
+}
+
 fn regs_text(u: &RtlUnit) -> String {
     let mut s = String::from("# addr width value what (host-loaded registers, cfg_* port)\n");
     for (i, c) in u.config.iter().enumerate() {
@@ -389,6 +457,11 @@ pub fn execute(l: &Loaded, out: &Path, cosim: usize, synth_on: bool) -> Result<(
     let mut lines = Vec::new();
     let mut failures = Vec::new();
     let mut units = Vec::new();
+    let check = Check {
+        out,
+        cosim,
+        synth: synth_on,
+    };
     for (i, uc) in l.config.engine.units.iter().enumerate() {
         let unit = engine_unit(eng, &uc.name)?;
         let top = module_name(&uc.name);
@@ -434,8 +507,8 @@ pub fn execute(l: &Loaded, out: &Path, cosim: usize, synth_on: bool) -> Result<(
             let _ = write!(line, "  frame {f} clocks (model {})", unit.frame_cycles());
         }
         if cosim > 0 {
-            let (ins, outs) = vectors::vectors(model, cosim, 0x13_0000 + i as u64);
             // the engine's own unit on the same words
+            let (ins, outs) = vectors::vectors(model, cosim, 0x13_0000 + i as u64);
             let differ = ins
                 .iter()
                 .zip(&outs)
@@ -451,46 +524,16 @@ pub fn execute(l: &Loaded, out: &Path, cosim: usize, synth_on: bool) -> Result<(
                     uc.name
                 ));
             }
-            let dir = out.join("cosim").join(&uc.name);
-            testbench::write(&dir, &g.rtl, &ins, &outs)
-                .map_err(|e| Failure::Internal(format!("{}: {e}", dir.display())))?;
-            match testbench::run_iverilog(&dir) {
-                Ok(r) => {
-                    let _ = write!(
-                        line,
-                        "  cosim {} vectors, {} mismatches",
-                        r.vectors, r.mismatches
-                    );
-                    if r.mismatches > 0 || r.latency_errors > 0 || r.vectors != cosim {
-                        failures.push(format!("{}: co-simulation {r:?}", uc.name));
-                    }
-                }
-                Err(e) => failures.push(format!("{}: {e}", uc.name)),
-            }
         }
-        if synth_on {
-            match synth::synthesise(&g.rtl, &out.join("synth").join(&uc.name)) {
-                Ok(s) => {
-                    let tables = unit.gates(&cost).tables();
-                    let _ = write!(
-                        line,
-                        "  yosys {:.1} GE; logic model {:.1} / yosys {:.1} = {:.3}",
-                        s.ge,
-                        model_ge - tables,
-                        s.ge - s.table_ge,
-                        (model_ge - tables) / (s.ge - s.table_ge),
-                    );
-                    if tables > 0.0 {
-                        let _ = write!(
-                            line,
-                            "; tables model {tables:.1} (loadable) / yosys ROM {:.1}",
-                            s.table_ge
-                        );
-                    }
-                }
-                Err(e) => failures.push(format!("{}: {e}", uc.name)),
-            }
-        }
+        check.run(
+            &uc.name,
+            &g.rtl,
+            model,
+            (model_ge, unit.gates(&cost).tables()),
+            0x13_0000 + i as u64,
+            &mut line,
+            &mut failures,
+        )?;
         let names = |ps: &[PortSpec]| ps.iter().map(|p| p.name.clone()).collect();
         units.push(rtl_top::UnitRtl {
             name: uc.name.clone(),
@@ -498,6 +541,33 @@ pub fn execute(l: &Loaded, out: &Path, cosim: usize, synth_on: bool) -> Result<(
             outputs: names(model.outputs()),
             rtl: g.rtl,
         });
+        lines.push(line);
+    }
+    for (k, (label, pass, rop)) in eng.rops().into_iter().enumerate() {
+        let file = &label;
+        let u = RopDatapath::new(rop);
+        let rtl = rtl::rop::rtl(&u, &module_name(&label));
+        let ge = u.gates(table).total();
+        write(out, &format!("{file}.v"), &rtl.verilog)?;
+        write(out, &format!("{file}.regs"), &regs_text(&rtl))?;
+        let mut line = format!(
+            "{:<12} {:<14} {file}.v  latency {}  registers {}  model {ge:.1} GE  (pass {pass:?}: {} -> {} bits)",
+            label,
+            u.kind(),
+            rtl.latency,
+            rtl.config.len(),
+            rop.color(),
+            rop.params().color_bits,
+        );
+        check.run(
+            &label,
+            &rtl,
+            &u,
+            (ge, 0.0),
+            0x13_8000 + k as u64,
+            &mut line,
+            &mut failures,
+        )?;
         lines.push(line);
     }
     let all = l.config.engine.units.len();

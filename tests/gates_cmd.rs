@@ -196,6 +196,10 @@ fn synth_puts_yosys_beside_the_model_for_every_generated_unit() {
         );
         assert!((num(s, "logic_model_ge") / num(s, "logic_synth_ge") - ratio).abs() < 1e-3);
     }
+    // the ROP (one pass: its budget is the report's figure), in the same band (measured 1.025)
+    let rop = at(&g, "gates.rop.synth.rop");
+    assert!((num(rop, "model_ge") - num(&g, "gates.rop.total")).abs() < 0.01);
+    assert!((0.9..=1.1).contains(&num(rop, "logic_ratio")), "rop: {rop}");
     // a unit whose function has no generator (the palette builder's EnvMap) is named with
     // the reason
     let g = gates_json("quantized-vase-envmap", &["--synth"]);

@@ -112,3 +112,37 @@ fn the_emboss_filter_cosimulates_rebuilt_from_its_config() {
     let regs = std::fs::read_to_string(out.join("emboss.regs")).unwrap();
     assert!(regs.contains("0 16 0x255b N_z"), "{regs}");
 }
+
+/// Every pass's ROP state as a module with its state in host registers: Tarini's eq. (2) as
+/// passes, the base colour (depth Less, written) and the blend `(1 - dst) src + alpha dst`
+/// with depth Equal and no depth write.
+#[test]
+fn every_pass_has_a_rop_module_cosimulated_with_its_state() {
+    let Some((_s, out, o)) = rtl_cosim("quantized-bunny-wood-eq2", "300", "rop") else {
+        return;
+    };
+    for (label, file) in [("rop ", "rop.v"), ("rop.1 ", "rop.1.v")] {
+        let line = o
+            .stdout
+            .lines()
+            .find(|l| l.starts_with(label))
+            .unwrap_or_else(|| panic!("{label}: {}", o.stdout));
+        assert!(
+            line.contains(file) && line.contains("cosim 300 vectors, 0 mismatches"),
+            "{line}"
+        );
+    }
+    // the blend pass: depth function Equal (2), no depth write, alpha read (4 colour lanes),
+    // factors OneMinusDstColor (5) and SrcAlpha (6)
+    let regs = std::fs::read_to_string(out.join("rop.1.regs")).unwrap();
+    let values: Vec<&str> = regs
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| l.split_whitespace().nth(2).unwrap())
+        .collect();
+    assert_eq!(values, ["0x2", "0x0", "0x5", "0x6"], "{regs}");
+    let v = std::fs::read_to_string(out.join("rop.1.v")).unwrap();
+    assert!(v.contains("input wire [7:0] c_3"), "alpha lane");
+    let first = std::fs::read_to_string(out.join("rop.regs")).unwrap();
+    assert_eq!(first.lines().filter(|l| !l.starts_with('#')).count(), 2);
+}

@@ -229,6 +229,15 @@ pub fn reciprocal(o: i128, u_max: i128) -> (i128, u32) {
         .unwrap()
 }
 
+/// Greatest common divisor (`gcd(a, 0) = a`).
+pub fn gcd(a: u128, b: u128) -> u128 {
+    if b == 0 {
+        a
+    } else {
+        gcd(b, a % b)
+    }
+}
+
 /// Smallest number of bits that holds `v` unsigned (0 for 0).
 pub fn bit_length(v: u128) -> u32 {
     128 - v.leading_zeros()

@@ -149,7 +149,7 @@ fn read(m: &mut Module, bits: &str, enc: &Encoding, fm: Fmt) -> Fx {
                 r
             };
             let d = (1i128 << n) - 1;
-            let g = gcd(fm.s, d);
+            let g = crate::arith::gcd(fm.s as u128, d as u128) as i128;
             let x = scale(m, &c, fm.s / g);
             if d == g {
                 x
@@ -168,14 +168,6 @@ fn read(m: &mut Module, bits: &str, enc: &Encoding, fm: Fmt) -> Fx {
         }
     };
     clamp(m, &v, Some((-fm.s, 0)), Some((fm.s, 0)))
-}
-
-fn gcd(a: i128, b: i128) -> i128 {
-    if b == 0 {
-        a
-    } else {
-        gcd(b, a % b)
-    }
 }
 
 /// The 8-bit RGBA constant word `w` as four register values `k 2^f`.

@@ -43,6 +43,7 @@ pub mod perturb;
 pub mod power;
 pub mod quantized;
 pub mod quat;
+pub mod rop;
 pub mod shade;
 pub mod synth;
 pub mod testbench;

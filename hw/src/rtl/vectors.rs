@@ -115,10 +115,44 @@ fn inputs(ports: &[PortSpec], i: usize, r: &mut SplitMix) -> Vec<Word> {
         .collect()
 }
 
-/// `n` input vectors for `unit` from `seed`, with the model's bit-accurate outputs.
+/// `n` input vectors for `unit` from `seed`, with the model's bit-accurate outputs (the
+/// ROP's datapath gets its depths paired, [`rop_vectors`]).
 pub fn vectors(unit: &dyn Unit, n: usize, seed: u64) -> (Vec<Vec<Word>>, Vec<Vec<Word>>) {
+    if unit.as_any().is::<crate::units::RopDatapath>() {
+        return rop_vectors(unit, n, seed);
+    }
     let mut r = SplitMix(seed);
     let ins: Vec<Vec<Word>> = (0..n).map(|i| inputs(unit.inputs(), i, &mut r)).collect();
+    with_outputs(unit, ins)
+}
+
+/// The vectors of the ROP's datapath ([`crate::units::RopDatapath`]: ports `c`, `z`, `dc`,
+/// `dz`), whose depth tests need equal and adjacent depths: in every other vector the
+/// stored depth is the fragment's own, one code above or one below it (clamped), so that
+/// `Equal`, `LEqual` and `GEqual` see both outcomes with every colour kind.
+fn rop_vectors(unit: &dyn Unit, n: usize, seed: u64) -> (Vec<Vec<Word>>, Vec<Vec<Word>>) {
+    let mut r = SplitMix(seed);
+    let ins: Vec<Vec<Word>> = (0..n)
+        .map(|i| {
+            let mut w = inputs(unit.inputs(), i, &mut r);
+            let enc = unit.inputs()[3].enc;
+            let z = w[1].lanes[0].raw;
+            let dz = match r.range(0, 5) {
+                0 | 1 => z,
+                2 => z + 1,
+                3 => z - 1,
+                _ => w[3].lanes[0].raw,
+            };
+            let dz = dz.clamp(enc.format.min_raw(), enc.format.max_raw());
+            w[3] = Word::from_raw(&enc, &[dz]);
+            w
+        })
+        .collect();
+    with_outputs(unit, ins)
+}
+
+/// The model's bit-accurate outputs for `ins`.
+fn with_outputs(unit: &dyn Unit, ins: Vec<Vec<Word>>) -> (Vec<Vec<Word>>, Vec<Vec<Word>>) {
     let outs = ins
         .iter()
         .map(|w| {

@@ -518,7 +518,9 @@ pub(crate) fn pipelined(b: &PaletteBuilder, t: &CostTable) -> Option<GateBudget>
             // each class brought to the common reading: the factors not common to all, and
             // the alignment to the finest fraction
             let top = classes.iter().map(|c| c.1).max().unwrap();
-            let common = classes.iter().fold(classes[0].2, |a, c| gcd(a, c.2));
+            let common = classes
+                .iter()
+                .fold(classes[0].2, |a, c| crate::arith::gcd(a, c.2));
             let mut kmax = 1;
             for (c, &(_, fr, fac)) in classes.iter().enumerate() {
                 let k = (fac / common) << (top - fr);
@@ -581,12 +583,4 @@ pub(crate) fn pipelined(b: &PaletteBuilder, t: &CostTable) -> Option<GateBudget>
         g.add(format!("lane {j} entry clamp {we}"), 1, t.clamp(we));
     }
     Some(g)
-}
-
-fn gcd(a: u128, b: u128) -> u128 {
-    if b == 0 {
-        a
-    } else {
-        gcd(b, a % b)
-    }
 }

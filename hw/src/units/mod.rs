@@ -33,6 +33,8 @@ pub use fb_blend::{BlendEquation, FbBlend};
 pub mod combiner;
 pub mod rop;
 pub use rop::{Rop, RopParams};
+pub mod rop_datapath;
+pub use rop_datapath::RopDatapath;
 pub mod perturb;
 pub mod texture_shader;
 pub use perturb::Perturb;

@@ -266,9 +266,21 @@ impl Rop {
     pub fn params(&self) -> &RopParams {
         &self.params
     }
+    /// The encoding of the incoming colour.
+    pub fn color(&self) -> Encoding {
+        self.color
+    }
+    /// The encoding of the incoming alpha, if the unit reads it.
+    pub fn alpha(&self) -> Option<Encoding> {
+        self.alpha
+    }
+    /// Bits of a depth code.
+    pub fn depth_bits(&self) -> u32 {
+        self.depth_bits
+    }
 
     /// The largest framebuffer code.
-    fn one(&self) -> i64 {
+    pub fn one(&self) -> i64 {
         (1i64 << self.params.color_bits) - 1
     }
 
@@ -315,18 +327,38 @@ impl Rop {
         depth: u32,
         c: &Word,
     ) -> Outcome {
+        let (outcome, px) = self.resolve(mode, depth, c, &fb.pixel(i), fb.depth[i]);
+        if outcome == Outcome::Written {
+            if self.params.depth_write {
+                fb.depth[i] = depth;
+            }
+            fb.set_pixel(i, px);
+            fb.written[i] = true;
+        }
+        outcome
+    }
+
+    /// What the unit does with one fragment of colour `c` and depth code `depth` on a pixel
+    /// holding `dst` at depth `dst_depth`, in `mode`: the outcome and the pixel it writes
+    /// (`dst` unchanged unless written). A pure function: [`Rop::write`] applies it to the
+    /// framebuffer, [`crate::units::RopDatapath`] is it as a unit (its Verilog,
+    /// co-simulation and synthesis).
+    pub fn resolve(
+        &self,
+        mode: Mode,
+        depth: u32,
+        c: &Word,
+        dst: &Pixel,
+        dst_depth: u32,
+    ) -> (Outcome, Pixel) {
         if let Some((func, reference)) = self.params.alpha_test {
             if !func.test(self.alpha_code(c, mode), i64::from(reference)) {
-                return Outcome::AlphaFailed;
+                return (Outcome::AlphaFailed, *dst);
             }
         }
-        if !self.params.depth.test(depth, fb.depth[i]) {
-            return Outcome::DepthFailed;
+        if !self.params.depth.test(depth, dst_depth) {
+            return (Outcome::DepthFailed, *dst);
         }
-        if self.params.depth_write {
-            fb.depth[i] = depth;
-        }
-        let dst = fb.pixel(i);
         let x: [f64; 3] = std::array::from_fn(|l| c.lanes[l].x.clamp(0.0, 1.0));
         let (mut px, one) = (Pixel::default(), self.one());
         match self.params.blend {
@@ -373,62 +405,149 @@ impl Rop {
                 }
             }
         }
-        fb.set_pixel(i, px);
-        fb.written[i] = true;
-        Outcome::Written
+        (Outcome::Written, px)
     }
 
-    /// Gate estimate: the colour conversion per channel (`x (2^b - 1)` is a shift and a
-    /// subtract, plus the rounding adder and the clamp), the depth comparator and the depth
-    /// read/write registers, the alpha conversion and comparator, and the blender (two
-    /// `b x b` multipliers per channel, the adder, the divide by `2^b - 1` as an add of the
-    /// sum shifted right by `b` and a rounding adder, the clamp, the factor muxes).
+    /// Gate estimate, item for item the datapath of its Verilog (`rtl::rop`): the colour
+    /// conversion per channel ([`conversion`]), the depth test (a magnitude comparator and an
+    /// equality, the function's three bits ANDed and ORed), the alpha conversion and test, the
+    /// blender (per channel two 8-way factor selects, two `b x b` products, their sum, the
+    /// round-half-up divide by `2^b - 1`, the clamp; alpha scaled to the framebuffer's codes),
+    /// the write select (new codes or the stored ones), the host registers holding the pass's
+    /// state, the output registers and the sequencer. The framebuffer's read registers are the
+    /// memory's, outside the unit (as the texture memories'). yosys: `docs/gates.md`.
     pub fn gates(&self, t: &CostTable) -> GateBudget {
-        let b = self.params.color_bits;
-        let wc = self.color.width();
+        let p = &self.params;
+        let b = p.color_bits;
+        let one = self.one() as i128;
         let zb = self.depth_bits;
         let mut g = GateBudget::new();
-        g.add(
-            format!("colour conversion {wc} -> {b}"),
-            3,
-            2.0 * t.adder(wc + b) + t.clamp(b),
-        );
-        if self.params.depth != Compare::Always && self.params.depth != Compare::Never {
-            g.add(format!("depth comparator {zb}"), 1, t.adder(zb));
-            g.add(format!("depth read register {zb}"), 1, t.register(zb));
-        }
-        if let Some(a) = self.alpha.filter(|_| self.params.reads_alpha()) {
+        let conv = conversion(t, &self.color, b);
+        if conv > 0.0 {
             g.add(
-                format!("alpha conversion {} -> 8", a.width()),
-                1,
-                2.0 * t.adder(a.width() + 8),
+                format!("colour conversion {} -> {b}", self.color.width()),
+                3,
+                conv,
             );
         }
-        if self.params.alpha_test.is_some() {
-            g.add("alpha comparator 8", 1, t.adder(8));
+        let mut state = 1; // depth write
+        if p.depth != Compare::Always && p.depth != Compare::Never {
+            g.add(format!("depth test {zb}"), 1, test_gates(t, zb));
+            state += 3;
         }
-        if self.params.blend.is_some() {
+        let alpha = self.alpha.filter(|_| p.reads_alpha());
+        if let Some(a) = alpha {
+            let conv = conversion(t, &a, 8);
+            if conv > 0.0 {
+                g.add(format!("alpha conversion {} -> 8", a.width()), 1, conv);
+            }
+        }
+        if p.alpha_test.is_some() {
+            g.add("alpha test 8", 1, test_gates(t, 8));
+            state += 11;
+        }
+        if p.blend.is_some() {
+            if alpha.is_some() && b != 8 {
+                g.add(
+                    format!("alpha scale 8 -> {b}"),
+                    1,
+                    t.shift_add(8, one as u128) + t.div_round(0, 255 * one, 255),
+                );
+            }
+            // the complements of s, d and alpha are NOTs; 8-way selects of b bits (6 inputs
+            // without alpha: its two are the constants 2^b - 1 and 0)
+            let ways = if alpha.is_some() { 8 } else { 6 };
+            g.add(
+                format!("factor select {b}"),
+                6,
+                t.mux(b, ways) + t.inv * b as f64,
+            );
             g.add(format!("blend multiplier {b}x{b}"), 6, t.multiplier(b, b));
             g.add(format!("blend adder {}", 2 * b + 1), 3, t.adder(2 * b + 1));
             g.add(
-                format!("divide by {} {}", (1u64 << b) - 1, 2 * b + 1),
+                format!("divide by {one}"),
                 3,
-                2.0 * t.adder(2 * b + 1) + t.clamp(b),
+                t.div_round(0, 2 * one * one, one) + t.clamp(b),
             );
-            g.add(format!("factor select {b}"), 6, t.mux(b, 8));
-            g.add(
-                format!("destination read register {}", 3 * b),
-                1,
-                t.register(3 * b),
-            );
+            state += 6;
         }
+        // the stored codes are kept when a test can fail
+        if p.depth != Compare::Always || p.alpha_test.is_some() {
+            g.add(format!("write select {}", 3 * b), 1, t.mux(3 * b, 2));
+        }
+        // named without the count, so that the union of several passes' budgets
+        // (`Engine::rop_gates`) keeps the largest
+        g.add("state registers", state, t.register(1));
         g.add(
-            format!("colour write register {}", 3 * b),
+            format!("output registers {}", 3 * b + 2),
             1,
-            t.register(3 * b),
+            t.register(3 * b + 2),
         );
+        g.add("sequencer", 1, t.sequencer(1));
         g
     }
+}
+
+/// A test of `n`-bit operands: a magnitude comparator, an equality (an XOR a bit and the AND
+/// tree) and the function's select (three ANDs and the OR).
+fn test_gates(t: &CostTable, n: u32) -> f64 {
+    t.comparator(n) + t.xor2 * n as f64 + t.and2 * (n - 1) as f64 + 5.0 * t.and2
+}
+
+/// The range of the numerator `num` of a word of `enc` (the raw word, or `2 raw + 1` for
+/// symmetric codes) and the denominator `den` of its exact value `num / den`.
+pub fn conversion_terms(enc: &Encoding) -> ((i128, i128), i128) {
+    let n = enc.width();
+    let (lo, hi) = (enc.format.min_raw() as i128, enc.format.max_raw() as i128);
+    match enc.codec {
+        Codec::Fixed => ((lo, hi), 1i128 << enc.format.frac),
+        Codec::UnitUnsigned => ((lo, hi), (1i128 << n) - 1),
+        Codec::UnitSigned => ((lo, hi), 1i128 << (n - 1)),
+        Codec::UnitSymmetric => ((2 * lo + 1, 2 * hi + 1), (1i128 << n) - 1),
+    }
+}
+
+/// Gates of the conversion of a word of `enc` into a `bits`-bit code, `clamp(round(num
+/// (2^bits - 1) / den), 0, 2^bits - 1)` ([`conversion_terms`], `rtl::rop::code`): none for a
+/// unit code of that width (the code itself); else the rounding's constant adds, the clamps
+/// its range needs and the constant multiplies. Synthesis merges the multiply by `2^bits - 1`
+/// with the division's reciprocal multiply (`rtl::divide`) into one constant multiply of the
+/// narrow word, priced so ([`CostTable::shift_add`] of `num` by `(2^bits - 1) M`).
+pub fn conversion(t: &CostTable, enc: &Encoding, bits: u32) -> f64 {
+    if enc.codec == Codec::UnitUnsigned && enc.width() == bits {
+        return 0.0;
+    }
+    let one = (1i128 << bits) - 1;
+    let ((lo, hi), den) = conversion_terms(enc);
+    let w = crate::arith::bit_length(lo.unsigned_abs().max(hi.unsigned_abs())) + 1;
+    let (xlo, xhi) = (lo * one, hi * one);
+    let q = |x: i128| (2 * x + den).div_euclid(2 * den);
+    let clamps = u32::from(q(xlo) < 0) + u32::from(q(xhi) > one);
+    let clamp = t.clamp(bits) * clamps as f64;
+    let bits_of =
+        |lo: i128, hi: i128| crate::arith::bit_length(lo.unsigned_abs().max(hi.unsigned_abs())) + 1;
+    if one % den == 0 {
+        // the division cancels (a symmetric code into its own width: `2 raw + 1`)
+        return t.shift_add(w, (one / den) as u128) + clamp;
+    }
+    // 2x + d and the offset into [0, U] (as CostTable::div_round); the bits below the
+    // divisor's power of two are dropped, and only their carry is kept
+    let (nlo, nhi) = (2 * xlo + den, 2 * xhi + den);
+    let tz = (2 * den).trailing_zeros();
+    let adds = t.constant_add(bits_of(nlo, nhi).saturating_sub(tz));
+    let o = (2 * den) >> tz;
+    let (ulo, uhi) = (nlo >> tz, nhi >> tz);
+    if o == 1 || ulo.div_euclid(o) == uhi.div_euclid(o) {
+        return t.shift_add(w, one as u128) + adds + clamp;
+    }
+    let k = if ulo < 0 { (-ulo + o - 1) / o } else { 0 };
+    let offset = if k != 0 {
+        2.0 * t.constant_add(bits_of(ulo, uhi))
+    } else {
+        0.0
+    };
+    let (mm, _) = crate::arith::reciprocal(o, uhi + k * o);
+    t.shift_add(w, (one * mm) as u128) + adds + offset + clamp
 }
 
 #[cfg(test)]

@@ -9,6 +9,7 @@ pub mod quantized;
 pub mod texture_shader;
 
 use bumpsim_hw::rtl::{self, Dot3Rtl, ModulateRtl, PowerTableRtl, RtlUnit, ShadeRtl};
+use bumpsim_hw::units::rop::{Compare, Factor};
 use bumpsim_hw::units::{
     Address, BlendEquation, CullFragment, CullTest, EmbossFilter, FbBlend, Filter, QuatFrame,
     TexFetch, Texels, TexramForm, TexramFrame,
@@ -17,6 +18,7 @@ use bumpsim_hw::units::{
     BlendKind, BumpBlend, BumpBlendParams, Clamp, LightState, Selective, ShadeInputs, ShadeParams,
     SpecGen, VecSource,
 };
+use bumpsim_hw::units::{Rop, RopDatapath, RopParams};
 use bumpsim_hw::{Codec, Encoding, Format, Overflow, Quant, Sampler, Texture, Unit};
 
 /// A unit under test: its name, the model and its Verilog.
@@ -256,6 +258,15 @@ fn cull(name: &'static str, v: Encoding, tests: &[CullTest]) -> Case {
     Case::new(name, u, rtl)
 }
 
+/// The ROP's datapath for colour `enc` (RGBA when `params` reads alpha) and `depth` bits.
+fn rop(name: &'static str, params: RopParams, enc: Encoding, depth: u32) -> Case {
+    let alpha = params.reads_alpha().then_some(enc);
+    let r = Rop::new(params, enc, alpha, depth).unwrap();
+    let u = RopDatapath::new(&r);
+    let rtl = rtl::rop::rtl(&u, name);
+    Case::new(name, u, rtl)
+}
+
 fn light(color: [f64; 3], l: [f64; 3], h: [f64; 3]) -> LightState {
     LightState {
         color,
@@ -476,6 +487,32 @@ pub fn bundled() -> Vec<Case> {
         // the program, and one stage and the final combiner synthesise in 40 s where the 8
         // stages take 5.5 minutes (docs/gates.md)
         combiner("nv20_rc1"),
+        // every config's ROP: an 8-bit unit colour, depth Less and written, 24-bit depth
+        rop("rop", RopParams::default(), uu(8), 24),
+        // configs/quantized-bunny-wood-eq1.ron's blend passes (eq2: OneMinusDstColor,
+        // SrcAlpha): depth Equal without writes
+        rop(
+            "rop_wood_modulate",
+            RopParams {
+                depth: Compare::Equal,
+                depth_write: false,
+                blend: Some((Factor::Zero, Factor::SrcAlpha)),
+                ..RopParams::default()
+            },
+            uu(8),
+            24,
+        ),
+        rop(
+            "rop_wood_add",
+            RopParams {
+                depth: Compare::Equal,
+                depth_write: false,
+                blend: Some((Factor::OneMinusDstColor, Factor::One)),
+                ..RopParams::default()
+            },
+            uu(8),
+            24,
+        ),
     ];
     cases.extend(quantized::bundled());
     cases
@@ -812,6 +849,42 @@ pub fn variants() -> Vec<Case> {
             fixed(true, 12, 8),
         ),
         quat("quat_unit_codes", sym, None, (5, 9), us(9)),
+        // the ROP at other encodings and widths: a fixed-point colour into 5-bit codes with
+        // an alpha test; a symmetric unit colour into 10 bits blending with alpha (the 8-bit
+        // alpha scaled to 10-bit codes); a signed unit colour, no depth test, 16-bit depth
+        rop(
+            "rop_fixed_u5",
+            RopParams {
+                depth: Compare::GEqual,
+                alpha_test: Some((Compare::NotEqual, 77)),
+                color_bits: 5,
+                ..RopParams::default()
+            },
+            fixed(false, 10, 9),
+            16,
+        ),
+        rop(
+            "rop_sym_10",
+            RopParams {
+                depth: Compare::LEqual,
+                blend: Some((Factor::SrcAlpha, Factor::OneMinusSrcAlpha)),
+                color_bits: 10,
+                ..RopParams::default()
+            },
+            sym,
+            20,
+        ),
+        rop(
+            "rop_signed_always",
+            RopParams {
+                depth: Compare::Always,
+                depth_write: false,
+                blend: Some((Factor::DstColor, Factor::OneMinusSrcColor)),
+                ..RopParams::default()
+            },
+            us(9),
+            16,
+        ),
     ];
     cases.extend(quantized::variants());
     cases

@@ -103,6 +103,20 @@ impl Engine {
     /// The gate budget of the ROP that runs every pass: the first pass's, and each circuit
     /// that a later pass needs and it lacks (a blender, an alpha test, another colour
     /// conversion), once: the union of the passes' budgets by item, each at its dearest.
+    /// Every pass's ROP state with a label and the pass's name: `rop` for the first pass
+    /// (`engine.rop`, name `first`), `rop.1`, `rop.2`, ... for `engine.passes` (a unit name
+    /// has no dot, so no label is a unit's).
+    pub fn rops(&self) -> Vec<(String, &str, &Rop)> {
+        std::iter::once(("rop".to_string(), "first", &self.rop))
+            .chain(
+                self.passes
+                    .iter()
+                    .enumerate()
+                    .map(|(k, p)| (format!("rop.{}", k + 1), p.name.as_str(), &p.rop)),
+            )
+            .collect()
+    }
+
     pub fn rop_gates(&self, t: &bumpsim_hw::CostTable) -> GateBudget {
         let mut g = self.rop.gates(t);
         for p in &self.passes {
