@@ -58,7 +58,7 @@ fn synthesise(l: &Loaded) -> Result<Vec<Row>, Failure> {
         };
         units.push((uc.name.clone(), budget, other, generated, false));
     }
-    // every pass's ROP (`rtl::rop`), rows `rop`, `rop1`, ...: the figures beside the total
+    // every pass's ROP (`rtl::rop`), rows `rop`, `rop.1`, ...: the figures beside the total
     for (label, _, rop) in eng.rops() {
         let u = RopDatapath::new(rop);
         let rtl = bumpsim_hw::rtl::rop::rtl(&u, &module_name(&label));
@@ -224,7 +224,15 @@ fn text(l: &Loaded, g: &Gates, rows: Option<&[Row]>) -> String {
         s.push('\n');
     }
     let _ = writeln!(s, "  {:<31} {:>10.1}", "total", g.total);
-    let _ = writeln!(s, "  (beside the total: rop {:.1} GE)", g.rop.total);
+    let _ = write!(s, "  (beside the total: rop {:.1} GE", g.rop.total);
+    if let Some(c) = &g.texture_cache {
+        let _ = write!(
+            s,
+            ", texture cache {:.1} GE, storage {:.1} of it",
+            c.total, c.memory
+        );
+    }
+    s.push_str(")\n");
     if let Some(rows) = rows {
         // each pass's ROP state synthesised (the report's figure is their union)
         for r in rows.iter().filter(|r| r.rop) {

@@ -396,6 +396,48 @@ fn a_shared_texture_cache_takes_every_readers_reads_in_fragment_order() {
     assert_eq!(shared["uncached_bits"], each["uncached_bits"]);
 }
 
+/// The caches' gates beside the total: storage by the memory model (SRAM, 1.5 GE a bit), the
+/// logic apart; one per reader or one shared.
+#[test]
+fn texture_caches_are_priced_beside_the_total() {
+    let cache = |c: &str, sets: &[&str]| {
+        let mut all = vec![format!("engine.texture_cache=Some({c})")];
+        all.extend(sets.iter().map(|s| s.to_string()));
+        let all: Vec<&str> = all.iter().map(String::as_str).collect();
+        run::gates(&load("sgi-teapot", &all)).expect("gates")
+    };
+    let g = cache("(lines: 64, ways: 4, block: 4)", &[]);
+    let c = g.texture_cache.as_ref().expect("a cache budget");
+    // the 256x256 24-bit map: 4,096 blocks, 12 address bits, 8 tag bits above 16 sets; data
+    // 64 x 16 texels of 24 bits, tags 64 x 9, LRU 16 sets x 4 ways x 2 bits
+    let bits = 1024.0 * 24.0 + 64.0 * 9.0 + 16.0 * 8.0;
+    assert!((c.memory - 1.5 * bits).abs() < 0.01, "{}", c.memory);
+    assert!(c.items.iter().all(|i| i.what.starts_with("fetch: ")));
+    assert!(
+        c.total > c.memory && c.total < c.memory + 1000.0,
+        "{}",
+        c.total
+    );
+    // not in the engine's total; none without a cache
+    let plain = run::gates(&load("sgi-teapot", &[])).unwrap();
+    assert_eq!(g.total, plain.total);
+    assert!(plain.texture_cache.is_none());
+    // latch RAM storage, a prefetching unit's FIFO
+    let latch = cache("(lines: 64, ways: 4, block: 4)", &["cost.tables=LatchRam"]);
+    let l = latch.texture_cache.unwrap();
+    assert!(
+        (l.memory / c.memory - 5.66 / 1.5).abs() < 1e-3,
+        "{}",
+        l.memory
+    );
+    let pf = cache(
+        "(lines: 64, ways: 4, block: 4, prefetch: 64, miss_cycles: 16)",
+        &[],
+    );
+    let fifo = pf.texture_cache.unwrap().memory - c.memory;
+    assert!((fifo - 1.5 * 64.0 * (12.0 + 4.0)).abs() < 0.01, "{fifo}");
+}
+
 #[test]
 fn bad_texture_caches_are_errors_naming_the_field() {
     for (cache, field) in [

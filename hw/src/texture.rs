@@ -48,6 +48,13 @@ impl Level {
     pub fn height(&self) -> u32 {
         self.height
     }
+    /// Texels of the level, every face.
+    pub fn len(&self) -> usize {
+        self.values.len()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.values.is_empty()
+    }
     /// log2 of the width and of the height.
     pub fn logs(&self) -> (u32, u32) {
         (self.log_w, self.log_h)

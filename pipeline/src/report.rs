@@ -141,6 +141,10 @@ pub struct Gates {
     /// The raster operations (depth and alpha tests, blending, colour write): beside the
     /// engine's total, not in it, as the papers' budgets leave the raster back end out.
     pub rop: UnitGates,
+    /// The texture caches (`engine.texture_cache`), beside the total as the ROP: the papers'
+    /// budgets leave the texture memory system out.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub texture_cache: Option<UnitGates>,
 }
 
 impl Gates {
@@ -171,14 +175,22 @@ impl Gates {
             memory: round2(per_unit.values().map(|u| u.memory).sum::<f64>() + 0.0),
             tables: tables.name(),
             per_unit,
-            rop: UnitGates {
-                kind: "rop".into(),
-                total: round2(rop.total()),
-                memory: round2(rop.memory()),
-                tables: None,
-                table_kinds: BTreeMap::new(),
-                items: rop.items.clone(),
-            },
+            rop: UnitGates::beside("rop", rop),
+            texture_cache: None,
+        }
+    }
+}
+
+impl UnitGates {
+    /// A budget beside the engine's units (the ROP, the texture caches).
+    pub fn beside(kind: &str, b: &GateBudget) -> UnitGates {
+        UnitGates {
+            kind: kind.into(),
+            total: round2(b.total()),
+            memory: round2(b.memory()),
+            tables: None,
+            table_kinds: BTreeMap::new(),
+            items: b.items.clone(),
         }
     }
 }
@@ -301,11 +313,15 @@ impl Report {
             }
             s.push('\n');
         }
-        let _ = writeln!(
-            s,
-            "  (beside the total: rop {:.0} GE)",
-            self.gates.rop.total
-        );
+        let _ = write!(s, "  (beside the total: rop {:.0} GE", self.gates.rop.total);
+        if let Some(c) = &self.gates.texture_cache {
+            let _ = write!(
+                s,
+                ", texture cache {:.0} GE, storage {:.0} of it",
+                c.total, c.memory
+            );
+        }
+        s.push_str(")\n");
         let b = &self.bandwidth;
         let _ = writeln!(
             s,

@@ -533,6 +533,10 @@ fn engine_gates(cfg: &crate::config::Config, engine: &Engine) -> Gates {
         units.push(("attribute interpolator".into(), "interpolator".into(), g));
     }
     let mut g = Gates::new(&units, &engine.rop_gates(&cfg.cost), cfg.cost.tables);
+    g.texture_cache = engine.texture_cache.as_ref().map(|c| {
+        let b = crate::texcache::gates(c, &engine.stages, &cfg.cost);
+        crate::report::UnitGates::beside("texture_cache", &b)
+    });
     for uc in &cfg.engine.units {
         if let Some(u) = g.per_unit.get_mut(&uc.name) {
             u.tables = uc.tables.map(|k| k.name());

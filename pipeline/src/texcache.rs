@@ -22,7 +22,8 @@
 
 use crate::config::TextureCacheConfig;
 use bumpsim_hw::texture::reads::{self, Read};
-use bumpsim_hw::{Mode, Scratch, Stage, Texture, Token};
+use bumpsim_hw::units::texture_cache::CacheShape;
+use bumpsim_hw::{GateBudget, Mode, Scratch, Stage, Texture, Token};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -262,6 +263,56 @@ pub fn simulate(
         },
     };
     (report, timing)
+}
+
+/// The gate estimate of the caches `c` puts on the texel reads of `stages`
+/// (`bumpsim_hw::units::texture_cache`): one per reading unit, each item prefixed by its
+/// reader, or one shared (`shared:`). A cache's texel is the widest texel it holds and its
+/// block address spans every level and face of the textures it holds.
+pub fn gates(c: &TextureCacheConfig, stages: &[Stage], t: &bumpsim_hw::CostTable) -> GateBudget {
+    let readers: Vec<(&str, Vec<Arc<Texture>>)> = stages
+        .iter()
+        .map(|s| {
+            let ts = s.unit().textures().into_iter().map(|r| r.texture).collect();
+            (s.name.as_str(), ts)
+        })
+        .filter(|(_, ts): &(&str, Vec<Arc<Texture>>)| !ts.is_empty())
+        .collect();
+    let groups: Vec<(String, Vec<&Arc<Texture>>)> = if c.shared {
+        vec![(
+            "shared".to_string(),
+            readers.iter().flat_map(|(_, ts)| ts.iter()).collect(),
+        )]
+    } else {
+        readers
+            .iter()
+            .map(|(n, ts)| (n.to_string(), ts.iter().collect()))
+            .collect()
+    };
+    let mut g = GateBudget::new();
+    for (name, ts) in groups {
+        let blocks: u64 = ts
+            .iter()
+            .flat_map(|t| (0..t.levels()).map(move |k| t.level_at(k)))
+            .map(|l| {
+                let faces = l.len() as u64 / (u64::from(l.width()) * u64::from(l.height())).max(1);
+                faces
+                    * u64::from(l.width().div_ceil(c.block))
+                    * u64::from(l.height().div_ceil(c.block))
+            })
+            .sum();
+        let shape = CacheShape {
+            lines: c.lines,
+            ways: c.ways,
+            block: c.block,
+            texel_bits: ts.iter().map(|t| t.bits_per_texel()).max().unwrap_or(0),
+            block_address_bits: 64 - blocks.max(2).saturating_sub(1).leading_zeros(),
+            xor_index: c.index == crate::config::SetIndex::Xor,
+            prefetch: c.prefetch,
+        };
+        g.add_part(&format!("{name}: "), 1, shape.gates(t));
+    }
+    g
 }
 
 #[cfg(test)]

@@ -36,6 +36,7 @@ pub use rop::{Rop, RopParams};
 pub mod rop_datapath;
 pub use rop_datapath::RopDatapath;
 pub mod perturb;
+pub mod texture_cache;
 pub mod texture_shader;
 pub use perturb::Perturb;
 pub mod texram;
