@@ -187,6 +187,28 @@ impl Acc {
     }
 }
 
+/// [`Acc::to_code`] of the exact rational `num / den` (`den > 0`): the code the encoding's
+/// rounding gives the real value, without an intermediate rounding (the rescale of a
+/// non-dyadic factor such as `255 / 31`). Equal to `Acc::new(num, f).to_code(enc)` when `den
+/// = 2^f` (`tests::rational_code_is_to_code_on_dyadic_values`).
+pub fn rational_code(num: i128, den: i128, enc: &Encoding) -> i64 {
+    let n = enc.format.width as u32;
+    let (q, o) = (enc.quant, enc.overflow);
+    let int = Format {
+        signed: enc.format.signed,
+        width: enc.format.width,
+        frac: 0,
+    };
+    // the code's real value as a / b
+    let (a, b, fmt) = match enc.codec {
+        Codec::Fixed => (num << enc.format.frac, den, &enc.format),
+        Codec::UnitSigned => (num << (n - 1), den, &int),
+        Codec::UnitUnsigned => (num * ((1i128 << n) - 1), den, &int),
+        Codec::UnitSymmetric => (num * ((1i128 << n) - 1) - den, 2 * den, &int),
+    };
+    fmt.overflow(crate::format::round_rational(a, b, q), o)
+}
+
 /// The canonical signed-digit form of `k`: `(shift, +1 or -1)` terms, fewest nonzero (the
 /// shifts and adds of a constant multiplication, `rtl::fixed` and
 /// `CostTable::constant_multiplier`).
@@ -247,6 +269,84 @@ pub fn bit_length(v: u128) -> u32 {
 mod tests {
     use super::*;
     use crate::format::{Codec, Encoding, Format};
+
+    /// On dyadic values the rational cast is `to_code`, for every codec, rounding and
+    /// overflow mode over a grid of raw words at several fraction counts.
+    #[test]
+    fn rational_code_is_to_code_on_dyadic_values() {
+        use crate::format::Overflow;
+        let quants = [
+            Quant::Trn,
+            Quant::TrnZero,
+            Quant::Rnd,
+            Quant::RndZero,
+            Quant::RndInf,
+            Quant::RndMinInf,
+            Quant::RndConv,
+            Quant::RndConvOdd,
+        ];
+        let overflows = [
+            Overflow::Sat,
+            Overflow::SatZero,
+            Overflow::SatSym,
+            Overflow::Wrap,
+        ];
+        let encs = [
+            Encoding::fixed(Format::s(9, 3)),
+            Encoding::fixed(Format::u(7, 5)),
+            Encoding::texel(Codec::UnitSigned, true, 6),
+            Encoding::texel(Codec::UnitUnsigned, false, 5),
+            Encoding::texel(Codec::UnitSymmetric, true, 6),
+        ];
+        for base in encs {
+            for q in quants {
+                for o in overflows {
+                    let mut enc = base;
+                    enc.quant = q;
+                    enc.overflow = o;
+                    for frac in 0..8u32 {
+                        for raw in -700i128..=700 {
+                            assert_eq!(
+                                rational_code(raw, 1 << frac, &enc),
+                                Acc::new(raw, frac).to_code(&enc),
+                                "{enc:?} {raw} / 2^{frac}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn rational_code_rounds_the_exact_quotient() {
+        // 255 v / 31 into s12.4: truncated, and to nearest (no ties: 31 is odd)
+        let mut enc = Encoding::fixed(Format::s(16, 4));
+        for v in -93i128..=93 {
+            enc.quant = Quant::Trn;
+            assert_eq!(
+                rational_code(255 * v, 31, &enc) as i128,
+                (255 * 16 * v).div_euclid(31)
+            );
+            enc.quant = Quant::Rnd;
+            assert_eq!(
+                rational_code(255 * v, 31, &enc) as i128,
+                (2 * 255 * 16 * v + 31).div_euclid(62)
+            );
+        }
+        // a tie: 3 / 2 into integers, every mode
+        let mut int = Encoding::fixed(Format::s(8, 0));
+        for (q, want) in [
+            (Quant::Rnd, 2),
+            (Quant::RndZero, 1),
+            (Quant::RndConv, 2),
+            (Quant::RndConvOdd, 1),
+            (Quant::Trn, 1),
+        ] {
+            int.quant = q;
+            assert_eq!(rational_code(3, 2, &int), want, "{q:?}");
+        }
+    }
 
     #[test]
     fn unit_signed_casts_of_values_with_few_fraction_bits_shift_up() {

@@ -322,6 +322,20 @@ fn round_up(floor: i64, rem: f64, q: Quant) -> bool {
     }
 }
 
+/// `a / b` (`b > 0`) rounded to an integer by `q`, exactly: the floor and the remainder's
+/// class against one half, as [`Format::from_f64`] rounds a real.
+pub fn round_rational(a: i128, b: i128, q: Quant) -> i128 {
+    debug_assert!(b > 0);
+    let (fl, r) = (a.div_euclid(b), a.rem_euclid(b));
+    let rem = match (2 * r).cmp(&b) {
+        _ if r == 0 => Rem::Zero,
+        std::cmp::Ordering::Less => Rem::BelowHalf,
+        std::cmp::Ordering::Equal => Rem::Half,
+        std::cmp::Ordering::Greater => Rem::AboveHalf,
+    };
+    round_with_remainder(fl, rem, q)
+}
+
 /// Round `floor + rem` (with `floor` the floor of the exact value) to an integer.
 fn round_with_remainder(floor: i128, rem: Rem, q: Quant) -> i128 {
     if rem == Rem::Zero {

@@ -276,6 +276,35 @@ impl CostTable {
         let (m, _) = crate::arith::reciprocal(o, uhi);
         ge + self.shift_add(bits(ulo, uhi), m as u128)
     }
+    /// Round-half-up `x k / d` (or its floor) of an integer `x` in `[lo, hi]` for constants
+    /// `k, d > 0`, as synthesis builds [`CostTable::div_round`]'s datapath on `x k`: the
+    /// multiply by `k` and the reciprocal's merge into one constant multiply of the narrow `x`
+    /// (by `k M`), beside the rounding's constant adds (only above the divisor's power of two)
+    /// and the offset into `[0, U]` when `x` may be negative. yosys: the ROP's colour
+    /// conversions (`units::rop::conversion`, `docs/units/rop.md`), the emboss filter's
+    /// rational rescale (`docs/units/emboss_filter.md`).
+    pub fn scaled_div(&self, lo: i128, hi: i128, k: i128, d: i128) -> f64 {
+        let bits = |lo: i128, hi: i128| {
+            crate::arith::bit_length(lo.unsigned_abs().max(hi.unsigned_abs())) + 1
+        };
+        let w = bits(lo, hi);
+        let (nlo, nhi) = (2 * lo * k + d, 2 * hi * k + d);
+        let tz = (2 * d).trailing_zeros();
+        let adds = self.constant_add(bits(nlo, nhi).saturating_sub(tz));
+        let o = (2 * d) >> tz;
+        let (ulo, uhi) = (nlo >> tz, nhi >> tz);
+        if o == 1 || ulo.div_euclid(o) == uhi.div_euclid(o) {
+            return self.shift_add(w, k as u128) + adds;
+        }
+        let off = if ulo < 0 { (-ulo + o - 1) / o } else { 0 };
+        let offset = if off != 0 {
+            2.0 * self.constant_add(bits(ulo, uhi))
+        } else {
+            0.0
+        };
+        let (m, _) = crate::arith::reciprocal(o, uhi + off * o);
+        self.shift_add(w, (k * m) as u128) + adds + offset
+    }
     /// A sequencer's step counter over `steps` clocks: a register bit and an incrementer bit
     /// per bit of the count.
     pub fn sequencer(&self, steps: u32) -> f64 {

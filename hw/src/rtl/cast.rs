@@ -111,6 +111,29 @@ pub fn shift_round(m: &mut Module, a: &Fx, by: u32, q: Quant) -> Fx {
     )
 }
 
+/// [`crate::arith::rational_code`]: the integer wire `num` over the constant `den > 0` cast
+/// into `enc` with one rounding (the code's value as `a / b`, [`super::divide::round_div`])
+/// and the overflow. Returns the code's bits.
+pub fn rational_code(m: &mut Module, num: &Fx, den: i128, enc: &Encoding) -> String {
+    let n = enc.format.width as u32;
+    let int = Format {
+        signed: enc.format.signed,
+        width: enc.format.width,
+        frac: 0,
+    };
+    let (a, b, fmt) = match enc.codec {
+        Codec::Fixed => (scale(m, num, 1i128 << enc.format.frac), den, enc.format),
+        Codec::UnitSigned => (scale(m, num, 1i128 << (n - 1)), den, int),
+        Codec::UnitUnsigned => (scale(m, num, (1i128 << n) - 1), den, int),
+        Codec::UnitSymmetric => {
+            let t = scale(m, num, (1i128 << n) - 1);
+            (sub(m, &t, &constant(den, 0)), 2 * den, int)
+        }
+    };
+    let r = super::divide::round_div(m, &a, b, enc.quant);
+    overflow(m, &r, &fmt, enc.overflow)
+}
+
 /// [`crate::format::Format::overflow`] of an integer wire into `fmt`; returns the code's
 /// `fmt.width` bits (an unsigned vector).
 pub fn overflow(m: &mut Module, v: &Fx, fmt: &Format, o: Overflow) -> String {

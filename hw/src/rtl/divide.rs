@@ -9,9 +9,11 @@
 //! `U e < 2^s` (the fraction of `u / o` is at most `(o - 1) / o`). The generator takes the
 //! smallest such `s` and, among the next eight, the `M` with the fewest signed digits.
 
-use super::fixed::{make, plain, scale, Fx};
+use super::fixed::{align_wire, make, plain, scale, Fx};
 use super::verilog::lit;
+use super::verilog::signed_bits;
 use crate::arith::reciprocal;
+use crate::format::Quant;
 
 /// `floor(x / d)` for the integer wire `x` (0 fraction bits) and a constant `d > 0`.
 pub fn floor_div(m: &mut super::verilog::Module, x: &Fx, d: i128) -> Fx {
@@ -81,6 +83,47 @@ pub fn div_round(m: &mut super::verilog::Module, x: &Fx, d: i128) -> Fx {
         &format!("({} <<< 1) + {}", x.name, lit(d)),
     );
     floor_div(m, &n, 2 * d)
+}
+
+/// `x / d` for the integer wire `x` and a constant `d > 0`, rounded by `q` exactly
+/// ([`crate::format::round_rational`]): the floor, and for the modes that need it the
+/// remainder `x - d floor(x / d)` against zero and `d / 2`.
+pub fn round_div(m: &mut super::verilog::Module, x: &Fx, d: i128, q: Quant) -> Fx {
+    match q {
+        Quant::Trn => return floor_div(m, x, d),
+        Quant::Rnd => return div_round(m, x, d),
+        _ => {}
+    }
+    let x = plain(m, x);
+    let x = align_wire(m, &x, 0);
+    let fl = floor_div(m, &x, d);
+    let fl = align_wire(m, &fl, 0);
+    let qd = scale(m, &fl, d);
+    let rb = signed_bits(0, 2 * d);
+    let r = m.swire("rem", rb, &format!("{} - {}", x.name, qd.name));
+    let nz = m.uwire("nz", 1, &format!("{r} != {}", lit(0)));
+    let half = m.uwire("hf", 1, &format!("({r} <<< 1) == {}", lit(d)));
+    let above = m.uwire("ab", 1, &format!("({r} <<< 1) > {}", lit(d)));
+    let neg = m.uwire("neg", 1, &format!("{} < {}", x.name, lit(0)));
+    let f = &fl.name;
+    let up = match q {
+        Quant::TrnZero => format!("{neg} & {nz}"),
+        Quant::RndZero => format!("{above} | ({half} & {neg})"),
+        Quant::RndInf => format!("{above} | ({half} & ~{neg})"),
+        Quant::RndMinInf => above.clone(),
+        Quant::RndConv => format!("{above} | ({half} & {f}[0])"),
+        Quant::RndConvOdd => format!("{above} | ({half} & ~{f}[0])"),
+        Quant::Trn | Quant::Rnd => unreachable!(),
+    };
+    let up = m.uwire("up", 1, &up);
+    make(
+        m,
+        "rq",
+        fl.lo,
+        fl.hi + 1,
+        0,
+        &format!("{f} + $signed({{1'b0, {up}}})"),
+    )
 }
 
 #[cfg(test)]

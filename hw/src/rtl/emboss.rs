@@ -26,7 +26,9 @@
 //!   0..255 scale by the integer `255 / max_code` (shifts and adds; none for 8-bit texels);
 //!   one cast into the output encoding ([`super::fixed::to_code`]), as the model's
 //!   [`crate::units::emboss::cast`]. A texel format whose largest code does not divide 255 has
-//!   the model's f64 rescale and no generator.
+//!   the rational rescale `255 s / max_code` rounded once ([`super::cast::rational_code`]: the
+//!   floor by the reciprocal of `max_code`, the remainder against zero and a half where the
+//!   rounding mode needs them, the overflow).
 //! * `N_z` is a host-loaded register (`cfg` address 0) holding the model's code
 //!   ([`EmbossFilter::nz_code`]): the bevel width is a parameter of the image, not of the
 //!   netlist.
@@ -35,6 +37,7 @@
 //! 1` and loaded into its tap registers on edge `g + L + 1`; the masks and the cast write the
 //! output registers on edge `L + I + 1`, the model's latency (`I = ceil(9 / P)`).
 
+use super::cast::rational_code;
 use super::fixed::{raw_word, scale, sub, sum, to_code, Fx};
 use super::verilog::{unsigned_bits, Module};
 use super::{Plan, RtlUnit, Shell};
@@ -75,19 +78,11 @@ fn select(m: &mut Module, sel: &str, vals: &[String], w: u32) -> String {
     m.uwire("amux", w, &e)
 }
 
-/// The Verilog of a built [`EmbossFilter`]; an error for a texel format without an integer
-/// rescale ([`EmbossFilter::code_scale`]).
+/// The Verilog of a built [`EmbossFilter`].
 pub fn rtl(u: &EmbossFilter, top: &str) -> Result<RtlUnit, String> {
     let tex = u.texture();
     let texel = *tex.texel();
-    let k = u.code_scale().ok_or_else(|| {
-        format!(
-            "texel format {}: its largest code {} does not divide 255, so the model rescales \
-             the mask sums in f64 (no integer datapath)",
-            texel.format,
-            texel.format.max_raw()
-        )
-    })?;
+    let k = u.code_scale();
     let mut sh = Shell::new(top, plan(u));
     let uv = u.inputs()[0].clone();
     let out = u.outputs()[0].clone();
@@ -194,8 +189,18 @@ pub fn rtl(u: &EmbossFilter, top: &str) -> Result<RtlUnit, String> {
             })
             .collect();
         let s = sum(m, &diffs.iter().collect::<Vec<_>>());
-        let s = if k == 1 { s } else { scale(m, &s, k) };
-        codes.push(to_code(m, &s, &out.enc));
+        codes.push(match k {
+            Some(1) => to_code(m, &s, &out.enc),
+            Some(k) => {
+                let s = scale(m, &s, k);
+                to_code(m, &s, &out.enc)
+            }
+            // 255 s / max_code, one rounding
+            None => {
+                let s = scale(m, &s, 255);
+                rational_code(m, &s, texel.format.max_raw() as i128, &out.enc)
+            }
+        });
     }
     codes.push(nz);
     let fin = sh.fin.clone();

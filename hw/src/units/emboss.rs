@@ -17,13 +17,13 @@
 //! Bit-accurate mode computes in integers, as the hardware ([`crate::rtl::emboss`]): the masks
 //! on the stored codes, the rescale to the 0..255 scale by the integer `255 / max_code` (1 for
 //! 8-bit unsigned texels) and one cast ([`Acc::to_code`]) into the output encoding. Where the
-//! largest code does not divide 255 (a 5-, 6-, 7-, 10-bit texel, ...) the rescale is not an
-//! integer and the former f64 formula is kept, since an exact rational cast differs from it on
-//! some words (`the_rescale_of_a_5_bit_texel_is_not_the_exact_rational`); such a unit has no
-//! Verilog generator.
+//! largest code does not divide 255 (a 5-, 6-, 7-, 10-bit texel, ...) the rescale `255 v /
+//! max_code` is an exact rational rounded once by the output's mode
+//! ([`crate::arith::rational_code`]; until 2026-12-07 an f64 formula that rounded twice and
+//! missed the exact code on some words, `the_rescale_of_a_5_bit_texel_is_the_exact_rational`).
 
 use crate::arith::Acc;
-use crate::format::{Codec, Encoding, Format, Overflow};
+use crate::format::{Codec, Encoding, Format, Overflow, Quant};
 use crate::gates::{CostTable, GateBudget};
 use crate::sampler::{texel_axis, Filter, Sampler};
 use crate::texture::{Shape, Texture};
@@ -39,7 +39,7 @@ pub struct EmbossFilter {
     /// `N_z`'s code in the output encoding: the contents of its register.
     nz_code: i64,
     /// `255 / max_code` of the texel format when it is an integer (the exact rescale of a
-    /// mask sum of codes to the 0..255 scale), else `None` (the f64 rescale, [`cast`]).
+    /// mask sum of codes to the 0..255 scale), else `None` (the rational rescale, [`cast`]).
     code_scale: Option<i128>,
     ports: u32,
     mem_latency: u32,
@@ -100,13 +100,62 @@ pub fn code_scale(texel: &Format) -> Option<i128> {
 
 /// A mask sum `v` of texel codes (at `texel`'s code scale) on the 0..255 intensity scale,
 /// cast into `out`: exactly `v k` (`k = 255 / max_code`, [`code_scale`]) with one
-/// [`Acc::to_code`]; without an integer `k`, the f64 formula `out.encode(v * (255 /
-/// max_code))`, rounded twice.
+/// [`Acc::to_code`]; without an integer `k`, the exact rational `255 v / max_code` with one
+/// rounding ([`crate::arith::rational_code`]).
 pub fn cast(v: i64, texel: &Format, out: &Encoding) -> i64 {
     match code_scale(texel) {
         Some(k) => Acc::new(v as i128, 0).scale(k).to_code(out),
-        None => out.encode(v as f64 * (255.0 / texel.max_raw() as f64)),
+        None => crate::arith::rational_code(255 * v as i128, texel.max_raw() as i128, out),
     }
+}
+
+/// Gates of the rational rescale of one mask sum `s` in `[-span, span]` (`rtl::cast::
+/// rational_code`): `255 s` times the codec's factor over `max_code`, one merged constant
+/// multiply of `s` ([`CostTable::scaled_div`]), for the
+/// rounding modes other than truncation and half-up the remainder (the floor times `max_code`
+/// and a subtractor) with its compares against zero and a half and the increment, and the
+/// saturation where the code can overflow.
+fn rational_gates(t: &CostTable, span: i128, max_code: i128, out: &Encoding) -> GateBudget {
+    let mut g = GateBudget::new();
+    let bits = |r: i128| crate::rtl::verilog::signed_bits(-r, r);
+    let n = out.format.width as u32;
+    let (factor, den) = match out.codec {
+        Codec::Fixed => (1i128 << out.format.frac, max_code),
+        Codec::UnitSigned => (1i128 << (n - 1), max_code),
+        Codec::UnitUnsigned => ((1i128 << n) - 1, max_code),
+        Codec::UnitSymmetric => ((1i128 << n) - 1, 2 * max_code),
+    };
+    // `255 s`, the codec's factor and the reciprocal: one constant multiply of `s`
+    let a = span * 255 * factor;
+    let q = a.div_euclid(den) + 1;
+    g.add(
+        format!("divide by {den} {}", bits(a)),
+        1,
+        t.scaled_div(-span, span, 255 * factor, den),
+    );
+    if !matches!(out.quant, Quant::Trn | Quant::Rnd) {
+        let rb = bits(2 * den);
+        g.add(
+            format!("remainder {rb}"),
+            1,
+            t.shift_add(bits(q), den as u128) + t.adder(rb),
+        );
+        g.add(
+            format!("remainder compares {rb}"),
+            1,
+            2.0 * t.comparator(rb) + t.and2 * rb as f64,
+        );
+        g.add(
+            format!("rounding increment {}", bits(q)),
+            1,
+            t.half_adder * bits(q) as f64,
+        );
+    }
+    let fits = [-q, q].iter().all(|&v| out.format.contains(v as i64));
+    if !fits && out.overflow != Overflow::Wrap {
+        g.add(format!("cast saturation {n}"), 1, t.clamp(n));
+    }
+    g
 }
 
 impl EmbossFilter {
@@ -303,9 +352,16 @@ impl Unit for EmbossFilter {
             2,
             t.adder(bits(3 * span)),
         );
+        if self.code_scale.is_none() {
+            g.add_part(
+                "",
+                2,
+                rational_gates(t, 3 * span, texel.max_raw() as i128, &out),
+            );
+        }
         // the cast: the rescale by 255 / max_code and a unit code's 2^n - 1, each as shifts
         // and adds; the rounding of a symmetric code; the saturation where the sums can exceed
-        // the output
+        // the output (of the rational rescale: its own, above)
         let (lo, hi) = (-3 * span * k, 3 * span * k);
         let vb = bits(hi);
         if k > 1 {
@@ -315,11 +371,12 @@ impl Unit for EmbossFilter {
                 t.shift_add(bits(3 * span), k as u128),
             );
         }
-        if matches!(out.codec, Codec::UnitUnsigned | Codec::UnitSymmetric) {
+        let dyadic = self.code_scale.is_some();
+        if dyadic && matches!(out.codec, Codec::UnitUnsigned | Codec::UnitSymmetric) {
             let f = (1u128 << wo) - 1;
             g.add(format!("cast x{f} {vb}"), 2, t.shift_add(vb, f));
         }
-        if out.codec == Codec::UnitSymmetric {
+        if dyadic && out.codec == Codec::UnitSymmetric {
             g.add(format!("cast rounding {wo}"), 2, t.half_adder * wo as f64);
         }
         let wrap = Encoding {
@@ -329,7 +386,7 @@ impl Unit for EmbossFilter {
         let fits = [lo, hi]
             .iter()
             .all(|&v| Acc::new(v, 0).to_code(&out) == Acc::new(v, 0).to_code(&wrap));
-        if !fits && out.overflow != Overflow::Wrap {
+        if dyadic && !fits && out.overflow != Overflow::Wrap {
             g.add(format!("cast saturation {wo}"), 2, t.clamp(wo));
         }
         g.add(
@@ -517,19 +574,19 @@ mod tests {
     }
 
     #[test]
-    fn the_rescale_of_a_5_bit_texel_is_not_the_exact_rational() {
-        // 255 v / 31 truncated into s12.4, exactly and by the f64 formula: they differ, so an
-        // integer datapath cannot reproduce the model's words for such a texel
+    fn the_rescale_of_a_5_bit_texel_is_the_exact_rational() {
+        // 255 v / 31 truncated into s12.4: the former f64 formula (`out.encode(v * 255 / 31)`)
+        // missed the exact floor on some words; the cast is the exact rational
         let t = Format::u(5, 0);
         let mut out = Encoding::fixed(Format::s(16, 4));
         out.quant = Quant::Trn;
-        let differ = (-93i64..=93)
-            .filter(|&v| {
-                let exact = (255 * 16 * v as i128).div_euclid(31) as i64;
-                cast(v, &t, &out) != exact
-            })
-            .count();
-        assert!(differ > 0);
+        let mut f64_differs = 0;
+        for v in -93i64..=93 {
+            let exact = (255 * 16 * v as i128).div_euclid(31) as i64;
+            assert_eq!(cast(v, &t, &out), exact, "{v}");
+            f64_differs += usize::from(out.encode(v as f64 * (255.0 / 31.0)) != exact);
+        }
+        assert!(f64_differs > 0);
     }
 
     #[test]

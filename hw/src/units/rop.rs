@@ -510,9 +510,8 @@ pub fn conversion_terms(enc: &Encoding) -> ((i128, i128), i128) {
 /// Gates of the conversion of a word of `enc` into a `bits`-bit code, `clamp(round(num
 /// (2^bits - 1) / den), 0, 2^bits - 1)` ([`conversion_terms`], `rtl::rop::code`): none for a
 /// unit code of that width (the code itself); else the rounding's constant adds, the clamps
-/// its range needs and the constant multiplies. Synthesis merges the multiply by `2^bits - 1`
-/// with the division's reciprocal multiply (`rtl::divide`) into one constant multiply of the
-/// narrow word, priced so ([`CostTable::shift_add`] of `num` by `(2^bits - 1) M`).
+/// its range needs and the constant multiplies, which synthesis merges into one constant
+/// multiply of the narrow word ([`CostTable::scaled_div`]).
 pub fn conversion(t: &CostTable, enc: &Encoding, bits: u32) -> f64 {
     if enc.codec == Codec::UnitUnsigned && enc.width() == bits {
         return 0.0;
@@ -520,34 +519,14 @@ pub fn conversion(t: &CostTable, enc: &Encoding, bits: u32) -> f64 {
     let one = (1i128 << bits) - 1;
     let ((lo, hi), den) = conversion_terms(enc);
     let w = crate::arith::bit_length(lo.unsigned_abs().max(hi.unsigned_abs())) + 1;
-    let (xlo, xhi) = (lo * one, hi * one);
-    let q = |x: i128| (2 * x + den).div_euclid(2 * den);
-    let clamps = u32::from(q(xlo) < 0) + u32::from(q(xhi) > one);
+    let q = |x: i128| (2 * x * one + den).div_euclid(2 * den);
+    let clamps = u32::from(q(lo) < 0) + u32::from(q(hi) > one);
     let clamp = t.clamp(bits) * clamps as f64;
-    let bits_of =
-        |lo: i128, hi: i128| crate::arith::bit_length(lo.unsigned_abs().max(hi.unsigned_abs())) + 1;
     if one % den == 0 {
         // the division cancels (a symmetric code into its own width: `2 raw + 1`)
         return t.shift_add(w, (one / den) as u128) + clamp;
     }
-    // 2x + d and the offset into [0, U] (as CostTable::div_round); the bits below the
-    // divisor's power of two are dropped, and only their carry is kept
-    let (nlo, nhi) = (2 * xlo + den, 2 * xhi + den);
-    let tz = (2 * den).trailing_zeros();
-    let adds = t.constant_add(bits_of(nlo, nhi).saturating_sub(tz));
-    let o = (2 * den) >> tz;
-    let (ulo, uhi) = (nlo >> tz, nhi >> tz);
-    if o == 1 || ulo.div_euclid(o) == uhi.div_euclid(o) {
-        return t.shift_add(w, one as u128) + adds + clamp;
-    }
-    let k = if ulo < 0 { (-ulo + o - 1) / o } else { 0 };
-    let offset = if k != 0 {
-        2.0 * t.constant_add(bits_of(ulo, uhi))
-    } else {
-        0.0
-    };
-    let (mm, _) = crate::arith::reciprocal(o, uhi + k * o);
-    t.shift_add(w, (one * mm) as u128) + adds + offset + clamp
+    t.scaled_div(lo, hi, one, den) + clamp
 }
 
 #[cfg(test)]

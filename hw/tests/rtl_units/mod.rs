@@ -791,6 +791,66 @@ pub fn variants() -> Vec<Case> {
             2,
             uu(10),
         ),
+        // texel widths whose largest code does not divide 255: the rational rescale 255 s / 31
+        // truncated into s12.4 (u5 texels), 255 s / 63 into a RndConvOdd s10.2
+        // (u6), 255 s / 127 into a TrnZero s9.3 (s8 texels), 255 s / 1023 into a RndZero
+        // symmetric 9-bit code (u10 texels)
+        emboss(
+            "emboss_u5_rational",
+            fixed(false, 10, 8),
+            (16, 16),
+            fixed(false, 5, 0),
+            3.0,
+            3,
+            1,
+            {
+                let mut e = fixed(true, 16, 4);
+                e.quant = Quant::Trn;
+                e
+            },
+        ),
+        emboss(
+            "emboss_u6_rational",
+            fixed(false, 10, 8),
+            (16, 16),
+            uu(6),
+            2.0,
+            9,
+            1,
+            {
+                let mut e = fixed(true, 12, 2);
+                e.quant = Quant::RndConvOdd;
+                e
+            },
+        ),
+        emboss(
+            "emboss_s8_rational",
+            fixed(true, 12, 8),
+            (16, 16),
+            fixed(true, 8, 0),
+            4.0,
+            3,
+            2,
+            {
+                let mut e = fixed(true, 12, 3);
+                e.quant = Quant::TrnZero;
+                e
+            },
+        ),
+        emboss(
+            "emboss_u10_rational",
+            fixed(false, 10, 8),
+            (16, 16),
+            uu(10),
+            1.0,
+            3,
+            1,
+            {
+                let mut e = Encoding::texel(Codec::UnitSymmetric, true, 9);
+                e.quant = Quant::RndZero;
+                e
+            },
+        ),
         // four lanes, mixed tests (a clip plane on each side)
         cull(
             "cull_mixed",
