@@ -410,6 +410,18 @@ impl Check<'_> {
     }
 }
 
+/// The ROP datapath's input words for what the ROP read for one fragment of the frame.
+fn rop_words(u: &RopDatapath, r: &bumpsim_pipeline::rop::RopInput) -> Vec<Word> {
+    let ins = u.inputs();
+    let (z, dc) = (ins[1].enc, ins[2].enc);
+    vec![
+        r.color,
+        Word::from_raw(&z, &[i64::from(r.depth)]),
+        Word::from_raw(&dc, &r.dst.code),
+        Word::from_raw(&z, &[i64::from(r.dst_depth)]),
+    ]
+}
+
 fn regs_text(u: &RtlUnit) -> String {
     let mut s = String::from("# addr width value what (host-loaded registers, cfg_* port)\n");
     for (i, c) in u.config.iter().enumerate() {
@@ -543,6 +555,8 @@ pub fn execute(l: &Loaded, out: &Path, cosim: usize, synth_on: bool) -> Result<(
         });
         lines.push(line);
     }
+    // with --cosim the ROP modules also replay what the ROP read in the frame
+    let frame_inputs = prepared.as_ref().map(|p| p.rop_inputs(cosim));
     for (k, (label, pass, rop)) in eng.rops().into_iter().enumerate() {
         let file = &label;
         let u = RopDatapath::new(rop);
@@ -568,6 +582,33 @@ pub fn execute(l: &Loaded, out: &Path, cosim: usize, synth_on: bool) -> Result<(
             &mut line,
             &mut failures,
         )?;
+        if let Some(inputs) = frame_inputs.as_ref().and_then(|f| f.get(k)) {
+            let ins: Vec<Vec<Word>> = inputs.iter().map(|r| rop_words(&u, r)).collect();
+            let outs: Vec<Vec<Word>> = ins
+                .iter()
+                .map(|w| {
+                    let mut o = vec![Word::default(); u.outputs().len()];
+                    u.eval(Mode::BitAccurate, w, &mut o);
+                    o
+                })
+                .collect();
+            let dir = out.join("cosim").join(format!("{label}-frame"));
+            testbench::write(&dir, &rtl, &ins, &outs)
+                .map_err(|e| Failure::Internal(format!("{}: {e}", dir.display())))?;
+            match testbench::run_iverilog(&dir) {
+                Ok(r) => {
+                    let _ = write!(
+                        line,
+                        "; frame {} fragments, {} mismatches",
+                        r.vectors, r.mismatches
+                    );
+                    if r.mismatches > 0 || r.latency_errors > 0 || r.vectors != ins.len() {
+                        failures.push(format!("{label}: frame co-simulation {r:?}"));
+                    }
+                }
+                Err(e) => failures.push(format!("{label}: {e}")),
+            }
+        }
         lines.push(line);
     }
     let all = l.config.engine.units.len();

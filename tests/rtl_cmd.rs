@@ -127,8 +127,11 @@ fn every_pass_has_a_rop_module_cosimulated_with_its_state() {
             .lines()
             .find(|l| l.starts_with(label))
             .unwrap_or_else(|| panic!("{label}: {}", o.stdout));
+        // random vectors, and the fragments the ROP read in the rendered frame replayed
         assert!(
-            line.contains(file) && line.contains("cosim 300 vectors, 0 mismatches"),
+            line.contains(file)
+                && line.contains("cosim 300 vectors, 0 mismatches")
+                && line.contains("frame 300 fragments, 0 mismatches"),
             "{line}"
         );
     }

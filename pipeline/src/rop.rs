@@ -110,17 +110,49 @@ pub fn write_passes(
     h: u32,
     frags: &[impl AsRopFragment],
 ) -> Framebuffer {
+    write_passes_observed(passes, mode, w, h, frags, |_| {})
+}
+
+/// What the ROP read for one fragment: the pass, the fragment's colour word and depth code,
+/// and the pixel it landed on as the framebuffer held it (the datapath's inputs,
+/// `bumpsim_hw::units::RopDatapath`).
+#[derive(Debug, Clone, Copy)]
+pub struct RopInput {
+    pub pass: usize,
+    pub color: bumpsim_hw::Word,
+    pub depth: u32,
+    pub dst: bumpsim_hw::units::rop::Pixel,
+    pub dst_depth: u32,
+}
+
+/// [`write_passes`], calling `observe` with every fragment's [`RopInput`] before the ROP
+/// takes it.
+pub fn write_passes_observed(
+    passes: &[(&Rop, &Outputs)],
+    mode: Mode,
+    w: u32,
+    h: u32,
+    frags: &[impl AsRopFragment],
+    mut observe: impl FnMut(RopInput),
+) -> Framebuffer {
     let rop = passes[0].0;
     let mut fb = rop.clear(w, h);
     let mut tri = vec![crate::edges::NO_TRIANGLE; w as usize * h as usize];
     let mut counts = Vec::with_capacity(passes.len());
-    for &(rop, outputs) in passes {
+    for (pass, &(rop, outputs)) in passes.iter().enumerate() {
         let mut n = PassCounts::default();
         for (k, f) in frags.iter().enumerate().take(outputs.len()) {
             let Some(o) = outputs.word(k) else { continue };
             let f = f.rop_fragment();
             n.tested += 1;
             let i = (f.y as usize) * (w as usize) + f.x as usize;
+            observe(RopInput {
+                pass,
+                color: o,
+                depth: f.depth,
+                dst: fb.pixel(i),
+                dst_depth: fb.depth[i],
+            });
             match rop.write(&mut fb, mode, i, f.depth, &o) {
                 Outcome::AlphaFailed => {}
                 Outcome::DepthFailed => n.depth_tested += 1,

@@ -379,6 +379,40 @@ impl Prepared {
             .collect()
     }
 
+    /// Up to `n` of every pass's ROP inputs in the bit-accurate frame (`crate::rop::RopInput`:
+    /// what the ROP read for a fragment that reached it), evenly spaced over the pass's
+    /// fragments: the replay of the ROP's Verilog (`bumpsim rtl --cosim`).
+    pub fn rop_inputs(&self, n: usize) -> Vec<Vec<crate::rop::RopInput>> {
+        let mode = Mode::BitAccurate;
+        let front = self.front(mode, false);
+        let attrs = &self.engine.attributes;
+        let fill = |f: usize, t: &mut Token| front.fill(attrs, mode, f, t);
+        let out = &self.engine.output;
+        let first = sim::evaluate_lanes(
+            &self.engine.stages,
+            mode,
+            out.wire,
+            &out.spec,
+            front.frags.len(),
+            self.engine.slots(),
+            &fill,
+        );
+        let extra = self.pass_outputs(mode);
+        let (w, h) = (self.scene.width, self.scene.height);
+        let mut list = vec![(&self.engine.rop, &first)];
+        list.extend(self.engine.passes.iter().map(|p| &p.rop).zip(&extra));
+        let mut all: Vec<Vec<crate::rop::RopInput>> = vec![Vec::new(); list.len()];
+        crate::rop::write_passes_observed(&list, mode, w, h, &self.raster.fragments, |r| {
+            all[r.pass].push(r)
+        });
+        all.into_iter()
+            .map(|v| {
+                let m = n.min(v.len());
+                (0..m).map(|k| v[k * v.len() / m]).collect()
+            })
+            .collect()
+    }
+
     /// The texel reads of the frame through `engine.texture_cache` (`None` without one):
     /// every fragment in rasterization order, bit-accurate, on this thread.
     pub fn texture_cache(&self) -> Option<(crate::texcache::CacheReport, crate::texcache::Timing)> {
