@@ -108,3 +108,56 @@ fn timed_outputs_are_the_untimed_evaluation_at_any_fifo_depth() {
         }
     }
 }
+
+/// The ROP's datapath (`RopDatapath`, the function `Rop::write` applies) on what each pass's
+/// ROP read in the frame: every output word of its port's format with `x = decode(raw)`, the
+/// write flags as the outcome, and the codes written the stored ones when nothing is.
+#[test]
+fn the_rops_datapath_words_decode_on_the_frames_own_fragments() {
+    use bumpsim_hw::units::RopDatapath;
+    use bumpsim_hw::{Unit, Word};
+    let mut outcomes = [0usize; 2];
+    for name in [
+        "sgi-teapot",
+        "rop-alpha-test",
+        "cull-fragment",
+        "quantized-bunny-wood-eq1",
+    ] {
+        let l = config::load(&config(name), &[]).unwrap();
+        let p = prepare(&l).unwrap();
+        let inputs = p.rop_inputs(SAMPLES);
+        assert_eq!(inputs.len(), 1 + p.engine.passes.len(), "{name}");
+        for ((label, _, rop), ins) in p.engine.rops().into_iter().zip(inputs) {
+            let u = RopDatapath::new(rop);
+            let specs = u.inputs();
+            assert!(
+                !ins.is_empty(),
+                "{name} {label}: no fragment reached the ROP"
+            );
+            for r in ins {
+                let words = vec![
+                    r.color,
+                    Word::from_raw(&specs[1].enc, &[i64::from(r.depth)]),
+                    Word::from_raw(&specs[2].enc, &r.dst.code),
+                    Word::from_raw(&specs[3].enc, &[i64::from(r.dst_depth)]),
+                ];
+                let mut o = vec![Word::default(); 3];
+                u.eval(Mode::BitAccurate, &words, &mut o);
+                for (port, w) in u.outputs().iter().zip(&o) {
+                    for s in &w.lanes[..port.lanes as usize] {
+                        assert!(port.enc.format.contains(s.raw), "{name} {label}");
+                        assert_eq!(s.x, port.enc.decode(s.raw), "{name} {label}");
+                    }
+                }
+                let written = o[0].lanes[0].raw == 1;
+                outcomes[usize::from(written)] += 1;
+                if !written {
+                    assert_eq!(o[2].raws::<3>(), r.dst.code, "{name} {label}");
+                    assert_eq!(o[1].lanes[0].raw, 0, "{name} {label}");
+                }
+            }
+        }
+    }
+    // both outcomes seen (hidden fragments, alpha-tested ones, the blend passes' Equal)
+    assert!(outcomes.iter().all(|&n| n > 100), "{outcomes:?}");
+}
