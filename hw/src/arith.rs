@@ -275,22 +275,6 @@ mod tests {
     #[test]
     fn rational_code_is_to_code_on_dyadic_values() {
         use crate::format::Overflow;
-        let quants = [
-            Quant::Trn,
-            Quant::TrnZero,
-            Quant::Rnd,
-            Quant::RndZero,
-            Quant::RndInf,
-            Quant::RndMinInf,
-            Quant::RndConv,
-            Quant::RndConvOdd,
-        ];
-        let overflows = [
-            Overflow::Sat,
-            Overflow::SatZero,
-            Overflow::SatSym,
-            Overflow::Wrap,
-        ];
         let encs = [
             Encoding::fixed(Format::s(9, 3)),
             Encoding::fixed(Format::u(7, 5)),
@@ -299,8 +283,8 @@ mod tests {
             Encoding::texel(Codec::UnitSymmetric, true, 6),
         ];
         for base in encs {
-            for q in quants {
-                for o in overflows {
+            for q in Quant::ALL {
+                for o in Overflow::ALL {
                     let mut enc = base;
                     enc.quant = q;
                     enc.overflow = o;

@@ -56,6 +56,30 @@ pub enum Overflow {
     SatSym,
 }
 
+impl Quant {
+    /// Every mode, in declaration order (the truncating `Trn`, `TrnZero` first).
+    pub const ALL: [Quant; 8] = [
+        Quant::Trn,
+        Quant::TrnZero,
+        Quant::Rnd,
+        Quant::RndZero,
+        Quant::RndInf,
+        Quant::RndMinInf,
+        Quant::RndConv,
+        Quant::RndConvOdd,
+    ];
+}
+
+impl Overflow {
+    /// Every mode, in declaration order.
+    pub const ALL: [Overflow; 4] = [
+        Overflow::Wrap,
+        Overflow::Sat,
+        Overflow::SatZero,
+        Overflow::SatSym,
+    ];
+}
+
 /// How a raw word maps to a real number at a memory or port interface.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
 pub enum Codec {

@@ -470,22 +470,8 @@ mod tests {
         }
     }
 
-    const QUANTS: [Quant; 8] = [
-        Quant::Trn,
-        Quant::TrnZero,
-        Quant::Rnd,
-        Quant::RndZero,
-        Quant::RndInf,
-        Quant::RndMinInf,
-        Quant::RndConv,
-        Quant::RndConvOdd,
-    ];
-    const OVERFLOWS: [Overflow; 4] = [
-        Overflow::Wrap,
-        Overflow::Sat,
-        Overflow::SatZero,
-        Overflow::SatSym,
-    ];
+    const QUANTS: [Quant; 8] = Quant::ALL;
+    const OVERFLOWS: [Overflow; 4] = Overflow::ALL;
 
     /// The bit-accurate cast before it was written in integers: the mask sum read as an s32.0
     /// word, times `255 / max_code` in f64, encoded into `out`.

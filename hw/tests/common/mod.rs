@@ -15,25 +15,11 @@
 use bumpsim_hw::format::{Codec, Encoding, Overflow, Quant};
 use std::cmp::Ordering;
 
-pub const QUANTS: [Quant; 8] = [
-    Quant::Trn,
-    Quant::TrnZero,
-    Quant::Rnd,
-    Quant::RndZero,
-    Quant::RndInf,
-    Quant::RndMinInf,
-    Quant::RndConv,
-    Quant::RndConvOdd,
-];
+pub const QUANTS: [Quant; 8] = Quant::ALL;
 /// The modes that round to nearest: all but the truncating `Trn` and `TrnZero`.
 pub const NEAREST: &[Quant] = QUANTS.split_at(2).1;
 
-pub const OVERFLOWS: [Overflow; 4] = [
-    Overflow::Wrap,
-    Overflow::Sat,
-    Overflow::SatZero,
-    Overflow::SatSym,
-];
+pub const OVERFLOWS: [Overflow; 4] = Overflow::ALL;
 
 /// `num / den` (den > 0) rounded to an integer by `q`, computed exactly.
 pub fn round_div(num: i128, den: i128, q: Quant) -> i128 {
