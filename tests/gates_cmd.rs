@@ -200,13 +200,16 @@ fn synth_puts_yosys_beside_the_model_for_every_generated_unit() {
     let rop = at(&g, "gates.rop.synth.rop");
     assert!((num(rop, "model_ge") - num(&g, "gates.rop.total")).abs() < 0.01);
     assert!((0.9..=1.1).contains(&num(rop, "logic_ratio")), "rop: {rop}");
-    // a unit whose function has no generator (the palette builder's EnvMap) is named with
-    // the reason
-    let g = gates_json("quantized-vase-envmap", &["--synth"]);
+    // a unit without a generator (the builder's interpolated power table) is named with the
+    // reason
+    let g = gates_json(
+        "quantized-sphere",
+        &["--synth", "--set", common::LERP_POWER],
+    );
     let why = at(&g, "gates.per_unit.qnm.synth.none");
     assert!(
         why.as_str()
-            .is_some_and(|w| w.contains("not generated") && w.contains("EnvMap")),
+            .is_some_and(|w| w.contains("not generated") && w.contains("TableLerp")),
         "qnm: {why}"
     );
     // an emboss filter of 6-bit heights has the rational rescale 255 s / 63 (the bricks'

@@ -44,14 +44,17 @@ fn the_quantized_unit_cosimulates_from_the_engines_own_unit() {
 
 #[test]
 fn a_function_without_a_generator_is_named() {
-    let s = Scratch::new("rtl-envmap");
+    let s = Scratch::new("rtl-lerp");
     let out = s.join("rtl");
-    let cfg = config("quantized-vase-envmap");
-    let o = bumpsim(&["rtl", cfg.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let cfg = config("quantized-sphere");
+    let (cfg, out) = (cfg.to_str().unwrap(), out.to_str().unwrap());
+    let o = bumpsim(&["rtl", cfg, "--out", out, "--set", common::LERP_POWER]);
     o.expect_code(0, "rtl");
     assert!(
-        o.stdout
-            .contains("not generated: material 0: the EnvMap function has no generator"),
+        o.stdout.contains(
+            "not generated: material 0: power generator TableLerp { index_bits: 8, value_bits: \
+             12, frac_bits: 4 }: the generator builds the Table form only"
+        ),
         "{}",
         o.stdout
     );

@@ -232,18 +232,31 @@ fn emboss_matches_the_model_at_every_texel() {
 
 /// Every entry the builder writes, read back: one vector per texel centre of an index
 /// texture that holds every index (`quantized_sphere`: 256 entries in 64 x 64 texels, one
-/// Blinn-Phong material; `quantized_materials`: two materials over 200 entries, two lights).
+/// Blinn-Phong material; `quantized_materials`: two materials over 200 entries, two lights;
+/// `quantized_envmap`: 2048 sphere-map entries in 64 x 64; `quantized_envmap_two`: two
+/// sphere maps over 150 entries in 16 x 16).
 #[test]
 fn quantized_builder_writes_every_entry_as_the_model() {
     if skip_requested() {
         return;
     }
     assert!(iverilog_available(), "rtl_cosim: iverilog not found");
+    let names = [
+        ("quantized_sphere", 64u32),
+        ("quantized_materials", 32),
+        ("quantized_envmap", 64),
+        ("quantized_envmap_two", 16),
+    ];
     let cases = rtl_units::quantized::bundled()
         .into_iter()
-        .take(1)
-        .chain(rtl_units::quantized::variants().into_iter().take(1));
-    for (c, size) in cases.zip([64u32, 32]) {
+        .chain(rtl_units::quantized::variants())
+        .filter_map(|c| {
+            let size = names.iter().find(|n| n.0 == c.name)?.1;
+            Some((c, size))
+        })
+        .collect::<Vec<_>>();
+    assert_eq!(cases.len(), names.len());
+    for (c, size) in cases {
         let uv = c.unit.inputs()[0].enc;
         let ins: Vec<Vec<Word>> = (0..size * size)
             .map(|k| {

@@ -228,3 +228,9 @@ pub fn rtl_cosim(name: &str, n: &str, tag: &str) -> Option<(Scratch, PathBuf, Ou
     o.expect_code(0, "rtl --cosim");
     Some((s, out, o))
 }
+
+/// A `--set` that gives the palette builder a power generator its Verilog does not build
+/// (the interpolated table): a unit reported "not generated".
+#[allow(dead_code)]
+pub const LERP_POWER: &str =
+    "engine.units.qnm.unit.datapath.power=TableLerp(index_bits: 8, value_bits: 12, frac_bits: 4)";

@@ -39,6 +39,7 @@ pub mod modulate;
 pub mod ndf_turbulence;
 pub mod normalize;
 pub mod palette_builder;
+pub(crate) mod palette_envmap;
 pub mod perturb;
 pub mod power;
 pub mod quantized;

@@ -67,7 +67,7 @@ use super::power::nearest_index;
 use super::verilog::{signed_bits, unsigned_bits, Module};
 use super::Shell;
 use crate::format::{Codec, Encoding, Format, Overflow, Quant};
-use crate::units::palette_builder::{band_codes, Light, LightingFn};
+use crate::units::palette_builder::{band_codes, eye_axes, Light, LightingFn};
 use crate::units::{PaletteBuilder, SpecGen};
 
 /// The builder's write port into the colour table and its clocks per frame.
@@ -114,7 +114,7 @@ enum Form {
 /// One slot of a material's schedule: its kind, vector codes (`None`: no vector, the dot
 /// product unused), one coefficient per lane (`None`: structurally zero) and the power table
 /// it reads.
-struct Slot {
+pub(crate) struct Slot {
     kind: Kind,
     src: Src,
     vector: Option<[i64; 3]>,
@@ -127,6 +127,9 @@ struct Slot {
     csum: bool,
     /// A cartoon band slot: the band of its intensity word (`bands`) is taken in stage 2.
     bands: Option<u32>,
+    /// An `EnvMap` slot: 0 the view's `N.V`, 1 to 3 the eye frame's axis `a` forming `R.a`
+    /// ([`super::palette_envmap`]).
+    pub(crate) env: Option<u8>,
     table: usize,
     first: bool,
     last: bool,
@@ -143,6 +146,7 @@ impl Slot {
             konst: None,
             csum: false,
             bands: None,
+            env: None,
             table,
             first: false,
             last: false,
@@ -190,12 +194,8 @@ struct Schedule {
     /// Per material: the cartoon band words (RGB entry codes), `None` for other functions.
     bands: Vec<Option<Vec<[i64; 3]>>>,
     split: bool,
-}
-
-/// The name of a function's variant (`Cartoon`, `EnvMap`, ...).
-fn fn_name(f: &LightingFn) -> String {
-    let name = format!("{f:?}");
-    name.split([' ', '{']).next().unwrap_or("").to_string()
+    /// Every material is `EnvMap` ([`super::palette_envmap`]).
+    env: bool,
 }
 
 fn schedule(b: &PaletteBuilder) -> Result<Schedule, String> {
@@ -216,6 +216,7 @@ fn schedule(b: &PaletteBuilder) -> Result<Schedule, String> {
         tables: Vec::new(),
         bands: Vec::new(),
         split: false,
+        env: false,
     };
     for (k, ((_, f), gen)) in b.materials().iter().zip(b.generators()).enumerate() {
         let mut table = 0;
@@ -366,13 +367,21 @@ fn schedule(b: &PaletteBuilder) -> Result<Schedule, String> {
                 slots.push(x);
                 (amb3(ground), None)
             }
-            other => {
-                return Err(format!(
-                    "material {k}: the {} function has no generator (the model's sphere-map \
-                     address is computed in f64; Lambert, Specular, the split form, Cartoon, \
-                     DoubledAnglePhong and Chrome have one)",
-                    fn_name(other)
-                ));
+            LightingFn::EnvMap { view, up, .. } => {
+                // N.V, then per axis a of the eye frame N.a with R.a = 2 (N.V)(N.a) - V.a
+                let vq = b.vector_codes(*view);
+                let mut x = Slot::new(Kind::Diffuse, Src::Dot, Some(vq), table);
+                x.env = Some(0);
+                slots.push(x);
+                for (a, axis) in eye_axes(*view, *up).into_iter().enumerate() {
+                    let aq = b.vector_codes(axis);
+                    let mut x = Slot::new(Kind::Diffuse, Src::Dot, Some(aq), table);
+                    x.konst = Some(vdot(vq, aq));
+                    x.env = Some(a as u8 + 1);
+                    slots.push(x);
+                }
+                s.env = true;
+                ([None; 4], None)
             }
         };
         if let Some((view, specular, lights)) = spec {
@@ -394,6 +403,17 @@ fn schedule(b: &PaletteBuilder) -> Result<Schedule, String> {
         s.ambient.push(ambient);
         s.bands.push(band_words);
     }
+    if s.env
+        && b.materials()
+            .iter()
+            .any(|(_, f)| !matches!(f, LightingFn::EnvMap { .. }))
+    {
+        return Err(
+            "EnvMap and another function in one table: the generator builds a table of \
+             EnvMap materials only (their entries are written later in the pipeline)"
+                .into(),
+        );
+    }
     if s.split
         && b.materials()
             .iter()
@@ -404,8 +424,66 @@ fn schedule(b: &PaletteBuilder) -> Result<Schedule, String> {
     Ok(s)
 }
 
+/// The reflection `2 a b - k` of two dot products `a = N.u`, `b = N.w` and the constant `k =
+/// u.w`: `R.w` for `R = 2 (N.u) N - u`.
+pub(crate) fn reflection(m: &mut Module, a: &Fx, b: &Fx, k: &Fx) -> Fx {
+    let p = mul(m, a, b);
+    let p2 = twice(m, p);
+    sub(m, &p2, k)
+}
+
+/// `2 x`: the same raw word read with one fraction bit less, or scaled when it has none.
+fn twice(m: &mut Module, x: Fx) -> Fx {
+    if x.frac > 0 {
+        Fx {
+            frac: x.frac - 1,
+            ..x
+        }
+    } else {
+        scale(m, &x, 2)
+    }
+}
+
+/// The slot's reflection constant (`L.V`, `V.up`, `V.a`: a host register of the exact
+/// product of two vector readings), selected by the slot `f1` among the slots that have one.
+fn slot_konst(
+    m: &mut Module,
+    kregs: &[Option<String>],
+    konst_fmt: &Format,
+    vector: &Encoding,
+    f1: &str,
+) -> Fx {
+    let (fv, facv) = reading(vector);
+    let kslots: Vec<usize> = (0..kregs.len()).filter(|&i| kregs[i].is_some()).collect();
+    let kvals: Vec<Fx> = kslots
+        .iter()
+        .map(|&i| {
+            let r = raw_word(m, kregs[i].as_ref().unwrap(), konst_fmt);
+            let mut fac = [facv.clone(), facv.clone()].concat();
+            fac.sort_unstable();
+            Fx {
+                frac: 2 * fv,
+                fac,
+                ..r
+            }
+        })
+        .collect();
+    if kvals.len() == 1 {
+        return kvals[0].clone();
+    }
+    let kb = unsigned_bits(kvals.len() as u128 - 1);
+    let ids: Vec<String> = (0..kregs.len())
+        .map(|i| {
+            let at = kslots.iter().position(|&x| x == i).unwrap_or(0);
+            format!("{kb}'d{at}")
+        })
+        .collect();
+    let ksel = m.select_bits(f1, &ids, kb);
+    select(m, &ksel, &kvals)
+}
+
 /// `1` when the unsigned `x` equals one of `values`, as an expression.
-fn any_eq(x: &str, bits: u32, values: impl Iterator<Item = usize>) -> String {
+pub(crate) fn any_eq(x: &str, bits: u32, values: impl Iterator<Item = usize>) -> String {
     let terms: Vec<String> = values.map(|v| format!("({x} == {bits}'d{v})")).collect();
     if terms.is_empty() {
         "1'b0".into()
@@ -415,7 +493,7 @@ fn any_eq(x: &str, bits: u32, values: impl Iterator<Item = usize>) -> String {
 }
 
 /// The material of entry `e` (`eb` bits): the count of interval starts at or below it.
-fn material_of(m: &mut Module, b: &PaletteBuilder, e: &str, eb: u32) -> String {
+pub(crate) fn material_of(m: &mut Module, b: &PaletteBuilder, e: &str, eb: u32) -> String {
     let mats = b.materials();
     let mb = unsigned_bits(mats.len().saturating_sub(1) as u128);
     if mats.len() == 1 {
@@ -452,7 +530,8 @@ pub(crate) fn builder(
     let f = *b.formats();
     let n = b.entries();
     let total = s.slots.len();
-    let cycles = b.cycles_per_frame() as u32 + 4;
+    // the write is stage 3 (an EnvMap table's stage 5) after the last slot's issue
+    let cycles = b.cycles_per_frame() as u32 + if s.env { 6 } else { 4 };
     let (frame, done) = sh.frame(cycles);
     // host-loaded registers: each slot's vector and coefficients, each material's ambient
     let (er_lo, er_hi) = raw_range(&f.entry);
@@ -613,6 +692,26 @@ pub(crate) fn builder(
         dot_terms.push(mul(m, &nx, &vx));
     }
     let dot = sum(m, &dot_terms.iter().collect::<Vec<_>>());
+    if s.env {
+        let konst = slot_konst(m, &kregs, &konst_fmt, &f.vector, &f1);
+        let s1 = super::palette_envmap::Stage1 {
+            dot: &dot,
+            konst: &konst,
+            f1: &f1,
+            e1: &e1,
+            v1: &v1,
+            fb,
+            eb,
+        };
+        return super::palette_envmap::finish(
+            sh,
+            b,
+            &s.slots,
+            s1,
+            (&frame, &done, cycles),
+            addr_bits,
+        );
+    }
     let sat = clamp(m, &dot, Some((0, 0)), Some((1, 0)));
     let wi = f.intensity.width();
     let ik_dot = to_code(m, &sat, &f.intensity);
@@ -635,44 +734,8 @@ pub(crate) fn builder(
             name: dp,
             ..dot.clone()
         };
-        let p = mul(m, &dpx, &dot);
-        let p2 = if p.frac > 0 {
-            Fx {
-                frac: p.frac - 1,
-                ..p
-            }
-        } else {
-            scale(m, &p, 2)
-        };
-        let (fv, facv) = reading(&f.vector);
-        let kslots = slots_where(&|x| x.konst.is_some());
-        let kvals: Vec<Fx> = kslots
-            .iter()
-            .map(|&i| {
-                let r = raw_word(m, kregs[i].as_ref().unwrap(), &konst_fmt);
-                let mut fac = [facv.clone(), facv.clone()].concat();
-                fac.sort_unstable();
-                Fx {
-                    frac: 2 * fv,
-                    fac,
-                    ..r
-                }
-            })
-            .collect();
-        let kx = if kvals.len() == 1 {
-            kvals[0].clone()
-        } else {
-            let kb = unsigned_bits(kvals.len() as u128 - 1);
-            let ids: Vec<String> = (0..total)
-                .map(|i| {
-                    let at = kslots.iter().position(|&x| x == i).unwrap_or(0);
-                    format!("{kb}'d{at}")
-                })
-                .collect();
-            let ksel = m.select_bits(&f1, &ids, kb);
-            select(m, &ksel, &kvals)
-        };
-        let r = sub(m, &p2, &kx);
+        let kx = slot_konst(m, &kregs, &konst_fmt, &f.vector, &f1);
+        let r = reflection(m, &dpx, &dot, &kx);
         if has(&|x| x.src == Src::Chrome) {
             // t = (1 + R.up) / 2
             let t = add(m, &constant(1, 0), &r);
@@ -709,14 +772,7 @@ pub(crate) fn builder(
             m.stmt(format!("always @(posedge clk) {rv} <= {};", rp.name));
             let rp = Fx { name: rv, ..rp };
             let sq = square(m, &rp);
-            let sq2 = if sq.frac > 0 {
-                Fx {
-                    frac: sq.frac - 1,
-                    ..sq
-                }
-            } else {
-                scale(m, &sq, 2)
-            };
+            let sq2 = twice(m, sq);
             let x = sub(m, &sq2, &constant(1, 0));
             let code = clamp_code(m, &x, Some((0, 0)), Some((1, 0)), &f.intensity);
             let flag = any_eq(&f1, fb, slots_where(&|x| x.src == Src::Doubled).into_iter());
@@ -1102,24 +1158,45 @@ pub(crate) fn builder(
             lane_codes[3], lane_codes[2], lane_codes[1], lane_codes[0]
         ),
     );
+    Ok(write_port(
+        m,
+        (w3, e3, eb),
+        data,
+        addr_bits,
+        (&frame, &done, cycles),
+        n,
+    ))
+}
+
+/// The colour table's write port of the builder's last stage: enable `we` and entry `e`
+/// (`eb` bits, widened to `addr_bits`), the entry word `data`; `done` rises on the write of
+/// entry `n - 1` and falls on `frame`.
+pub(crate) fn write_port(
+    m: &mut Module,
+    (we, e, eb): (String, String, u32),
+    data: String,
+    addr_bits: u32,
+    (frame, done, cycles): (&str, &str, u32),
+    n: usize,
+) -> Writes {
     let addr = if eb < addr_bits {
         m.uwire(
             "b_addr",
             addr_bits,
-            &format!("{{{}'d0, {e3}}}", addr_bits - eb),
+            &format!("{{{}'d0, {e}}}", addr_bits - eb),
         )
     } else {
-        e3.clone()
+        e.clone()
     };
     m.stmt(format!(
         "always @(posedge clk) begin\n    if (rst || {frame}) {done} <= 1'b0;\n    \
-         else if ({w3} && {e3} == {eb}'d{}) {done} <= 1'b1;\nend",
+         else if ({we} && {e} == {eb}'d{}) {done} <= 1'b1;\nend",
         n - 1
     ));
-    Ok(Writes {
-        we: w3,
+    Writes {
+        we,
         addr,
         data,
         cycles,
-    })
+    }
 }

@@ -26,7 +26,7 @@ use super::specgen::SpecGen;
 use crate::format::{Codec, Encoding};
 use crate::gates::{CostTable, GateBudget, TableRole};
 
-fn bits(hi: u128) -> u32 {
+pub(crate) fn bits(hi: u128) -> u32 {
     (128 - hi.leading_zeros()).max(1)
 }
 
@@ -42,7 +42,7 @@ fn reading(e: &Encoding) -> (u32, u128) {
 
 /// `(fraction bits, factor n's)` of a word of `e` read into the datapath: the factors
 /// `2^n + 1` of its bit replication.
-fn reading_facs(e: &Encoding) -> (u32, Vec<u32>) {
+pub(crate) fn reading_facs(e: &Encoding) -> (u32, Vec<u32>) {
     let n = e.width();
     match e.codec {
         Codec::Fixed => (e.format.frac as u32, Vec::new()),
@@ -52,12 +52,12 @@ fn reading_facs(e: &Encoding) -> (u32, Vec<u32>) {
 }
 
 /// The product of the factors `2^n + 1`.
-fn fac_value(f: &[u32]) -> u128 {
+pub(crate) fn fac_value(f: &[u32]) -> u128 {
     f.iter().map(|&n| (1u128 << n) + 1).product()
 }
 
 /// The range of the raw integers a word of `e` is read as (`2c + 1` for symmetric codes).
-fn raw_range(e: &Encoding) -> (i128, i128) {
+pub(crate) fn raw_range(e: &Encoding) -> (i128, i128) {
     let f = e.format;
     match e.codec {
         Codec::UnitSymmetric => (2 * f.min_raw() as i128 + 1, 2 * f.max_raw() as i128 + 1),
@@ -65,13 +65,13 @@ fn raw_range(e: &Encoding) -> (i128, i128) {
     }
 }
 
-fn corners(a: (i128, i128), b: (i128, i128)) -> (i128, i128) {
+pub(crate) fn corners(a: (i128, i128), b: (i128, i128)) -> (i128, i128) {
     let c = [a.0 * b.0, a.0 * b.1, a.1 * b.0, a.1 * b.1];
     (*c.iter().min().unwrap(), *c.iter().max().unwrap())
 }
 
 /// Bits of a signed word holding `[lo, hi]`.
-fn sbits(lo: i128, hi: i128) -> u32 {
+pub(crate) fn sbits(lo: i128, hi: i128) -> u32 {
     crate::rtl::verilog::signed_bits(lo, hi)
 }
 
@@ -90,10 +90,64 @@ struct Lane {
     ambient: bool,
 }
 
+/// The normal table (memory) and the slots' vector registers (`vec_slots` of them).
+pub(crate) fn normals_and_vectors(
+    g: &mut GateBudget,
+    t: &CostTable,
+    b: &PaletteBuilder,
+    vec_slots: u32,
+) {
+    let f = b.formats();
+    let (n, wn, wv) = (b.entries(), f.normal.width(), f.vector.width());
+    g.add_memory(
+        format!("normal table {n}x{} (loadable)", 3 * wn),
+        1,
+        t.for_table(TableRole::Normals)
+            .table_of(&b.normal_words(), 3 * wn),
+    );
+    g.add(
+        format!("slot vector registers 3x{wv}"),
+        vec_slots,
+        t.register(3 * wv),
+    );
+}
+
+/// The host registers' address decode (`regs` registers) and the slot sequencer: busy, the
+/// entry (`eb` bits) and slot (`fb` bits) counters.
+pub(crate) fn issue(g: &mut GateBudget, t: &CostTable, regs: u32, eb: u32, fb: u32) {
+    let ab = bits(regs.saturating_sub(1) as u128);
+    g.add(
+        format!("register address decode {ab}"),
+        regs,
+        t.and2 * ab as f64,
+    );
+    // issue: busy, entry and slot counters, the next entry's material and its first slot
+    g.add(
+        format!("slot sequencer {}", 1 + eb + fb),
+        1,
+        t.register(1 + eb + fb) + t.half_adder * (eb + fb) as f64,
+    );
+}
+
+/// The slot's vector select (`slots` vectors of `3 x wv` bits) and the dot product `N .
+/// vector`: three multipliers and the exact sum.
+pub(crate) fn dot_product(g: &mut GateBudget, t: &CostTable, wn: u32, wv: u32, slots: u32) {
+    g.add(format!("vector select 3x{wv}"), 1, t.mux(3 * wv, slots));
+    let wd = wn + wv + 2;
+    g.add(format!("dot multiplier {wn}x{wv}"), 3, t.multiplier(wn, wv));
+    g.add(format!("dot adder {wd}"), 2, t.adder(wd));
+}
+
 /// The builder's gates when every material has a generator; `None` otherwise.
 pub(crate) fn pipelined(b: &PaletteBuilder, t: &CostTable) -> Option<GateBudget> {
     if b.entries_per_clock() != 1 {
         return None;
+    }
+    if b.materials()
+        .iter()
+        .any(|(_, f)| matches!(f, LightingFn::EnvMap { .. }))
+    {
+        return super::builder_gates_envmap::envmap(b, t);
     }
     let f = *b.formats();
     let (wn, wv, wi, we) = (
@@ -182,7 +236,7 @@ pub(crate) fn pipelined(b: &PaletteBuilder, t: &CostTable) -> Option<GateBudget>
                 }
                 continue;
             }
-            LightingFn::EnvMap { .. } => return None,
+            LightingFn::EnvMap { .. } => return None, // priced above
         };
         let kinds = 1 + u32::from(!sl.is_empty());
         slots += (kinds * l).max(1);
@@ -218,19 +272,8 @@ pub(crate) fn pipelined(b: &PaletteBuilder, t: &CostTable) -> Option<GateBudget>
     let kv = corners(vr, vr);
     let kw = sbits(3 * kv.0, 3 * kv.1);
     let regs = 3 * vec_slots + coefs + words + konsts + ambients + band_words;
-    let ab = bits(regs.saturating_sub(1) as u128);
     let mut g = GateBudget::new();
-    g.add_memory(
-        format!("normal table {n}x{} (loadable)", 3 * wn),
-        1,
-        t.for_table(TableRole::Normals)
-            .table_of(&b.normal_words(), 3 * wn),
-    );
-    g.add(
-        format!("slot vector registers 3x{wv}"),
-        vec_slots,
-        t.register(3 * wv),
-    );
+    normals_and_vectors(&mut g, t, b, vec_slots);
     if coefs > 0 {
         g.add(
             format!("slot coefficient registers {cw}"),
@@ -258,17 +301,7 @@ pub(crate) fn pipelined(b: &PaletteBuilder, t: &CostTable) -> Option<GateBudget>
     if band_words > 0 {
         g.add(format!("band registers {we}"), band_words, t.register(we));
     }
-    g.add(
-        format!("register address decode {ab}"),
-        regs,
-        t.and2 * ab as f64,
-    );
-    // issue: busy, entry and slot counters, the next entry's material and its first slot
-    g.add(
-        format!("slot sequencer {}", 1 + eb + fb),
-        1,
-        t.register(1 + eb + fb) + t.half_adder * (eb + fb) as f64,
-    );
+    issue(&mut g, t, regs, eb, fb);
     if mats > 1 {
         g.add(
             format!("material compare {eb}"),
@@ -283,10 +316,7 @@ pub(crate) fn pipelined(b: &PaletteBuilder, t: &CostTable) -> Option<GateBudget>
         1,
         t.register(3 + 3 * eb + 2 * fb + wi),
     );
-    g.add(format!("vector select 3x{wv}"), 1, t.mux(3 * wv, slots));
-    let wd = wn + wv + 2;
-    g.add(format!("dot multiplier {wn}x{wv}"), 3, t.multiplier(wn, wv));
-    g.add(format!("dot adder {wd}"), 2, t.adder(wd));
+    dot_product(&mut g, t, wn, wv, slots);
     let (fi, ri) = reading(&f.intensity);
     g.add(format!("intensity clamp {wi}"), 1, t.clamp(wi));
     // the clamped dot product (fraction bits of both words) cast into the intensity word

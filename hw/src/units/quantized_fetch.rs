@@ -301,6 +301,7 @@ mod tests {
                 value_bits: 12,
             },
             entry: Encoding::texel(Codec::UnitUnsigned, false, 8),
+            sphere: Default::default(),
         }
     }
     fn normals(n: usize) -> Vec<[f64; 3]> {

@@ -17,6 +17,7 @@ fn formats(entry: Encoding) -> BuilderFormats {
             value_bits: 12,
         },
         entry,
+        sphere: Default::default(),
     }
 }
 
@@ -176,6 +177,28 @@ pub fn mip_unit(
     Case::new(name, u, rtl)
 }
 
+/// An environment map (`quantized-vase-envmap`: the viewer and up in object space) on a
+/// `w` x `h` image of smooth ramps and a fine pattern, so that neighbouring texels differ.
+fn envmap(w: u32, h: u32, view: [f64; 3], up: [f64; 3]) -> LightingFn {
+    let image = (0..w * h)
+        .map(|k| {
+            let (i, j) = ((k % w) as f64, (k / w) as f64);
+            [
+                i / w as f64,
+                j / h as f64,
+                ((k * 7 + (k / w) * 13) % 17) as f64 / 16.0,
+            ]
+        })
+        .collect();
+    LightingFn::EnvMap {
+        view,
+        up,
+        image,
+        width: w,
+        height: h,
+    }
+}
+
 /// Indices `0..n` in turn, so that every entry of the table is under some texel.
 fn every(size: u32, n: usize) -> Vec<u32> {
     (0..size * size).map(|k| k % n as u32).collect()
@@ -237,6 +260,21 @@ pub fn bundled() -> Vec<Case> {
             64,
             every(64, 256),
             8,
+            3,
+        ),
+        // quantized-vase-envmap: 2048 entries, a 256 x 256 sphere map, the default 1024 x 16
+        // reciprocal-square-root table
+        unit(
+            "quantized_envmap",
+            2048,
+            vec![(
+                0..2048,
+                envmap(256, 256, [0.0, 0.196, 0.981], [0.0, 0.981, -0.196]),
+            )],
+            uu(8),
+            64,
+            every(64, 2048),
+            11,
             3,
         ),
         // quantized-plane-mipmap's words (a u8.4 LOD, Lambert on 256 entries, u8 entries) on
@@ -392,6 +430,31 @@ pub fn variants() -> Vec<Case> {
             vec![(0..100, cartoon(3, vec![l2]))],
             (16, 16),
             fixed(false, 3, 0),
+            2,
+        ),
+        // two sphere maps of other sizes (one not a power of two) and viewers, factor-carrying
+        // normals and vectors (symmetric 10-bit), s2.9 reflections, a 64 x 10 table, 6-bit
+        // entries
+        unit_with(
+            "quantized_envmap_two",
+            150,
+            vec![
+                (0..90, envmap(37, 20, [0.3, -0.2, 0.9], [0.0, 1.0, 0.0])),
+                (90..150, envmap(16, 16, [-0.5, 0.1, 0.6], [0.2, 0.0, 1.0])),
+            ],
+            BuilderFormats {
+                normal: sym,
+                vector: sym,
+                sphere: bumpsim_hw::units::SphereAddress {
+                    r_frac: 9,
+                    table_bits: 6,
+                    value_bits: 10,
+                },
+                ..formats(uu(6))
+            },
+            16,
+            every(16, 150),
+            8,
             2,
         ),
         unit_with(

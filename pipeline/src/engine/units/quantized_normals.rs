@@ -6,7 +6,7 @@ use super::palette_lighting::lighting_fn;
 use super::ports::input;
 use super::{BuildCtx, Spec};
 use crate::quantize::{self, MipMode, NormalMapError, Quantizer, Scan};
-use bumpsim_hw::units::{BuilderFormats, PaletteBuilder, QuantizedFetch, SpecGen};
+use bumpsim_hw::units::{BuilderFormats, PaletteBuilder, QuantizedFetch, SpecGen, SphereAddress};
 use bumpsim_hw::{Codec, Encoding, Format, PortSpec, Unit};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -51,7 +51,8 @@ pub struct QuantizedNormalsSpec {
 
 /// The palette builder's datapath words (`hw/src/units/palette_builder.rs`, "Bit-accurate
 /// mode"): the normal table's components, the light / half-way / view vector registers, the
-/// intensities after each dot product, and the power generator.
+/// intensities after each dot product, the power generator, and the `EnvMap` function's
+/// sphere-map reciprocal square root (default 1024 x 16).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BuilderDatapath {
@@ -59,6 +60,8 @@ pub struct BuilderDatapath {
     pub vector: Encoding,
     pub intensity: Encoding,
     pub power: SpecGen,
+    #[serde(default)]
+    pub sphere: SphereAddress,
 }
 
 impl Default for BuilderDatapath {
@@ -77,6 +80,7 @@ impl Default for BuilderDatapath {
                 index_bits: 10,
                 value_bits: 12,
             },
+            sphere: SphereAddress::default(),
         }
     }
 }
@@ -189,6 +193,7 @@ impl QuantizedNormalsSpec {
             intensity: dp.intensity,
             power: dp.power,
             entry: self.entry,
+            sphere: dp.sphere,
         };
         let table = pal.entries.iter().map(|n| n.to_array()).collect();
         let builder = PaletteBuilder::new(table, materials, formats, self.entries_per_clock)?;
