@@ -139,6 +139,22 @@ fn missing_or_bad_environment_maps_are_rejected() {
 }
 
 #[test]
+fn sphere_address_widths_out_of_range_are_rejected() {
+    for (field, value, expected) in [
+        ("r_frac", "31", "expected 2 to 30 fraction bits"),
+        ("table_bits", "17", "expected 2 to 16 bits"),
+        ("value_bits", "3", "expected 4 to 32 bits"),
+    ] {
+        let path = format!("engine.units[0].unit.datapath.sphere.{field}");
+        rejected(
+            "quantized-vase-envmap",
+            &format!("engine.units.qnm.unit.datapath.sphere.{field}={value}"),
+            &[&path, expected],
+        );
+    }
+}
+
+#[test]
 fn bad_index_mipmaps_are_rejected() {
     rejected(
         "quantized-plane-mipmap",

@@ -188,6 +188,28 @@ fn check_unit(u: &UnitSpec) -> Result<(), Bad> {
             range("entries_per_clock", s.entries_per_clock, 1, 64, "")?;
             range("load_width", s.load_width, 1, 64, "")?;
             spec_gen("datapath.power", &s.datapath.power)?;
+            let sphere = &s.datapath.sphere;
+            range(
+                "datapath.sphere.r_frac",
+                sphere.r_frac,
+                2,
+                30,
+                " fraction bits",
+            )?;
+            range(
+                "datapath.sphere.table_bits",
+                sphere.table_bits,
+                2,
+                MAX_TABLE_BITS,
+                " bits",
+            )?;
+            range(
+                "datapath.sphere.value_bits",
+                sphere.value_bits,
+                4,
+                32,
+                " bits",
+            )?;
             match s.quantizer {
                 Quantizer::NeuQuant { sample_factor } => {
                     range("quantizer.sample_factor", sample_factor, 1, 30, "")
