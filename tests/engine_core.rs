@@ -438,6 +438,38 @@ fn texture_caches_are_priced_beside_the_total() {
     assert!((fifo - 1.5 * 64.0 * (12.0 + 4.0)).abs() < 0.01, "{fifo}");
 }
 
+/// A texture bus shared by the caches (`bus: Shared`, the default): the dependent lookup's two
+/// readers (the normal map's stage and the dependent texture's, a cache each) queue their fills
+/// at one memory, against a memory channel per cache (`PerCache`).
+#[test]
+fn caches_on_one_texture_bus_wait_for_each_others_fills() {
+    let run_with = |c: &str| {
+        let set = format!("engine.texture_cache=Some((lines: 64, ways: 4, block: 4, {c}))");
+        render(&load("dependent-dot-lookup", &[&set]))
+    };
+    let total = |r: &RunResult| r.report.cycles.total;
+    let pre = "miss_cycles: 64, prefetch: 64, fill_cycles: 2";
+    let (own, one) = (
+        run_with(&format!("{pre}, bus: PerCache")),
+        run_with(pre),
+    );
+    // the function does not change, nor do the caches' misses: 27,436 and 17,588
+    assert_eq!(own.image, one.image);
+    let misses = |r: &RunResult| {
+        let c = r.report.bandwidth.texture_cache.as_ref().expect("a cache report");
+        c.caches.iter().map(|k| k.misses).collect::<Vec<_>>()
+    };
+    assert_eq!(misses(&own), [27_436, 17_588]);
+    assert_eq!(misses(&one), misses(&own));
+    // a channel each: the busier memory holds 54,872 cycles of fills; one bus: 90,048 cycles
+    // of fills, more than the frame took with a channel each, and the frame is bound by them
+    assert_eq!([total(&own), total(&one)], [82_350, 98_696]);
+    assert!(total(&one) >= 90_048 && total(&own) < 90_048);
+    // blocking units wait for the other's fills too
+    let blocking = |bus: &str| total(&run_with(&format!("miss_cycles: 16, bus: {bus}")));
+    assert_eq!([blocking("PerCache"), blocking("Shared")], [606_853, 624_537]);
+}
+
 #[test]
 fn bad_texture_caches_are_errors_naming_the_field() {
     for (cache, field) in [

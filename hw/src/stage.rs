@@ -164,8 +164,6 @@ pub struct Stage {
     /// How the unit's texture-cache misses delay its fragments ([`Stage::set_misses`]); none
     /// by default.
     misses: Option<MissTiming>,
-    /// The cycle the memory can start the next fill (a prefetching unit's fills queue).
-    mem_free: u64,
     /// (cycle the result is ready, fragment id).
     in_flight: VecDeque<(u64, u64)>,
     next_accept: u64,
@@ -181,8 +179,14 @@ pub struct MissTiming {
     pub latency: u32,
     /// Cycles the memory is busy with one fill (fills one after another).
     pub occupancy: u32,
-    /// `None`: a blocking unit (a fragment with `n` misses waits `n x latency`, and the unit
-    /// takes no other meanwhile). `Some(d)`: a prefetching unit (Igehy, Eldridge and
+    /// The memory whose fill queue the fills wait in: an index into the `memories` that
+    /// [`Stage::tick`] is given (stages with the same index share one texture bus; an index
+    /// beyond them: the fills do not queue).
+    pub memory: usize,
+    /// `None`: a blocking unit: a fragment's fills go one after another, each requested when
+    /// the one before has its data and issued when the memory is free (a fragment with `n`
+    /// misses waits `n x latency` when nothing else holds the memory), and the unit takes no
+    /// other fragment meanwhile. `Some(d)`: a prefetching unit (Igehy, Eldridge and
     /// Proudfoot 1998) whose fragments wait in a `d`-deep FIFO: the fills are requested when
     /// the fragment arrives, queue at the memory (`occupancy` each), and the fragment leaves
     /// the cycle after its last fill's data or after its own latency, whichever is later.
@@ -225,7 +229,6 @@ impl Stage {
             max_in_flight,
             kills,
             misses: None,
-            mem_free: 0,
             in_flight: VecDeque::new(),
             next_accept: 0,
             counters: Counters::default(),
@@ -246,8 +249,9 @@ impl Stage {
     }
 
     /// The cycle fragment `id`, accepted at `cycle`, is ready and the next cycle the unit may
-    /// accept, after its misses.
-    fn schedule(&mut self, cycle: u64, id: u64) -> (u64, u64) {
+    /// accept, after its misses; `memories` holds the cycle each memory can issue its next
+    /// fill.
+    fn schedule(&mut self, cycle: u64, id: u64, memories: &mut [u64]) -> (u64, u64) {
         let plain = (
             cycle.saturating_add(self.latency),
             cycle.saturating_add(self.interval),
@@ -259,10 +263,23 @@ impl Stage {
         if n == 0 {
             return plain;
         }
+        let mut unqueued = 0;
+        let free = memories.get_mut(m.memory).unwrap_or(&mut unqueued);
+        let (latency, occupancy) = (u64::from(m.latency), u64::from(m.occupancy));
+        // one fill requested at `at`: issued when the memory is free, its data `latency` later
+        let mut fill = |at: u64| {
+            let issue = (*free).max(at);
+            *free = issue.saturating_add(occupancy);
+            issue.saturating_add(latency)
+        };
         match m.prefetch {
             // the fragment waits for its fills one after another, the unit with it
             None => {
-                let extra = n.saturating_mul(u64::from(m.latency));
+                let mut data = cycle;
+                for _ in 0..n {
+                    data = fill(data);
+                }
+                let extra = data - cycle;
                 (plain.0.saturating_add(extra), plain.1.saturating_add(extra))
             }
             // the fills are requested on arrival and queue at the memory; the fragment waits
@@ -270,9 +287,7 @@ impl Stage {
             Some(_) => {
                 let mut done = cycle;
                 for _ in 0..n {
-                    let issue = self.mem_free.max(cycle);
-                    self.mem_free = issue.saturating_add(u64::from(m.occupancy));
-                    done = issue.saturating_add(u64::from(m.latency));
+                    done = fill(cycle);
                 }
                 (plain.0.max(done.saturating_add(1)), plain.1)
             }
@@ -344,13 +359,16 @@ impl Stage {
     }
 
     /// Advance one clock: emit into `output`, accept from `input` (FIFOs of fragment ids).
-    /// Returns a probe, without port values, when `probe` is set.
+    /// Returns a probe, without port values, when `probe` is set. `memories`: the cycle each
+    /// texture memory can issue its next fill ([`MissTiming::memory`]; empty when no stage
+    /// has misses), shared by the stages ticked with it.
     pub fn tick(
         &mut self,
         cycle: u64,
         input: &mut Fifo,
         output: &mut Fifo,
         probe: bool,
+        memories: &mut [u64],
     ) -> Option<Probe> {
         let mut stalled = false;
         let mut emitted = None;
@@ -376,7 +394,7 @@ impl Stage {
                     accepted = Some((id, Vec::new()));
                 }
                 // saturating: a latency or interval from a config cannot wrap the clock
-                let (ready, next) = self.schedule(cycle, id);
+                let (ready, next) = self.schedule(cycle, id, memories);
                 self.in_flight.push_back((ready, id));
                 self.next_accept = next;
                 self.counters.accepted += 1;
@@ -487,7 +505,7 @@ mod tests {
             }
             for i in (0..stages.len()).rev() {
                 let (a, b) = fifos.split_at_mut(i + 1);
-                stages[i].tick(cycle, &mut a[i], &mut b[0], false);
+                stages[i].tick(cycle, &mut a[i], &mut b[0], false, &mut []);
             }
             if next < n && fifos[0].has_room() {
                 fifos[0].push(next);
@@ -508,15 +526,16 @@ mod tests {
                 misses: std::sync::Arc::from(vec![0u32, 1, 2, 0]),
                 latency: 3,
                 occupancy: 2,
+                memory: 0,
                 prefetch,
             });
             let (mut input, mut output) = (Fifo::new(8), Fifo::new(8));
             for id in 0..5 {
                 input.push(id);
             }
-            let mut out = Vec::new();
+            let (mut out, mut free) = (Vec::new(), [0u64]);
             for cycle in 0..30 {
-                s.tick(cycle, &mut input, &mut output, false);
+                s.tick(cycle, &mut input, &mut output, false, &mut free);
                 if let Some(id) = output.pop() {
                     out.push(cycle);
                     assert_eq!(id as usize, out.len() - 1, "in order");
@@ -532,6 +551,56 @@ mod tests {
         // leaves at 5; 2 in at 2 requests two (issued at 3 and 5, data at 8), leaves at 9; 3
         // and 4 follow in order
         assert_eq!(run(Some(4)), [2, 5, 9, 10, 11]);
+    }
+
+    #[test]
+    fn stages_on_one_memory_queue_their_fills_behind_each_others() {
+        // two prefetching stages (latency 1, a 4-deep FIFO), fills of 3 cycles' latency that
+        // hold the memory 3 cycles; the first stage misses on tokens 1 and 2, the second on 0
+        // and 1; the output taken the cycle a token arrives
+        let run = |memories: [usize; 2]| {
+            let mut stages: Vec<Stage> = [
+                (vec![0u32, 1, 1, 0], memories[0]),
+                (vec![1, 1, 0, 0], memories[1]),
+            ]
+            .into_iter()
+            .enumerate()
+            .map(|(i, (misses, memory))| {
+                let mut s = Stage::new(format!("s{i}"), inc(1, 1), vec![Wire::Slot(0)], vec![0]);
+                s.set_misses(MissTiming {
+                    misses: std::sync::Arc::from(misses),
+                    latency: 3,
+                    occupancy: 3,
+                    memory,
+                    prefetch: Some(4),
+                });
+                s
+            })
+            .collect();
+            let mut fifos: Vec<Fifo> = (0..3).map(|_| Fifo::new(8)).collect();
+            for id in 0..4 {
+                fifos[0].push(id);
+            }
+            let (mut free, mut out) = ([0u64; 2], Vec::new());
+            for cycle in 0..40 {
+                for i in (0..2).rev() {
+                    let (a, b) = fifos.split_at_mut(i + 1);
+                    stages[i].tick(cycle, &mut a[i], &mut b[0], false, &mut free);
+                }
+                if let Some(id) = fifos[2].pop() {
+                    assert_eq!(id as usize, out.len(), "in order");
+                    out.push(cycle);
+                }
+            }
+            out
+        };
+        // a memory each: s0's fills issue at 1 and 4 (1 leaves s0 at 5, 2 at 8), s1's at 2
+        // (token 0 out at 6) and 6 (token 1, in at 6, out at 10); 2 and 3 follow
+        assert_eq!(run([0, 1]), [6, 10, 11, 12]);
+        // one memory: s1's first fill (requested at 2) waits for s0's (1-4), issues at 4 (out
+        // at 8), s0's second at 7 (token 2 leaves s0 at 11), s1's second (requested at 6) at
+        // 10 (out at 14)
+        assert_eq!(run([0, 0]), [8, 14, 15, 16]);
     }
 
     #[test]

@@ -351,13 +351,18 @@ impl Report {
         }
         if let Some(c) = &b.texture_cache {
             let k = &c.config;
+            // the memory behind several caches: one bus or a channel each
+            let bus = match (c.caches.len() > 1, k.bus) {
+                (false, _) => "",
+                (true, crate::config::TextureBus::Shared) => " on one bus",
+                (true, crate::config::TextureBus::PerCache) => " on a channel per cache",
+            };
+            let plural = if k.fill_cycles == 1 { "" } else { "s" };
+            let fills = format!("{} cycle{plural} a fill{bus}", k.fill_cycles);
             let timing = match (k.miss_cycles, k.prefetch) {
                 (0, _) => "traffic only".to_string(),
-                (m, 0) => format!("blocking, {m}-cycle misses"),
-                (m, d) => format!(
-                    "prefetching, {d}-deep FIFO, {m}-cycle misses, {} cycles a fill",
-                    k.fill_cycles
-                ),
+                (m, 0) => format!("blocking, {m}-cycle misses, {fills}"),
+                (m, d) => format!("prefetching, {d}-deep FIFO, {m}-cycle misses, {fills}"),
             };
             let _ = writeln!(
                 s,

@@ -335,6 +335,11 @@ fn timing(
         }
     }
     let nstage = stages.len();
+    // the texture memories' fill queues: the cycle each can issue its next fill
+    // (one per stage at most: an index beyond them does not queue, `MissTiming::memory`)
+    let nmem = w.extra.iter().flatten().map(|m| m.memory.saturating_add(1));
+    let nmem = nmem.max().unwrap_or(0).min(w.extra.len());
+    let mut memories = vec![0u64; nmem];
     let mut fifos: Vec<Fifo> = (0..=nstage).map(|_| Fifo::new(w.fifo_depth)).collect();
     // saturating sums and additions of the config-derived cycle counts (frame work, setup):
     // a huge value saturates instead of wrapping to a small one
@@ -385,7 +390,7 @@ fn timing(
         }
         for i in (0..nstage).rev() {
             let (a, b) = fifos.split_at_mut(i + 1);
-            if let Some(p) = stages[i].tick(cycle, &mut a[i], &mut b[0], probe) {
+            if let Some(p) = stages[i].tick(cycle, &mut a[i], &mut b[0], probe, &mut memories) {
                 probes.push((trace_index::stage(i), p));
             }
         }

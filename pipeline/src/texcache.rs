@@ -18,9 +18,11 @@
 //! ([`Timing`], `bumpsim_hw::stage::MissTiming`): a blocking unit waits `miss_cycles` per miss
 //! and takes no other fragment meanwhile; a prefetching one (`prefetch`: its fragment FIFO's
 //! depth) requests the fills on arrival, queues them at the memory (`fill_cycles` each) and
-//! lets the fragment wait in the FIFO; by default the cache changes traffic only.
+//! lets the fragment wait in the FIFO; by default the cache changes traffic only. The fills of
+//! every cache queue at one memory (`bus: Shared`, the default) or at one per cache
+//! (`PerCache`): [`bumpsim_hw::stage::MissTiming::memory`].
 
-use crate::config::TextureCacheConfig;
+use crate::config::{TextureBus, TextureCacheConfig};
 use bumpsim_hw::texture::reads::{self, Read};
 use bumpsim_hw::units::texture_cache::CacheShape;
 use bumpsim_hw::{GateBudget, Mode, Scratch, Stage, Texture, Token};
@@ -239,13 +241,19 @@ pub fn simulate(
         .collect();
     let uncached_bits = stats.iter().map(|s| s.uncached_bits).sum();
     let fill_bits = stats.iter().map(|s| s.fill_bits).sum();
+    // the fill queue of each stage's misses: its cache's, or the one bus's
     let timing = stall
         .into_iter()
-        .map(|s| {
+        .enumerate()
+        .map(|(i, s)| {
             (!s.is_empty()).then(|| bumpsim_hw::stage::MissTiming {
                 misses: Arc::from(s),
                 latency: c.miss_cycles,
                 occupancy: c.fill_cycles,
+                memory: match c.bus {
+                    TextureBus::Shared => 0,
+                    TextureBus::PerCache => cache_of[i],
+                },
                 prefetch: (c.prefetch > 0).then_some(c.prefetch),
             })
         })
@@ -329,6 +337,7 @@ mod tests {
             miss_cycles: 0,
             fill_cycles: 1,
             prefetch: 0,
+            bus: TextureBus::Shared,
         })
     }
 

@@ -525,6 +525,22 @@ pub struct TextureCacheConfig {
     /// data while later ones go on), 1 to 1024; 0 (default): a blocking unit.
     #[serde(default)]
     pub prefetch: u32,
+    /// Which fills wait for each other at the texture memory (default `Shared`).
+    #[serde(default)]
+    pub bus: TextureBus,
+}
+
+/// The texture memory behind the caches: whose fills queue for it (`engine.texture_cache.bus`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum TextureBus {
+    /// One memory on one bus: every cache's fills go one after another (`fill_cycles` each),
+    /// in the order the units request them (units requesting in the same clock: the one
+    /// further down the pipe first, the simulator's tick order).
+    #[default]
+    Shared,
+    /// A memory channel per cache: a cache's fills wait only for its own (the model before
+    /// the bus; with `shared: true` there is one cache, hence one queue, either way).
+    PerCache,
 }
 
 fn one_u32() -> u32 {
