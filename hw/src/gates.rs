@@ -62,19 +62,16 @@ pub enum TableRole {
     Colours,
     /// The palette builder's normal table.
     Normals,
-    /// The palette builder's environment images (the `EnvMap` lighting function).
-    EnvMap,
     /// The bump palette of a paletted texture (`TexFetch`).
     BumpPalette,
 }
 
 impl TableRole {
-    pub const COUNT: usize = 5;
+    pub const COUNT: usize = 4;
     pub const ALL: [TableRole; TableRole::COUNT] = [
         TableRole::Power,
         TableRole::Colours,
         TableRole::Normals,
-        TableRole::EnvMap,
         TableRole::BumpPalette,
     ];
     /// The name the reports print.
@@ -83,7 +80,6 @@ impl TableRole {
             TableRole::Power => "power",
             TableRole::Colours => "colours",
             TableRole::Normals => "normals",
-            TableRole::EnvMap => "env_map",
             TableRole::BumpPalette => "bump_palette",
         }
     }

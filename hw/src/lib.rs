@@ -16,4 +16,4 @@ pub use gates::{CostTable, GateBudget};
 pub use sampler::{Address, Filter, Sampler};
 pub use stage::{Counters, CycleState, Fifo, Probe, Scratch, Stage, Token, Wire};
 pub use texture::{Texels, Texture};
-pub use unit::{AsAny, Mode, PortSpec, Sample, TextureRead, Unit, Word, MAX_LANES};
+pub use unit::{AsAny, FrameRead, Mode, PortSpec, Sample, TextureRead, Unit, Word, MAX_LANES};

@@ -152,6 +152,19 @@ pub struct TextureRead {
     pub taps: u32,
 }
 
+/// A texture a unit reads in its per-frame work rather than per fragment (the palette
+/// builder's environment images, Tarini et al. §5.1 item 3): it lies in the engine's texture
+/// memory, not in the unit, and the report counts its bits and the texels read each frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrameRead {
+    /// What the texture holds, unique within the unit.
+    pub name: String,
+    pub size: [u32; 2],
+    pub bits_per_texel: u32,
+    /// Texels read per frame.
+    pub texels_per_frame: u64,
+}
+
 /// A unit as [`std::any::Any`], so that a tool holding a `&dyn Unit` (the Verilog generators)
 /// can reach the concrete unit; implemented for every `'static` type. On a `Box<dyn Unit>`
 /// call it through the box (`b.as_ref().as_any()`), or it answers for the box.
@@ -197,6 +210,11 @@ pub trait Unit: Send + Sync + AsAny {
     /// The textures of the engine's texture memory the unit reads, and how many texels per
     /// fragment. Default none.
     fn textures(&self) -> Vec<TextureRead> {
+        Vec::new()
+    }
+    /// The textures of the engine's texture memory the unit reads in its frame work
+    /// ([`FrameRead`]). Default none.
+    fn frame_reads(&self) -> Vec<FrameRead> {
         Vec::new()
     }
     /// Whether the unit may kill fragments (CULL_FRAGMENT, clip planes). Default no.

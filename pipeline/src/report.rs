@@ -334,9 +334,13 @@ impl Report {
             b.bits_per_texel
         );
         for (name, t) in &b.texture_memory {
+            let reads = match t.texels_per_frame_work {
+                0 => format!("{} texels/fragment", t.texels_per_fragment),
+                n => format!("{n} texels/frame of frame work"),
+            };
             let _ = writeln!(
                 s,
-                "  texture {:<12} {} {}x{}, {} levels, {} bits/texel, {} bits stored, {} texels/fragment, {} bits/frame (read by {})",
+                "  texture {:<12} {} {}x{}, {} levels, {} bits/texel, {} bits stored, {reads}, {} bits/frame (read by {})",
                 name,
                 t.shape,
                 t.size[0],
@@ -344,7 +348,6 @@ impl Report {
                 t.levels,
                 t.bits_per_texel,
                 t.stored_bits,
-                t.texels_per_fragment,
                 t.bits_per_frame,
                 t.readers.join(", ")
             );

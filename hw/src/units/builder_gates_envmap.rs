@@ -5,14 +5,14 @@
 //! `2 (N.V)(N.a) - V.a` and the three `R.a` registers; the exact `q = R_x^2 + R_y^2 + (R_z +
 //! 1)^2`, Normalize's leading-one detector, mantissa shifter and reciprocal-square-root ROM;
 //! per material and axis the product `R_a rho`, its shift by `2^k`, `1 +`, the scale by the
-//! image's side, the clamp, and the texel address `j w + i`; the environment images as
-//! loadable tables; the stage registers.
+//! image's side, the clamp, and the texel address `j w + i` (the environment images lie in the
+//! engine's texture memory: [`PaletteBuilder::frame_reads`]); the stage registers.
 
 use super::builder_gates::{bits, corners, dot_product, fac_value, issue, raw_range};
 use super::builder_gates::{normals_and_vectors, reading_facs, sbits};
 use super::palette_builder::{LightingFn, PaletteBuilder};
 use crate::arith::bit_length;
-use crate::gates::{CostTable, GateBudget, TableRole};
+use crate::gates::{CostTable, GateBudget};
 
 /// The builder's gates for a table of `EnvMap` materials; `None` when another function
 /// shares the table (the generator refuses it).
@@ -135,11 +135,6 @@ pub(crate) fn envmap(b: &PaletteBuilder, t: &CostTable) -> Option<GateBudget> {
             format!("texel address x{w} {ia}"),
             1,
             t.shift_add(ia, *w as u128) + t.adder(ia),
-        );
-        g.add_memory(
-            format!("environment map {img}x{} (loadable)", 3 * we),
-            1,
-            t.for_table(TableRole::EnvMap).table(*img, 3 * we),
         );
     }
     // stage registers: valid, entry (four stages), the material; the detector's flag, shift

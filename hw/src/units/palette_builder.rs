@@ -658,6 +658,38 @@ impl PaletteBuilder {
             .sum()
     }
 
+    /// The environment images the `EnvMap` materials read, one texel per entry per frame:
+    /// textures of the engine's texture memory (the builder reads them through its port), not
+    /// tables of the builder. Named `environment` (`environment.k` for material interval `k`
+    /// when several materials have one).
+    pub fn frame_reads(&self) -> Vec<crate::unit::FrameRead> {
+        let bits = 3 * self.f.entry.width();
+        let envs: Vec<(usize, u64, [u32; 2])> = self
+            .materials
+            .iter()
+            .enumerate()
+            .filter_map(|(k, (r, f))| match f {
+                LightingFn::EnvMap { width, height, .. } => {
+                    Some((k, r.len() as u64, [*width, *height]))
+                }
+                _ => None,
+            })
+            .collect();
+        let several = envs.len() > 1;
+        envs.into_iter()
+            .map(|(k, texels, size)| crate::unit::FrameRead {
+                name: if several {
+                    format!("environment.{k}")
+                } else {
+                    "environment".to_string()
+                },
+                size,
+                bits_per_texel: bits,
+                texels_per_frame: texels,
+            })
+            .collect()
+    }
+
     /// Gate estimate: the normal table, the host-loaded registers, and `entries_per_clock`
     /// pipelines with what the functions in use need. With one pipeline and a function with a
     /// Verilog generator in every material, the list of `builder_gates` (priced as the
@@ -685,7 +717,7 @@ impl PaletteBuilder {
         // host-loaded registers: every vector and colour of every material
         let (mut vecs, mut cols) = (0u32, 0u32);
         let (mut power, mut refl, mut band, mut lerp) = (false, false, false, false);
-        let mut env_bits = 0u64;
+        let mut env = false;
         for (_, f) in &self.materials {
             match f {
                 LightingFn::Lambert { lights, .. } => {
@@ -714,24 +746,16 @@ impl PaletteBuilder {
                     refl = true;
                     lerp = true;
                 }
-                LightingFn::EnvMap { image, .. } => {
+                LightingFn::EnvMap { .. } => {
                     vecs += 2;
                     refl = true;
-                    env_bits += image.len() as u64 * 3 * we as u64;
+                    env = true;
                 }
             }
         }
         g.add(format!("vector registers 3x{wv}"), vecs, t.register(3 * wv));
         g.add(format!("colour registers 3x{we}"), cols, t.register(3 * we));
-        // the environment images are loadable tables like the normal table: built as
-        // `cost.tables` (or the unit's `tables`) says, and counted as memory
-        if env_bits > 0 {
-            g.add_memory(
-                format!("environment map {env_bits} bits (loadable)"),
-                1,
-                t.for_table(TableRole::EnvMap).table(env_bits, 1),
-            );
-        }
+        // the environment images lie in the engine's texture memory ([`PaletteBuilder::frame_reads`])
         let wd = wn + wv + 2; // exact dot-product width
         g.add(format!("normal register {}", 3 * wn), p, t.register(3 * wn));
         g.add(
@@ -779,7 +803,7 @@ impl PaletteBuilder {
         if lerp {
             g.add(format!("gradient adder {we}"), 3 * p, t.adder(we + 1));
         }
-        if env_bits > 0 {
+        if env {
             // sphere-map address: 1/m from a 1024 x 12 ROM (priced by its contents) and two
             // multipliers
             g.add_rom(
@@ -1455,6 +1479,49 @@ mod tests {
         let b = PaletteBuilder::single(vec![[0.0, 0.0, 1.0]], func, formats(), 1).unwrap();
         assert_eq!(b.build_exact()[0], [1.0, 0.0, 0.0, 1.0]);
         assert_eq!(b.build_codes()[0], [255, 0, 0, 255]);
+    }
+
+    #[test]
+    fn environment_images_are_textures_the_frame_work_reads_not_tables_of_the_unit() {
+        let env = |w: u32, h: u32| LightingFn::EnvMap {
+            view: [0.0, 0.0, 1.0],
+            up: [0.0, 1.0, 0.0],
+            image: vec![[0.5; 3]; (w * h) as usize],
+            width: w,
+            height: h,
+        };
+        let normals = vec![[0.0, 0.0, 1.0]; 7];
+        let read = |name: &str, size: [u32; 2], texels: u64| crate::unit::FrameRead {
+            name: name.to_string(),
+            size,
+            bits_per_texel: 24,
+            texels_per_frame: texels,
+        };
+        // one texel per entry per frame, 3 x 8 bits a texel
+        let one = PaletteBuilder::single(normals.clone(), env(4, 2), formats(), 1).unwrap();
+        assert_eq!(one.frame_reads(), [read("environment", [4, 2], 7)]);
+        // two materials with a map each (and one without): named by their interval
+        let lambert = LightingFn::Lambert {
+            ambient: [0.1; 3],
+            diffuse: [0.5; 3],
+            lights: vec![([0.0, 0.0, 1.0], [1.0; 3])],
+        };
+        let materials = vec![(0..3, env(4, 2)), (3..5, lambert), (5..7, env(16, 16))];
+        let b = PaletteBuilder::new(normals, materials, formats(), 1).unwrap();
+        assert_eq!(
+            b.frame_reads(),
+            [
+                read("environment.0", [4, 2], 3),
+                read("environment.2", [16, 16], 2)
+            ]
+        );
+        // the images are no memory of the unit: a 1 x 1 map and a 4 x 2 one take the same
+        // (the normal table and the rsqrt ROM; the address logic scales with the side)
+        let t = CostTable::default();
+        let small = PaletteBuilder::single(vec![[0.0, 0.0, 1.0]; 7], env(1, 1), formats(), 1);
+        let memory = |b: &PaletteBuilder| b.gates(&t).memory();
+        assert_eq!(memory(&small.unwrap()), memory(&one));
+        assert!(one.gates(&t).items.iter().all(|i| !i.what.contains("environment")));
     }
 
     #[test]

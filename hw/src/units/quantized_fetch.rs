@@ -181,6 +181,9 @@ impl Unit for QuantizedFetch {
     fn textures(&self) -> Vec<TextureRead> {
         self.fetch.textures()
     }
+    fn frame_reads(&self) -> Vec<crate::unit::FrameRead> {
+        self.builder.frame_reads()
+    }
     fn frame_cycles(&self) -> u64 {
         self.builder.cycles_per_frame() + self.lut_bits.frame_cycles()
     }

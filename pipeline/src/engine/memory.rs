@@ -62,8 +62,17 @@ pub struct TextureStats {
     pub stored_bits: u64,
     /// Texels read per fragment, summed over the readers.
     pub texels_per_fragment: u32,
-    /// Texel bits read per frame: fragments x texels per fragment x bits per texel.
+    /// Texel bits read per frame: fragments x texels per fragment x bits per texel, plus the
+    /// frame work's reads.
     pub bits_per_frame: u64,
+    /// Texels read per frame by the readers' frame work, not per fragment (the palette
+    /// builder's environment images: [`bumpsim_hw::FrameRead`]); left out of the report when 0.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub texels_per_frame_work: u64,
+}
+
+fn is_zero(x: &u64) -> bool {
+    *x == 0
 }
 
 /// The textures the stages read, by name (each once, in name order).
@@ -98,6 +107,7 @@ pub fn stats(stages: &[Stage], fragments: u64) -> BTreeMap<String, TextureStats>
                     stored_bits: t.stored_bits(),
                     texels_per_fragment: 0,
                     bits_per_frame: 0,
+                    texels_per_frame_work: 0,
                 };
                 (t.clone(), stats)
             });
@@ -109,5 +119,29 @@ pub fn stats(stages: &[Stage], fragments: u64) -> BTreeMap<String, TextureStats>
             e.1.bits_per_frame += fragments * u64::from(r.taps) * u64::from(t.bits_per_texel());
         }
     }
-    out.into_iter().map(|(k, (_, v))| (k, v)).collect()
+    let mut out: BTreeMap<String, TextureStats> =
+        out.into_iter().map(|(k, (_, v))| (k, v)).collect();
+    // the textures the frame work reads (the palette builder's environment images), named
+    // after their unit
+    for s in stages {
+        for r in s.unit().frame_reads() {
+            let bits = u64::from(r.bits_per_texel);
+            let texels = u64::from(r.size[0]) * u64::from(r.size[1]);
+            out.insert(
+                format!("{}.{}", s.name, r.name),
+                TextureStats {
+                    readers: vec![s.name.clone()],
+                    shape: "2d",
+                    size: r.size,
+                    levels: 1,
+                    bits_per_texel: r.bits_per_texel,
+                    stored_bits: texels.saturating_mul(bits),
+                    texels_per_fragment: 0,
+                    bits_per_frame: r.texels_per_frame.saturating_mul(bits),
+                    texels_per_frame_work: r.texels_per_frame,
+                },
+            );
+        }
+    }
+    out
 }
