@@ -124,7 +124,9 @@ fn check_band(cases: Vec<rtl_units::Case>) {
                     loop {
                         let i = next.fetch_add(1, Ordering::Relaxed);
                         let Some(c) = cases.get(i) else { break got };
-                        got.push((i, synth::synthesise(&c.rtl, &tmp.join(c.name))));
+                        let t = std::time::Instant::now();
+                        let r = synth::synthesise(&c.rtl, &tmp.join(c.name));
+                        got.push((i, r, t.elapsed()));
                     }
                 })
             })
@@ -134,11 +136,11 @@ fn check_band(cases: Vec<rtl_units::Case>) {
     results.sort_by_key(|r| r.0);
     let table = CostTable::default();
     println!(
-        "{:<18} {:>9} {:>9} {:>6} | {:>9} {:>9} {:>6} | {:>5}",
-        "unit", "model", "yosys", "ratio", "logic m", "logic y", "ratio", "flops"
+        "{:<18} {:>9} {:>9} {:>6} | {:>9} {:>9} {:>6} | {:>5} {:>6}",
+        "unit", "model", "yosys", "ratio", "logic m", "logic y", "ratio", "flops", "synth"
     );
     let mut bad = Vec::new();
-    for (c, (_, r)) in cases.iter().zip(results) {
+    for (c, (_, r, took)) in cases.iter().zip(results) {
         let s = r.unwrap_or_else(|e| panic!("{}: {e}", c.name));
         let g = c.unit.gates(&table);
         let (ml, mt) = split(&g);
@@ -159,7 +161,7 @@ fn check_band(cases: Vec<rtl_units::Case>) {
             String::new()
         };
         println!(
-            "{:<18} {:>9.1} {:>9.1} {:>6.3} | {:>9.1} {:>9.1} {:>6.3} | {:>5}{tables}",
+            "{:<18} {:>9.1} {:>9.1} {:>6.3} | {:>9.1} {:>9.1} {:>6.3} | {:>5} {:>5.1}s{tables}",
             c.name,
             g.total(),
             s.ge,
@@ -168,6 +170,7 @@ fn check_band(cases: Vec<rtl_units::Case>) {
             yl,
             ratio,
             s.flops,
+            took.as_secs_f64(),
         );
         if !(BAND.0..=BAND.1).contains(&ratio) {
             bad.push(format!(
