@@ -449,14 +449,16 @@ fn caches_on_one_texture_bus_wait_for_each_others_fills() {
     };
     let total = |r: &RunResult| r.report.cycles.total;
     let pre = "miss_cycles: 64, prefetch: 64, fill_cycles: 2";
-    let (own, one) = (
-        run_with(&format!("{pre}, bus: PerCache")),
-        run_with(pre),
-    );
+    let (own, one) = (run_with(&format!("{pre}, bus: PerCache")), run_with(pre));
     // the function does not change, nor do the caches' misses: 27,436 and 17,588
     assert_eq!(own.image, one.image);
     let misses = |r: &RunResult| {
-        let c = r.report.bandwidth.texture_cache.as_ref().expect("a cache report");
+        let c = r
+            .report
+            .bandwidth
+            .texture_cache
+            .as_ref()
+            .expect("a cache report");
         c.caches.iter().map(|k| k.misses).collect::<Vec<_>>()
     };
     assert_eq!(misses(&own), [27_436, 17_588]);
@@ -467,7 +469,10 @@ fn caches_on_one_texture_bus_wait_for_each_others_fills() {
     assert!(total(&one) >= 90_048 && total(&own) < 90_048);
     // blocking units wait for the other's fills too
     let blocking = |bus: &str| total(&run_with(&format!("miss_cycles: 16, bus: {bus}")));
-    assert_eq!([blocking("PerCache"), blocking("Shared")], [606_853, 624_537]);
+    assert_eq!(
+        [blocking("PerCache"), blocking("Shared")],
+        [606_853, 624_537]
+    );
 }
 
 #[test]

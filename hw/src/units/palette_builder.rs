@@ -1521,7 +1521,11 @@ mod tests {
         let small = PaletteBuilder::single(vec![[0.0, 0.0, 1.0]; 7], env(1, 1), formats(), 1);
         let memory = |b: &PaletteBuilder| b.gates(&t).memory();
         assert_eq!(memory(&small.unwrap()), memory(&one));
-        assert!(one.gates(&t).items.iter().all(|i| !i.what.contains("environment")));
+        assert!(one
+            .gates(&t)
+            .items
+            .iter()
+            .all(|i| !i.what.contains("environment")));
     }
 
     #[test]

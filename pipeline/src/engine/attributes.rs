@@ -407,10 +407,41 @@ pub fn interpolate_fixed(
     bary: [f64; 3],
     bits: u32,
 ) -> Word {
+    interpolate_weighted(enc, lanes, codes, fixed_weights(bary, bits), bits)
+}
+
+/// The fixed-point interpolator's weights of a fragment (`bits` 1 to 62): `q0`, `q1` its
+/// first two barycentrics times `2^bits` rounded half away from zero and clamped to
+/// `[0, 2^bits]` (NaN: 0), `q2 = 2^bits - q0 - q1`. The same words as
+/// `(b 2^bits).round().clamp(0, 2^bits)`, without the library call `f64::round` is on the
+/// baseline target: the truncation and the remainder, both exact.
+#[inline]
+pub fn fixed_weights(bary: [f64; 3], bits: u32) -> [i64; 3] {
     let one = 1i64 << bits;
-    let q = |b: f64| (b * one as f64).round().clamp(0.0, one as f64) as i64;
+    let q = |b: f64| {
+        // beyond [-1, 2^bits + 1] the clamp below decides alone; NaN stays NaN
+        let x = (b * one as f64).clamp(-1.0, one as f64 + 1.0);
+        if x.is_nan() {
+            return 0;
+        }
+        let t = x as i64; // toward zero
+        let r = x - t as f64; // exact, in (-1, 1)
+        let rounded = t + i64::from(r >= 0.5) - i64::from(r <= -0.5);
+        rounded.clamp(0, one)
+    };
     let (q0, q1) = (q(bary[0]), q(bary[1]));
-    let w = [q0, q1, one - q0 - q1];
+    [q0, q1, one - q0 - q1]
+}
+
+/// [`interpolate_fixed`] with the fragment's weights given ([`fixed_weights`], computed once
+/// per fragment for all its attributes).
+pub fn interpolate_weighted(
+    enc: &Encoding,
+    lanes: usize,
+    codes: [&[i64; 4]; 3],
+    w: [i64; 3],
+    bits: u32,
+) -> Word {
     let int = bumpsim_hw::Format {
         frac: 0,
         ..enc.format
@@ -499,6 +530,53 @@ mod tests {
     use super::*;
     use crate::scene::{Mesh, Vertex};
     use bumpsim_hw::{Format, Overflow, Quant};
+    use proptest::prelude::*;
+
+    /// [`fixed_weights`]'s first weight as the interpolator first computed it.
+    fn weight_by_round(b: f64, bits: u32) -> i64 {
+        let one = 1i64 << bits;
+        (b * one as f64).round().clamp(0.0, one as f64) as i64
+    }
+
+    #[test]
+    fn fixed_weights_round_half_away_and_clamp_as_f64_round_does() {
+        for bits in [1, 4, 8, 16, 30, 52, 62] {
+            let one = (1u64 << bits) as f64;
+            let mut xs = vec![
+                0.0,
+                -0.0,
+                1.0,
+                -1.0,
+                2.0,
+                f64::NAN,
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+                f64::MIN_POSITIVE,
+                f64::EPSILON,
+                1e300,
+                -1e300,
+            ];
+            // every half and its neighbours, near 0, near 1 and inside
+            for k in [-3i64, -2, -1, 0, 1, 2, 3, 1 << bits.min(20)] {
+                let h = (k as f64 + 0.5) / one;
+                xs.extend([h, h.next_up(), h.next_down(), 1.0 + h, -h]);
+            }
+            for b in xs {
+                let w = fixed_weights([b, b, 0.0], bits);
+                assert_eq!(w[0], weight_by_round(b, bits), "{b:e} at {bits} bits");
+                assert_eq!(w[2], (1i64 << bits) - w[0] - w[1]);
+            }
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn fixed_weights_are_the_rounded_ones(b0 in -2.0f64..3.0, b1 in any::<f64>(), bits in 1u32..=62) {
+            let w = fixed_weights([b0, b1, 0.0], bits);
+            prop_assert_eq!(w[0], weight_by_round(b0, bits));
+            prop_assert_eq!(w[1], weight_by_round(b1, bits));
+        }
+    }
 
     #[test]
     fn lod_is_half_the_log2_of_texel_over_pixel_area() {

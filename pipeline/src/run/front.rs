@@ -56,6 +56,11 @@ impl Front<'_> {
         }
         let frag = &self.frags[f];
         let tri = self.tris[frag.tri as usize];
+        // the fixed-point interpolator's weights, once for all the fragment's attributes
+        let fixed = self
+            .fixed
+            .filter(|_| mode == Mode::BitAccurate)
+            .map(|(codes, bits)| (codes, bits, attributes::fixed_weights(frag.bary, bits)));
         for (a, attr) in attrs.iter().enumerate() {
             let lanes = attr.source.lanes() as usize;
             t.slots[a] = if self.vd.flat[a] {
@@ -65,7 +70,7 @@ impl Front<'_> {
                     lanes,
                     &self.vd.values[a][frag.tri as usize],
                 )
-            } else if let Some((codes, bits)) = self.fixed.filter(|_| mode == Mode::BitAccurate) {
+            } else if let Some((codes, bits, weights)) = fixed {
                 let mut c = tri.map(|i| codes[a][i as usize]);
                 if let Some(flips) = self.flips(attr, a, tri) {
                     for (v, flip) in c.iter_mut().zip(flips) {
@@ -74,11 +79,11 @@ impl Front<'_> {
                         }
                     }
                 }
-                attributes::interpolate_fixed(
+                attributes::interpolate_weighted(
                     &attr.enc,
                     lanes,
                     [&c[0], &c[1], &c[2]],
-                    frag.bary,
+                    weights,
                     bits,
                 )
             } else if mode == Mode::BitAccurate && attr.enc.codec == Codec::Fixed {
