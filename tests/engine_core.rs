@@ -467,6 +467,12 @@ fn caches_on_one_texture_bus_wait_for_each_others_fills() {
     // of fills, more than the frame took with a channel each, and the frame is bound by them
     assert_eq!([total(&own), total(&one)], [82_350, 98_696]);
     assert!(total(&one) >= 90_048 && total(&own) < 90_048);
+    let busy = |r: &RunResult| {
+        let c = r.report.bandwidth.texture_cache.as_ref().expect("a cache report");
+        c.memory_busy_cycles.clone()
+    };
+    assert_eq!(busy(&own), [54_872, 35_176]);
+    assert_eq!(busy(&one), [90_048]);
     // blocking units wait for the other's fills too
     let blocking = |bus: &str| total(&run_with(&format!("miss_cycles: 16, bus: {bus}")));
     assert_eq!(

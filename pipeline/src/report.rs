@@ -389,6 +389,19 @@ impl Report {
                     100.0 * q.hit_rate
                 );
             }
+            // how much of the frame the memory spends on fills (bandwidth-bound near 100 %)
+            let total = self.cycles.total.max(1) as f64;
+            let busy: Vec<String> = c
+                .memory_busy_cycles
+                .iter()
+                .map(|&b| format!("{b} ({:.1} %)", 100.0 * b as f64 / total))
+                .collect();
+            let _ = writeln!(
+                s,
+                "    memory busy with fills {} of the frame's {} cycles",
+                busy.join(", "),
+                self.cycles.total
+            );
         }
         let p = &self.passes;
         let _ = writeln!(

@@ -59,6 +59,10 @@ pub struct CacheReport {
     pub fill_bits: u64,
     /// `fill_bits / uncached_bits`: the memory traffic the cache leaves.
     pub traffic_ratio: f64,
+    /// Cycles each texture memory is busy with the frame's fills (`fill_cycles` a miss): one
+    /// entry on one bus (`bus: Shared`), one per cache with `PerCache`. Against the frame's
+    /// `cycles.total`: a memory busy most of the frame bounds it.
+    pub memory_busy_cycles: Vec<u64>,
 }
 
 /// A line's tag: the level's key, face and block coordinates.
@@ -239,6 +243,14 @@ pub fn simulate(
             s
         })
         .collect();
+    let busy: Vec<u64> = stats
+        .iter()
+        .map(|s| s.misses.saturating_mul(u64::from(c.fill_cycles)))
+        .collect();
+    let memory_busy_cycles = match c.bus {
+        TextureBus::Shared => vec![busy.iter().fold(0u64, |a, &b| a.saturating_add(b))],
+        TextureBus::PerCache => busy,
+    };
     let uncached_bits = stats.iter().map(|s| s.uncached_bits).sum();
     let fill_bits = stats.iter().map(|s| s.fill_bits).sum();
     // the fill queue of each stage's misses: its cache's, or the one bus's
@@ -264,6 +276,7 @@ pub fn simulate(
         caches: stats,
         uncached_bits,
         fill_bits,
+        memory_busy_cycles,
         traffic_ratio: if uncached_bits == 0 {
             0.0
         } else {
