@@ -468,7 +468,12 @@ fn caches_on_one_texture_bus_wait_for_each_others_fills() {
     assert_eq!([total(&own), total(&one)], [82_350, 98_696]);
     assert!(total(&one) >= 90_048 && total(&own) < 90_048);
     let busy = |r: &RunResult| {
-        let c = r.report.bandwidth.texture_cache.as_ref().expect("a cache report");
+        let c = r
+            .report
+            .bandwidth
+            .texture_cache
+            .as_ref()
+            .expect("a cache report");
         c.memory_busy_cycles.clone()
     };
     assert_eq!(busy(&own), [54_872, 35_176]);

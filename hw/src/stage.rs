@@ -181,7 +181,7 @@ pub struct MissTiming {
     pub occupancy: u32,
     /// The memory whose fill queue the fills wait in: an index into the `memories` that
     /// [`Stage::tick`] is given (stages with the same index share one texture bus; an index
-    /// beyond them: the fills do not queue).
+    /// beyond them: a memory of the fragment's own, free when it arrives).
     pub memory: usize,
     /// `None`: a blocking unit: a fragment's fills go one after another, each requested when
     /// the one before has its data and issued when the memory is free (a fragment with `n`
@@ -251,7 +251,7 @@ impl Stage {
     /// The cycle fragment `id`, accepted at `cycle`, is ready and the next cycle the unit may
     /// accept, after its misses; `memories` holds the cycle each memory can issue its next
     /// fill.
-    fn schedule(&mut self, cycle: u64, id: u64, memories: &mut [u64]) -> (u64, u64) {
+    fn schedule(&self, cycle: u64, id: u64, memories: &mut [u64]) -> (u64, u64) {
         let plain = (
             cycle.saturating_add(self.latency),
             cycle.saturating_add(self.interval),
