@@ -452,30 +452,18 @@ fn caches_on_one_texture_bus_wait_for_each_others_fills() {
     let (own, one) = (run_with(&format!("{pre}, bus: PerCache")), run_with(pre));
     // the function does not change, nor do the caches' misses: 27,436 and 17,588
     assert_eq!(own.image, one.image);
-    let misses = |r: &RunResult| {
-        let c = r
-            .report
-            .bandwidth
-            .texture_cache
-            .as_ref()
-            .expect("a cache report");
-        c.caches.iter().map(|k| k.misses).collect::<Vec<_>>()
+    let cache = |r: &RunResult| {
+        let c = r.report.bandwidth.texture_cache.as_ref();
+        c.expect("a cache report").clone()
     };
+    let misses = |r: &RunResult| cache(r).caches.iter().map(|k| k.misses).collect::<Vec<_>>();
     assert_eq!(misses(&own), [27_436, 17_588]);
     assert_eq!(misses(&one), misses(&own));
     // a channel each: the busier memory holds 54,872 cycles of fills; one bus: 90,048 cycles
     // of fills, more than the frame took with a channel each, and the frame is bound by them
     assert_eq!([total(&own), total(&one)], [82_350, 98_696]);
     assert!(total(&one) >= 90_048 && total(&own) < 90_048);
-    let busy = |r: &RunResult| {
-        let c = r
-            .report
-            .bandwidth
-            .texture_cache
-            .as_ref()
-            .expect("a cache report");
-        c.memory_busy_cycles.clone()
-    };
+    let busy = |r: &RunResult| cache(r).memory_busy_cycles;
     assert_eq!(busy(&own), [54_872, 35_176]);
     assert_eq!(busy(&one), [90_048]);
     // blocking units wait for the other's fills too
