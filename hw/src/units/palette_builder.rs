@@ -804,8 +804,9 @@ impl PaletteBuilder {
             g.add(format!("gradient adder {we}"), 3 * p, t.adder(we + 1));
         }
         if env {
-            // sphere-map address: 1/m from a 1024 x 12 ROM (priced by its contents) and two
-            // multipliers
+            // sphere-map address as first designed (not the model's integer address, which
+            // `builder_gates_envmap` prices): 1/m from a 1024 x 12 ROM (priced by its contents)
+            // and two multipliers
             g.add_rom(
                 "sphere-map 1/m table 1024x12",
                 p,
@@ -843,8 +844,13 @@ pub const SPHERE_RECIP_INDEX_BITS: u32 = 10;
 /// Word width of the sphere map's 1/m table: u1.11.
 pub const SPHERE_RECIP_BITS: u32 = 12;
 
-/// The sphere map's 1/m table as a ROM would hold it (the model computes the address in f64,
-/// so this table prices the hardware and is not read): for a unit reflection `R`, `m = 2
+/// The sphere map's 1/m table of the first, f64-addressed EnvMap design, as a ROM would hold
+/// it. No model reads it: the model addresses the sphere map in integers through Normalize's
+/// reciprocal-square-root table ([`SphereAddress`]), which the generated gate list
+/// (`builder_gates_envmap`) prices; this table is left only in the first estimate of
+/// [`PaletteBuilder::gates`] (several pipelines, or EnvMap beside another function, which
+/// have no generator) and as a ROM calibration point (`hw/tests/gates_yosys.rs`). For a unit
+/// reflection `R`, `m = 2
 /// sqrt(R_x^2 + R_y^2 + (R_z + 1)^2) = 4 sqrt(u)` with `u = (1 + R_z) / 2` in [0, 1]; entry
 /// `i` is `1 / m` at the bin centre `u = (i + 1/2) / 1024`, in u1.11, saturated (`m <= 1/2`,
 /// the reflections within 15 degrees of straight down).
