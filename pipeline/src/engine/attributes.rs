@@ -396,20 +396,6 @@ pub fn vertex_code(enc: &Encoding, x: f64) -> i64 {
     }
 }
 
-/// The fixed-point interpolator (`Interpolator::Fixed`): barycentrics rounded to `bits`
-/// fraction bits, `q2 = 2^bits - q0 - q1`, `raw = cast(sum q_k c_k >> bits)` in the
-/// encoding's rounding and overflow modes. The weights sum to one, so the codes' affine
-/// readings (every codec of the project) interpolate correctly.
-pub fn interpolate_fixed(
-    enc: &Encoding,
-    lanes: usize,
-    codes: [&[i64; 4]; 3],
-    bary: [f64; 3],
-    bits: u32,
-) -> Word {
-    interpolate_weighted(enc, lanes, codes, fixed_weights(bary, bits), bits)
-}
-
 /// The fixed-point interpolator's weights of a fragment (`bits` 1 to 62): `q0`, `q1` its
 /// first two barycentrics times `2^bits` rounded half away from zero and clamped to
 /// `[0, 2^bits]` (NaN: 0), `q2 = 2^bits - q0 - q1`. The same words as
@@ -433,8 +419,11 @@ pub fn fixed_weights(bary: [f64; 3], bits: u32) -> [i64; 3] {
     [q0, q1, one - q0 - q1]
 }
 
-/// [`interpolate_fixed`] with the fragment's weights given ([`fixed_weights`], computed once
-/// per fragment for all its attributes).
+/// The fixed-point interpolator (`Interpolator::Fixed`): the fragment's weights `w`
+/// ([`fixed_weights`]: barycentrics rounded to `bits` fraction bits, computed once per fragment
+/// for all its attributes), `raw = cast(sum w_k c_k >> bits)` in the encoding's rounding and
+/// overflow modes. The weights sum to one, so the codes' affine readings (every codec of the
+/// project) interpolate correctly.
 pub fn interpolate_weighted(
     enc: &Encoding,
     lanes: usize,
