@@ -5,7 +5,7 @@
 mod common;
 
 use bumpsim_pipeline::animation::{self, AnimationReport};
-use bumpsim_pipeline::config;
+use bumpsim_pipeline::{config, run};
 use common::*;
 
 const ORBIT: &str = "quantized-sphere-orbit";
@@ -113,7 +113,7 @@ fn render_writes_every_frame_and_the_report_lists_them() {
 
 #[test]
 fn a_frame_sets_per_frame_inputs_only_and_bad_frames_are_errors_before_rendering() {
-    let cases: [(&str, &[&str]); 5] = [
+    let cases: [(&str, &[&str]); 6] = [
         // the hardware is the same in every frame
         (
             "frames=[[\"engine.units.qnm.unit.s_n=16\"]]",
@@ -126,6 +126,14 @@ fn a_frame_sets_per_frame_inputs_only_and_bad_frames_are_errors_before_rendering
         (
             "frames=[[], [\"scene.width=32\"]]",
             &["frames[1][0]", "per-frame inputs only"],
+        ),
+        // the lighting model is the palette builder's hardware, not a register
+        (
+            "frames=[[\"scene.material.model=Cartoon(bands: 4)\"]]",
+            &[
+                "frames[0]",
+                "frame 1 changes scene.material.model from Phong to Cartoon",
+            ],
         ),
         // an override that does not apply, and a frame that is not a valid config
         (
@@ -206,4 +214,69 @@ fn a_frame_uploads_the_textures_whose_words_changed() {
     assert_eq!(map, 256 * 256 * 24);
     assert_eq!(up, [0, map, 0, map]);
     assert_eq!(a.upload_bits, 2 * map);
+}
+
+/// The frame contract (issue 8 item 4): an engine built for frame 0 that takes frame 1's
+/// inputs (`Engine::begin_frame`: the units reload their registers and tables, the host
+/// rebuilds and uploads its light-dependent textures) renders frame 1 exactly as an engine
+/// built for frame 1 does: the same bit-accurate and exact images and the same report, for
+/// every bundled config. Frame 1 turns the object and moves the camera (so every light and
+/// the viewer move in the object's frame), recolours light 0 and changes the material's
+/// colours and shininess.
+#[test]
+fn an_engine_taking_a_frames_inputs_renders_the_frame_as_one_built_for_it() {
+    let frame = r#"frames=[["scene.model.rotate_deg=(12.0, 41.0, 4.0)", "scene.camera.eye=(0.5, 0.9, 3.1)", "scene.lights[0].color=(0.9, 0.8, 0.7)", "scene.material.diffuse=(0.6, 0.55, 0.5)", "scene.material.specular=(0.5, 0.45, 0.35)", "scene.material.ambient=(0.05, 0.1, 0.15)", "scene.material.shininess=37.0"]]"#;
+    let mut changed = 0;
+    let configs = configs();
+    for path in &configs {
+        let name = stem(path);
+        let sets = vec![
+            "scene.width=40".to_string(),
+            "scene.height=40".to_string(),
+            frame.to_string(),
+        ];
+        let l = config::load(path, &sets).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let l1 = config::frames::frame(&l, 1).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let (r0, engine) = run::run_frame(&l, None, None).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let (next, _) =
+            run::run_frame(&l1, None, Some(engine)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let built = run::run(&l1, None).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert!(next.image == built.image, "{name}: bit-accurate image");
+        assert!(next.exact == built.exact, "{name}: exact-mode image");
+        let json = |r: &bumpsim_pipeline::report::Report| serde_json::to_string(r).unwrap();
+        assert_eq!(json(&next.report), json(&built.report), "{name}: report");
+        changed += usize::from(next.image != r0.image);
+    }
+    // the frame changes what nearly every config renders (a config may light nothing in it)
+    assert!(
+        changed + 3 >= configs.len(),
+        "{changed} of {}",
+        configs.len()
+    );
+}
+
+/// The number of bump lights is hardware (the light combiner's ports, its passes): a frame
+/// may move, recolour or dim lights but not add one, and one that does is an error naming the
+/// frame and the unit.
+#[test]
+fn a_frame_that_adds_a_bump_light_is_an_error_naming_the_frame_and_the_unit() {
+    let three = r#"frames=[["scene.lights=[(kind: Directional(dir: (1.0, 1.0, 1.0)), color: (1.0, 1.0, 1.0)), (kind: Directional(dir: (-1.0, 1.0, 1.0)), color: (0.5, 0.5, 0.5)), (kind: Directional(dir: (0.0, 1.0, 0.2)), color: (0.3, 0.3, 0.3))]"]]"#;
+    let sets = [
+        "scene.width=32".to_string(),
+        "scene.height=32".to_string(),
+        three.to_string(),
+    ];
+    let l = config::load(&config("sgi-teapot"), &sets).unwrap_or_else(|e| panic!("{e}"));
+    let e = match animation::run(&l) {
+        Ok(_) => panic!("a frame with another bump light rendered"),
+        Err(e) => e,
+    };
+    assert_eq!(e.field, "frames[0] (frame 1): scene");
+    assert!(
+        e.message.contains(
+            "unit \"shade\": the frame has 3 bump lights: the light combiner was built for 2"
+        ),
+        "{}",
+        e.message
+    );
 }

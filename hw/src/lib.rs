@@ -3,6 +3,7 @@
 
 pub mod arith;
 pub mod format;
+pub mod frame;
 pub mod gates;
 pub mod rtl;
 pub mod sampler;
@@ -12,6 +13,7 @@ pub mod unit;
 pub mod units;
 
 pub use format::{Codec, Encoding, Format, Overflow, Quant};
+pub use frame::{FrameInputs, FrameLight, FrameMaterial};
 pub use gates::{CostTable, GateBudget};
 pub use sampler::{Address, Filter, Sampler};
 pub use stage::{Counters, CycleState, Fifo, Probe, Scratch, Stage, Token, Wire};

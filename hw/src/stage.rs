@@ -239,6 +239,30 @@ impl Stage {
         self.unit.as_ref()
     }
 
+    /// The unit takes the frame's inputs ([`Unit::begin_frame`]). Its timing is hardware: a
+    /// unit whose latency or interval would change is an error.
+    pub fn begin_frame(&mut self, frame: &crate::frame::FrameInputs) -> Result<(), String> {
+        self.unit.begin_frame(frame)?;
+        let l = u64::from(self.unit.latency().max(1));
+        let i = u64::from(self.unit.interval().max(1));
+        if (l, i) != (self.latency, self.interval) {
+            return Err(format!(
+                "the frame changes the unit's latency and interval from {} and {} to {l} and {i}",
+                self.latency, self.interval
+            ));
+        }
+        Ok(())
+    }
+
+    /// The host uploaded `new` in place of `old` ([`Unit::upload`]).
+    pub fn upload(
+        &mut self,
+        old: &std::sync::Arc<crate::Texture>,
+        new: &std::sync::Arc<crate::Texture>,
+    ) {
+        self.unit.upload(old, new);
+    }
+
     /// Delay each fragment by its texture-cache misses as `m` says (a fragment beyond
     /// `m.misses` has none). A prefetching unit keeps up to its FIFO's depth in flight.
     pub fn set_misses(&mut self, m: MissTiming) {

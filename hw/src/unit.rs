@@ -14,6 +14,7 @@
 //! its numbers.
 
 use crate::format::{Codec, Encoding};
+use crate::frame::FrameInputs;
 use crate::gates::{CostTable, GateBudget};
 use crate::texture::Texture;
 use std::sync::Arc;
@@ -217,6 +218,18 @@ pub trait Unit: Send + Sync + AsAny {
     fn frame_reads(&self) -> Vec<FrameRead> {
         Vec::new()
     }
+    /// Load the frame's inputs ([`FrameInputs`]: lights, viewer, materials) before a frame. A
+    /// unit whose registers or tables follow them rebuilds them here, to exactly what a unit
+    /// built for this frame holds, and pays the work in [`Unit::frame_cycles`]. Errors when
+    /// the frame needs other hardware (more lights than the unit was built for). Default:
+    /// nothing of the unit follows the frame.
+    fn begin_frame(&mut self, _frame: &FrameInputs) -> Result<(), String> {
+        Ok(())
+    }
+    /// The host uploaded `new` in the texture memory in place of `old` (a lighting map
+    /// rebuilt for a moved light; the same size and texel format): a unit reading `old` reads
+    /// `new` from now on. Default: the unit reads no texture.
+    fn upload(&mut self, _old: &Arc<Texture>, _new: &Arc<Texture>) {}
     /// Whether the unit may kill fragments (CULL_FRAGMENT, clip planes). Default no.
     fn can_kill(&self) -> bool {
         false

@@ -136,8 +136,10 @@ pub struct Animation {
 }
 
 /// Render every frame of `l` (frame 0 only when it has no `frames`).
+/// The engine is built once, for frame 0; before every later frame it takes that frame's
+/// inputs ([`crate::engine::Engine::begin_frame`]), as the hardware does.
 pub fn run(l: &Loaded) -> Result<Animation, InputError> {
-    let mut first = run::run(l, None)?;
+    let (mut first, mut engine) = run::run_frame(l, None, None)?;
     if l.config.frames.is_empty() {
         return Ok(Animation {
             first,
@@ -149,7 +151,12 @@ pub fn run(l: &Loaded) -> Result<Animation, InputError> {
     let mut prev: Option<RunResult> = None;
     let mut ringing = RingingSum::default();
     for k in 1..=l.config.frames.len() {
-        let r = run::run(&frames::frame(l, k)?, None)?;
+        let (r, next) =
+            run::run_frame(&frames::frame(l, k)?, None, Some(engine)).map_err(|e| InputError {
+                field: format!("frames[{}] (frame {k}): {}", k - 1, e.field),
+                ..e
+            })?;
+        engine = next;
         let before = prev.as_ref().unwrap_or(&first);
         ringing.add([&before.image, &before.exact], [&r.image, &r.exact]);
         rows.push(row(

@@ -167,7 +167,7 @@ pub struct Prepared {
 
 /// Build the scene, wire the engine (its assets built once), run geometry and the rasterizer.
 pub fn prepare(l: &Loaded) -> Result<Prepared, InputError> {
-    prepare_with(l, None).map(|(p, _)| p)
+    prepare_with(l, None, None).map(|(p, _)| p)
 }
 
 /// The reference image of a run and its wall time, when [`prepare_with`] rendered it.
@@ -176,10 +176,13 @@ type Early = Option<(Arc<reference::ReferenceImage>, std::time::Duration)>;
 /// [`prepare`], the rasterizer running while the engine's assets are built; with
 /// `reference`, the reference image is rendered there too (it reads the scene and the
 /// fragments, not the engine). Both assume early depth: an engine that needs the depth test
-/// after shading (known once it is built) gets its fragments again, and no reference.
+/// after shading (known once it is built) gets its fragments again, and no reference. With
+/// `engine` (built for an earlier frame of the same config), that engine takes this frame's
+/// inputs ([`Engine::begin_frame`]) instead of a new one being built.
 fn prepare_with(
     l: &Loaded,
     reference: Option<crate::config::ReferenceConfig>,
+    engine: Option<Engine>,
 ) -> Result<(Prepared, Early), InputError> {
     let scene = build_scene(l)?;
     let cfg = &l.config;
@@ -198,8 +201,16 @@ fn prepare_with(
         r.fragments.shrink_to_fit();
         r
     };
+    let next_frame = |mut e: Engine| {
+        e.begin_frame(&scene)
+            .map(|()| e)
+            .map_err(|m| InputError::new(l.path.display().to_string(), "scene", m))
+    };
     let (engine, (raster, early)) = rayon::join(
-        || engine::build(l, &scene),
+        || match engine {
+            Some(e) => next_frame(e),
+            None => engine::build(l, &scene),
+        },
         || {
             let r = rasterize(raster::DepthTest::Early);
             let img = reference.map(|rc| timed_call(|| reference_of(&scene, &r, &cfg.raster, rc)));
@@ -594,9 +605,20 @@ pub fn gates(l: &Loaded) -> Result<Gates, InputError> {
 }
 
 pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputError> {
+    run_frame(l, trace, None).map(|r| r.0)
+}
+
+/// [`run`] with the engine of an earlier frame of the same config (`frames`): it takes this
+/// frame's inputs ([`Engine::begin_frame`]) rather than being built again. Returns the engine
+/// for the next frame.
+pub fn run_frame(
+    l: &Loaded,
+    trace: Option<&TraceRequest>,
+    engine: Option<Engine>,
+) -> Result<(RunResult, Engine), InputError> {
     let cfg = &l.config;
     let mut timings = Timings::start();
-    let (mut p, early) = prepare_with(l, Some(cfg.reference))?;
+    let (mut p, early) = prepare_with(l, Some(cfg.reference), engine)?;
     timings.lap("scene and assets");
     if let Some((_, d)) = &early {
         timings.part("reference", *d);
@@ -770,7 +792,7 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
         }
     });
     timings.lap("metrics");
-    Ok(RunResult {
+    let result = RunResult {
         exact: fb_exact.rgb8,
         image: fb.rgb8,
         mask: fb.mask,
@@ -780,7 +802,8 @@ pub fn run(l: &Loaded, trace: Option<&TraceRequest>) -> Result<RunResult, InputE
         trace,
         timings,
         textures: engine::memory::textures(&p.engine.stages),
-    })
+    };
+    Ok((result, p.engine))
 }
 
 /// The units of a trace, in the order of [`sim::trace_index`]: the scan converter (its

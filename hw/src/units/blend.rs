@@ -69,6 +69,7 @@
 
 use crate::arith::{bit_length, Acc};
 use crate::format::{Codec, Encoding, Format};
+use crate::frame::FrameInputs;
 use crate::gates::{CostTable, GateBudget};
 use crate::unit::{Mode, PortSpec, Unit, Word};
 use crate::units::specgen::{SpecGen, SpecularGenerator};
@@ -147,6 +148,31 @@ pub struct LightState {
     /// premultiplied into the colour register.
     #[serde(default = "one")]
     pub k: f64,
+}
+
+impl LightState {
+    /// The bump state of the frame's lights for a unit of `kind`: each light's direction and
+    /// half vector, and its colour weighted by the material term the unit adds (material 0's
+    /// diffuse for `Diffuse`, its specular for `Specular`; `Both` adds both terms with one
+    /// register, so it takes the plain light colour: kd = ks = 1, the paper's equation), as
+    /// the host loads the registers each frame.
+    pub fn from_frame(kind: BlendKind, f: &FrameInputs) -> Result<Vec<LightState>, String> {
+        let m = f.material(0)?;
+        let w = match kind {
+            BlendKind::Diffuse => m.diffuse,
+            BlendKind::Specular => m.specular,
+            BlendKind::Both => [1.0; 3],
+        };
+        Ok(f.lights
+            .iter()
+            .map(|l| LightState {
+                color: std::array::from_fn(|c| l.color[c] * w[c]),
+                l: l.dir,
+                h: l.half,
+                k: 1.0,
+            })
+            .collect())
+    }
 }
 
 /// Parameters of a bump blend unit. See the module documentation.
@@ -240,6 +266,8 @@ pub struct BumpBlend {
     lq: Vec<[Acc; 3]>,
     hq: Vec<[Acc; 3]>,
     kc: Vec<[Acc; 3]>,
+    /// The shininess is the frame's material's ([`BumpBlend::following_material`]).
+    follows_material: bool,
 }
 
 fn check_enc(what: &str, e: &Encoding) -> Result<(), String> {
@@ -330,11 +358,19 @@ impl BumpBlend {
             hq,
             kc,
             p,
+            follows_material: false,
         })
     }
 
     pub fn params(&self) -> &BumpBlendParams {
         &self.p
+    }
+
+    /// A unit whose shininess is the frame's material's ([`Unit::begin_frame`]); otherwise
+    /// the parameters' shininess is kept in every frame.
+    pub fn following_material(mut self) -> Self {
+        self.follows_material = true;
+        self
     }
 
     /// The specular generator (kinds with a specular term).
@@ -473,6 +509,22 @@ impl Unit for BumpBlend {
     }
     fn interval(&self) -> u32 {
         (self.n() as u32).div_ceil(self.parallel).max(1)
+    }
+    /// Reloads the bump-state and colour registers ([`LightState::from_frame`]) and, when the
+    /// unit follows the material, the power generator's shininess.
+    fn begin_frame(&mut self, f: &FrameInputs) -> Result<(), String> {
+        f.expect_lights(self.n(), "the bump blend unit")?;
+        let mut p = self.p.clone();
+        p.lights = LightState::from_frame(p.kind, f)?;
+        if self.follows_material {
+            p.shininess = f.material(0)?.shininess;
+        }
+        let ins = &self.inputs;
+        let wire = |n: &str| ins.iter().find(|p| p.name == n).map(|p| p.enc);
+        let follows = self.follows_material;
+        *self = BumpBlend::new(p, wire)?;
+        self.follows_material = follows;
+        Ok(())
     }
     fn frame_cycles(&self) -> u64 {
         let table = self.gen.as_ref().map_or(0, |g| g.load_cycles());

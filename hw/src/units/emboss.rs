@@ -293,6 +293,11 @@ impl Unit for EmbossFilter {
             taps: 9,
         }]
     }
+    fn upload(&mut self, old: &Arc<Texture>, new: &Arc<Texture>) {
+        if Arc::ptr_eq(&self.tex, old) {
+            self.tex = new.clone();
+        }
+    }
     fn gates(&self, t: &CostTable) -> GateBudget {
         // the netlist of `rtl::emboss` (docs/units/emboss_filter.md, "Gates")
         let texel = self.tex.texel().format;

@@ -138,6 +138,11 @@ impl Unit for TexFetch {
             taps: self.sampler.taps(),
         }]
     }
+    fn upload(&mut self, old: &Arc<Texture>, new: &Arc<Texture>) {
+        if Arc::ptr_eq(&self.tex, old) {
+            self.tex = new.clone();
+        }
+    }
     fn frame_cycles(&self) -> u64 {
         self.tex.palette().map_or(0, u64::from)
     }

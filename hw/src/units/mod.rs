@@ -24,6 +24,7 @@ pub use modulate::Modulate;
 pub mod palette_lut;
 pub use palette_lut::{PaletteLut, PaletteTable, MAX_INDEX_BITS};
 pub mod palette_builder;
+mod palette_frame;
 pub use palette_builder::{BuilderFormats, Light, LightingFn, PaletteBuilder, SphereAddress};
 pub mod quantized_fetch;
 pub use quantized_fetch::QuantizedFetch;

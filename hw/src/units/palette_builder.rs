@@ -83,6 +83,7 @@ use std::ops::Range;
 
 use crate::arith::Acc;
 use crate::format::Encoding;
+use crate::frame::FrameInputs;
 use crate::gates::{CostTable, GateBudget, TableRole};
 use crate::unit::Mode;
 use crate::units::normalize::{shift_pow2, Rsqrt};
@@ -147,6 +148,10 @@ pub enum LightingFn {
         shininess: f64,
         view: [f64; 3],
         lights: Vec<Light>,
+        /// A Lambert material's split form: no specular term (`specular` zero, and kept zero
+        /// by [`LightingFn::with_frame`]).
+        #[serde(default)]
+        lambert: bool,
     },
 }
 
@@ -363,6 +368,8 @@ impl SphereAddress {
 pub struct PaletteBuilder {
     normals: Vec<[f64; 3]>,
     materials: Vec<(Range<usize>, LightingFn)>,
+    /// Each material's id in the frame's materials ([`FrameInputs::materials`]).
+    ids: Vec<usize>,
     gens: Vec<Option<SpecularGenerator>>,
     f: BuilderFormats,
     entries_per_clock: u32,
@@ -437,6 +444,20 @@ fn check_sphere_widths(f: &BuilderFormats) -> Result<(), String> {
         ));
     }
     Ok(())
+}
+/// Each material's power generator, for the functions with a shininess.
+fn generators(
+    materials: &[(Range<usize>, LightingFn)],
+    formats: &BuilderFormats,
+) -> Result<Vec<Option<SpecularGenerator>>, String> {
+    materials
+        .iter()
+        .map(|(_, f)| {
+            f.shininess()
+                .map(|s| SpecularGenerator::new(formats.power, s, formats.intensity))
+                .transpose()
+        })
+        .collect()
 }
 fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     std::array::from_fn(|i| a[i] + b[i])
@@ -516,14 +537,7 @@ impl PaletteBuilder {
                 "material intervals end at {next}: expected them to cover 0..{n}"
             ));
         }
-        let gens = materials
-            .iter()
-            .map(|(_, f)| {
-                f.shininess()
-                    .map(|s| SpecularGenerator::new(formats.power, s, formats.intensity))
-                    .transpose()
-            })
-            .collect::<Result<Vec<_>, _>>()?;
+        let gens = generators(&materials, &formats)?;
         let sphere = if materials
             .iter()
             .any(|(_, f)| matches!(f, LightingFn::EnvMap { .. }))
@@ -545,6 +559,7 @@ impl PaletteBuilder {
         };
         Ok(PaletteBuilder {
             normals: normals.into_iter().map(unit).collect(),
+            ids: (0..materials.len()).collect(),
             materials,
             gens,
             f: formats,
@@ -562,6 +577,43 @@ impl PaletteBuilder {
     ) -> Result<Self, String> {
         let n = normals.len();
         Self::new(normals, vec![(0..n, f)], formats, entries_per_clock)
+    }
+
+    /// The materials' ids in the frame ([`FrameInputs::materials`]), in interval order; by
+    /// default 0, 1, ...
+    pub fn with_material_ids(mut self, ids: Vec<usize>) -> Result<Self, String> {
+        if ids.len() != self.materials.len() {
+            return Err(format!(
+                "{} material ids for {} materials",
+                ids.len(),
+                self.materials.len()
+            ));
+        }
+        self.ids = ids;
+        Ok(self)
+    }
+
+    /// Take the frame's inputs: every material's function for frame `f`
+    /// ([`LightingFn::with_frame`]) and its power generator; the table is built from them
+    /// ([`PaletteBuilder::build`]) in the frame's work. Errors when a function shading with
+    /// every bump light was built for another number of lights.
+    pub fn begin_frame(&mut self, f: &FrameInputs) -> Result<(), String> {
+        let materials = self
+            .materials
+            .iter()
+            .zip(&self.ids)
+            .map(|((r, lf), &id)| {
+                if let Some(n) = lf.light_passes() {
+                    f.expect_lights(n, "the palette builder")?;
+                }
+                let lf = lf.with_frame(f, id)?;
+                lf.validate()?;
+                Ok((r.clone(), lf))
+            })
+            .collect::<Result<Vec<_>, String>>()?;
+        self.gens = generators(&materials, &self.f)?;
+        self.materials = materials;
+        Ok(())
     }
 
     pub fn entries(&self) -> usize {
@@ -1248,12 +1300,12 @@ impl<'a> Datapath<'a> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::format::{Codec, Format};
     use crate::units::PaletteLut;
 
-    fn formats() -> BuilderFormats {
+    pub(crate) fn formats() -> BuilderFormats {
         BuilderFormats {
             normal: Encoding::texel(Codec::UnitSigned, true, 10),
             vector: Encoding::texel(Codec::UnitSigned, true, 10),
@@ -1573,6 +1625,7 @@ mod tests {
             shininess: 16.0,
             view: [0.0, 0.0, 1.0],
             lights: vec![([0.0, 0.0, 1.0], [1.0, 1.0, 1.0])],
+            lambert: false,
         };
         let normals = random_normals(256, 5);
         let b = PaletteBuilder::single(normals.clone(), f, formats(), 1).unwrap();

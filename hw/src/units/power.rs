@@ -12,6 +12,7 @@
 //! and repeated-squaring generators.
 
 use crate::format::{Codec, Encoding};
+use crate::frame::FrameInputs;
 use crate::gates::{CostTable, GateBudget, TableRole};
 use crate::unit::{Mode, PortSpec, Unit, Word};
 use crate::units::specgen::{nearest_index, power_table_codes};
@@ -23,6 +24,8 @@ pub struct PowerTable {
     shininess: f64,
     parallel: u32,
     table: Vec<i64>,
+    /// The shininess is the frame's material's ([`PowerTable::following_material`]).
+    follows_material: bool,
 }
 
 impl PowerTable {
@@ -51,7 +54,15 @@ impl PowerTable {
             shininess,
             parallel: parallel.clamp(1, k.max(1)),
             table,
+            follows_material: false,
         }
+    }
+
+    /// A table loaded with the shininess of material 0 each frame ([`Unit::begin_frame`]);
+    /// otherwise the shininess given to [`PowerTable::new`] is kept in every frame.
+    pub fn following_material(mut self) -> Self {
+        self.follows_material = true;
+        self
     }
 
     /// The table contents (raw output words), for tests and studies.
@@ -83,6 +94,21 @@ impl Unit for PowerTable {
     }
     fn frame_cycles(&self) -> u64 {
         self.table.len() as u64
+    }
+    /// Reloads the table for material 0's shininess when the unit follows the material.
+    fn begin_frame(&mut self, f: &FrameInputs) -> Result<(), String> {
+        if !self.follows_material {
+            return Ok(());
+        }
+        let n = f.material(0)?.shininess;
+        if !(n.is_finite() && n > 0.0) {
+            return Err(format!("shininess {n}: expected a number above 0"));
+        }
+        if let Some(out) = self.outputs.first() {
+            self.table = power_table_codes(self.index_bits, &out.enc, n);
+        }
+        self.shininess = n;
+        Ok(())
     }
     fn gates(&self, t: &CostTable) -> GateBudget {
         let wi = self.inputs.first().map_or(8, |p| p.enc.width());

@@ -24,6 +24,7 @@
 //! * Exact mode reads the builder's f64 table; bit-accurate mode the builder's words.
 
 use crate::format::{Encoding, Format};
+use crate::frame::FrameInputs;
 use crate::gates::{CostTable, GateBudget};
 use crate::sampler::{Filter, Sampler};
 use crate::texture::{Texels, Texture};
@@ -184,6 +185,16 @@ impl Unit for QuantizedFetch {
     fn frame_reads(&self) -> Vec<crate::unit::FrameRead> {
         self.builder.frame_reads()
     }
+    fn upload(&mut self, old: &Arc<Texture>, new: &Arc<Texture>) {
+        self.fetch.upload(old, new);
+    }
+    /// The builder takes the frame ([`PaletteBuilder::begin_frame`]) and the LUT is loaded
+    /// with the table it builds, in both modes.
+    fn begin_frame(&mut self, f: &FrameInputs) -> Result<(), String> {
+        self.builder.begin_frame(f)?;
+        self.lut_exact.set_values(self.builder.build_exact())?;
+        self.lut_bits.load(self.builder.build(Mode::BitAccurate))
+    }
     fn frame_cycles(&self) -> u64 {
         self.builder.cycles_per_frame() + self.lut_bits.frame_cycles()
     }
@@ -288,7 +299,7 @@ impl Unit for QuantizedFetch {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::format::Codec;
     use crate::units::palette_builder::{BuilderFormats, LightingFn};
@@ -307,7 +318,8 @@ mod tests {
             sphere: Default::default(),
         }
     }
-    fn normals(n: usize) -> Vec<[f64; 3]> {
+    /// `n` normals spread over the upper hemisphere (a golden-angle spiral).
+    pub(crate) fn normals(n: usize) -> Vec<[f64; 3]> {
         (0..n)
             .map(|k| {
                 let a = k as f64 * 2.399963;

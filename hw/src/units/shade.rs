@@ -16,6 +16,7 @@
 
 use crate::arith::{Acc, Reader};
 use crate::format::{Codec, Encoding};
+use crate::frame::FrameInputs;
 use crate::gates::{CostTable, GateBudget};
 use crate::unit::{Mode, PortSpec, Unit, Word};
 
@@ -179,6 +180,19 @@ impl Shade {
     }
 }
 
+impl ShadeParams {
+    /// The frame's registers: material 0's coefficients and the bump lights' colours.
+    pub fn from_frame(f: &FrameInputs) -> Result<ShadeParams, String> {
+        let m = f.material(0)?;
+        Ok(ShadeParams {
+            ambient: m.ambient,
+            diffuse: m.diffuse,
+            specular: m.specular,
+            light_colors: f.lights.iter().map(|l| l.color).collect(),
+        })
+    }
+}
+
 impl Unit for Shade {
     fn kind(&self) -> &'static str {
         "shade"
@@ -191,6 +205,19 @@ impl Unit for Shade {
     }
     fn latency(&self) -> u32 {
         self.interval() + 2
+    }
+    /// Reloads `ka`, `kd Lc_i` and `ks Lc_i` ([`ShadeParams::from_frame`]).
+    fn begin_frame(&mut self, f: &FrameInputs) -> Result<(), String> {
+        f.expect_lights(self.k(), "the light combiner")?;
+        *self = Shade::new(
+            self.inputs[0].enc,
+            self.has,
+            ShadeParams::from_frame(f)?,
+            self.coef,
+            self.parallel,
+            self.outputs[0].enc,
+        );
+        Ok(())
     }
     fn interval(&self) -> u32 {
         (self.k() as u32).div_ceil(self.parallel).max(1)

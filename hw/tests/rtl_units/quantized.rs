@@ -303,6 +303,7 @@ pub fn variants() -> Vec<Case> {
         shininess: 40.0,
         view: [0.1, 0.0, 1.0],
         lights: vec![l1, l2],
+        lambert: false,
     };
     // a 200-entry table behind an 8-bit index, read in a scattered order
     let scattered: Vec<u32> = (0..32 * 32u32).map(|k| (k * 7) % 200).collect();

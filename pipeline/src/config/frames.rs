@@ -84,7 +84,23 @@ pub(super) fn check(l: &Loaded) -> Result<(), InputError> {
         }
     }
     for k in 1..=frames.len() {
-        frame(l, k)?;
+        let f = frame(l, k)?;
+        // the lighting model is hardware: the palette builder's function (its passes, its power
+        // generator, a sphere-map address), not a register the host loads
+        if f.config.scene.material.model != l.config.scene.material.model {
+            let i = k - 1;
+            return Err(l.error(
+                &format!("frames[{i}]"),
+                "frames:",
+                format!(
+                    "frame {k} changes scene.material.model from {} to {}: expected the same \
+                     lighting model in every frame (a frame may change the material's colours \
+                     and shininess)",
+                    l.config.scene.material.model.name(),
+                    f.config.scene.material.model.name()
+                ),
+            ));
+        }
     }
     Ok(())
 }

@@ -6,16 +6,29 @@
 //! memory, the bake runs once, and the report counts its bits once and its traffic per reader
 //! ([`TextureStats`]). Textures are named after the first unit that reads them.
 
+use crate::scene::Scene;
 use bumpsim_hw::{Stage, Texture};
 use serde::Serialize;
 use std::cell::RefCell;
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
+/// How the host builds a texture again for another frame's scene (its name given).
+pub type Recipe = Arc<dyn Fn(&Scene, &str) -> Result<Texture, String> + Send + Sync>;
+
+/// A texture the host builds from the frame's inputs (a lighting map, a cube map of the
+/// lighting environment): built again for every frame and uploaded where its words changed
+/// ([`crate::engine::Engine::begin_frame`]).
+pub struct FrameTexture {
+    pub texture: Arc<Texture>,
+    pub recipe: Recipe,
+}
+
 /// The textures built so far, by key.
 #[derive(Default)]
 pub struct TextureMemory {
     textures: RefCell<BTreeMap<String, Arc<Texture>>>,
+    per_frame: RefCell<Vec<FrameTexture>>,
 }
 
 impl TextureMemory {
@@ -43,6 +56,23 @@ impl TextureMemory {
             .borrow_mut()
             .insert(key.to_string(), t.clone());
         Ok(t)
+    }
+
+    /// Mark `texture` as built from the frame's inputs, built again by `recipe` (once, however
+    /// many units read it).
+    pub fn each_frame(&self, texture: &Arc<Texture>, recipe: Recipe) {
+        let mut v = self.per_frame.borrow_mut();
+        if !v.iter().any(|f| Arc::ptr_eq(&f.texture, texture)) {
+            v.push(FrameTexture {
+                texture: texture.clone(),
+                recipe,
+            });
+        }
+    }
+
+    /// The textures marked [`TextureMemory::each_frame`], in the order they were built.
+    pub fn into_frame_textures(self) -> Vec<FrameTexture> {
+        self.per_frame.into_inner()
     }
 }
 

@@ -9,6 +9,7 @@
 //! earlier signals (swizzles, lane selects, concatenation: [`wire`]). See docs/ARCHITECTURE.md.
 
 pub mod attributes;
+pub mod frame_inputs;
 pub mod frames;
 pub mod memory;
 pub mod palette;
@@ -59,6 +60,8 @@ pub struct Engine {
     pub passes: Vec<Pass>,
     /// The texture cache the report simulates on the texel reads (`engine.texture_cache`).
     pub texture_cache: Option<crate::config::TextureCacheConfig>,
+    /// The textures the host builds from the frame's inputs, built again each frame.
+    frame_textures: Vec<memory::FrameTexture>,
 }
 
 /// A rendering pass after the first: its output and the ROP state that writes it.
@@ -69,6 +72,33 @@ pub struct Pass {
 }
 
 impl Engine {
+    /// Take the inputs of the frame of `scene` (the same hardware, another light, camera,
+    /// material or model transform), as the hardware does before each frame: every unit takes
+    /// the frame's inputs ([`bumpsim_hw::Unit::begin_frame`]), and the host builds again each
+    /// texture computed from them and uploads it where its words changed
+    /// ([`bumpsim_hw::Unit::upload`]). The engine is then the one [`build`] gives for that
+    /// scene. Errors name the unit or the texture.
+    pub fn begin_frame(&mut self, scene: &Scene) -> Result<(), String> {
+        let frame = frame_inputs::of(scene);
+        for s in &mut self.stages {
+            s.begin_frame(&frame)
+                .map_err(|m| format!("unit {:?}: {m}", s.name))?;
+        }
+        for f in &mut self.frame_textures {
+            let name = f.texture.name().to_string();
+            let new = (f.recipe)(scene, &name).map_err(|m| format!("texture {name:?}: {m}"))?;
+            if new.same_contents(&f.texture) {
+                continue;
+            }
+            let new = std::sync::Arc::new(new);
+            for s in &mut self.stages {
+                s.upload(&f.texture, &new);
+            }
+            f.texture = new;
+        }
+        Ok(())
+    }
+
     pub fn slots(&self) -> usize {
         self.signals.len()
     }
@@ -171,6 +201,7 @@ impl Engine {
 pub fn build(l: &Loaded, scene: &Scene) -> Result<Engine, InputError> {
     let cfg = &l.config.engine;
     let memory = memory::TextureMemory::default();
+    let frame = frame_inputs::of(scene);
     let mut signals: Vec<Signal> = cfg
         .attributes
         .iter()
@@ -239,6 +270,7 @@ pub fn build(l: &Loaded, scene: &Scene) -> Result<Engine, InputError> {
             scene,
             memory: &memory,
             unit: &u.name,
+            frame: &frame,
         };
         let names = u.unit.input_names(&ctx);
         for port in u.inputs.keys().chain(u.expect.keys()) {
@@ -368,6 +400,7 @@ pub fn build(l: &Loaded, scene: &Scene) -> Result<Engine, InputError> {
         texels,
         gates,
         normal_maps: normal_maps.into_iter().map(|m| m.1).collect(),
+        frame_textures: memory.into_frame_textures(),
     })
 }
 

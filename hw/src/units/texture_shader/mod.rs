@@ -409,6 +409,13 @@ impl Unit for TextureShader {
             })
             .collect()
     }
+    fn upload(&mut self, old: &Arc<Texture>, new: &Arc<Texture>) {
+        for s in &mut self.stages {
+            if s.spec.texture.as_ref().is_some_and(|t| Arc::ptr_eq(t, old)) {
+                s.spec.texture = Some(new.clone());
+            }
+        }
+    }
     fn can_kill(&self) -> bool {
         self.culls()
     }

@@ -58,53 +58,31 @@ impl Spec for BumpBlendSpec {
         ctx: &BuildCtx,
     ) -> Result<Box<dyn Unit>, String> {
         let params = self.params(ctx)?;
-        Ok(Box::new(BumpBlend::new(params, |n| {
-            ins.get(n).map(|p| p.enc)
-        })?))
+        let unit = BumpBlend::new(params, |n| ins.get(n).map(|p| p.enc))?;
+        Ok(Box::new(match self.shininess {
+            Some(_) => unit,
+            None => unit.following_material(),
+        }))
     }
 }
 
 impl BumpBlendSpec {
     /// The blend unit's parameters: the scene's bump lights with their bump-state vectors in
-    /// the object's frame (a parallel light and a parallel viewer taken at the object's origin).
+    /// the object's frame (a parallel light and a parallel viewer taken at the object's
+    /// origin: [`LightState::from_frame`], which the unit takes again each frame).
     fn params(&self, ctx: &BuildCtx) -> Result<BumpBlendParams, String> {
-        let scene = ctx.scene;
         let lights = some_bump_lights(ctx)?;
         check_parallel(self.parallel, lights.len() as u32)?;
-        let m3 = glam::DMat3::from_mat4(scene.model);
-        let to_object = m3.inverse();
-        let origin = scene.model.transform_point3(glam::DVec3::ZERO);
-        let v = (to_object * scene.camera.view_dir(origin)).normalize_or_zero();
-        let lights = lights
-            .iter()
-            .map(|&i| {
-                let light = &scene.lights[i];
-                let l = (to_object * light.dir_from(origin)).normalize_or_zero();
-                // The colour register holds the light colour weighted by the material term the
-                // unit adds (kd for diffuse, ks for specular), as a host would load it; `Both`
-                // adds both terms with one register, so it takes the plain light colour
-                // (kd = ks = 1, the paper's equation).
-                let w = match self.kind {
-                    BlendKind::Diffuse => scene.material.diffuse,
-                    BlendKind::Specular => scene.material.specular,
-                    BlendKind::Both => [1.0; 3],
-                };
-                let color = std::array::from_fn(|c| light.color[c] * w[c]);
-                LightState {
-                    color,
-                    l: l.to_array(),
-                    h: (l + v).normalize_or_zero().to_array(),
-                    k: 1.0,
-                }
-            })
-            .collect();
         Ok(BumpBlendParams {
             kind: self.kind,
-            lights,
+            lights: LightState::from_frame(self.kind, ctx.frame)?,
             l_source: self.l_source,
             h_source: self.h_source,
             spec: self.spec,
-            shininess: self.shininess.unwrap_or(scene.material.shininess),
+            shininess: match self.shininess {
+                Some(n) => n,
+                None => ctx.frame.material(0)?.shininess,
+            },
             state: self.state,
             color: self.color,
             dot: self.dot,

@@ -58,9 +58,9 @@ pub use texram_frame::TexramFrameSpec;
 pub use texture_shader::{StageConfig, StageTexture, TextureShaderSpec};
 pub use textures::{cube_direction, CubeTerm, TextureSource, MAX_CUBE_SIDE};
 
-use crate::engine::memory::TextureMemory;
+use crate::engine::memory::{Recipe, TextureMemory};
 use crate::scene::Scene;
-use bumpsim_hw::{PortSpec, Unit};
+use bumpsim_hw::{FrameInputs, PortSpec, Texture, Unit};
 use serde::de::{Deserialize, Deserializer, EnumAccess, Visitor};
 use serde::ser::{Serialize, Serializer};
 use std::collections::BTreeMap;
@@ -73,6 +73,9 @@ pub struct BuildCtx<'a> {
     pub scene: &'a Scene,
     pub memory: &'a TextureMemory,
     pub unit: &'a str,
+    /// The scene's frame inputs ([`crate::engine::frame_inputs`]): what the units' per-frame
+    /// state is built from, here and before every later frame.
+    pub frame: &'a FrameInputs,
 }
 
 impl BuildCtx<'_> {
@@ -86,6 +89,25 @@ impl BuildCtx<'_> {
             .map(|(i, _)| i)
             .collect()
     }
+}
+
+/// A texture build over a [`BuildCtx`] as a [`Recipe`] the host runs again for another
+/// frame's scene: the build sees that scene, its frame inputs, an empty memory and the
+/// texture's name as the unit's.
+fn recipe(
+    build: impl Fn(&BuildCtx, &str) -> Result<Texture, String> + Send + Sync + 'static,
+) -> Recipe {
+    std::sync::Arc::new(move |scene: &Scene, name: &str| {
+        let frame = crate::engine::frame_inputs::of(scene);
+        let memory = TextureMemory::default();
+        let ctx = BuildCtx {
+            scene,
+            memory: &memory,
+            unit: name,
+            frame: &frame,
+        };
+        build(&ctx, name)
+    })
 }
 
 /// A unit spec: what it wires and what it builds.

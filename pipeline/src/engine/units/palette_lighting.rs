@@ -5,31 +5,23 @@ use super::checks::NO_BUMP_LIGHT;
 use super::BuildCtx;
 use bumpsim_hw::units::LightingFn;
 
-/// Material `id`'s lighting model as a palette-builder function, every vector taken into
-/// object space with the inverse model matrix (Tarini §5: a parallel light and viewer taken
-/// at the object's origin). `split`: the §7.1 form for blending with a base colour.
+/// Material `id`'s lighting model as a palette-builder function for the frame's inputs
+/// ([`LightingFn::with_frame`]: lights, viewer and coefficients in object space, Tarini §5: a
+/// parallel light and viewer taken at the object's origin); the builder takes each later
+/// frame's inputs the same way. `split`: the §7.1 form for blending with a base colour.
 pub(super) fn lighting_fn(ctx: &BuildCtx, id: u8, split: bool) -> Result<LightingFn, String> {
     use crate::scene::Shading;
     let scene = ctx.scene;
     let m = scene.material(id);
-    let to_object = glam::DMat3::from_mat4(scene.model).inverse();
-    let origin = scene.model.transform_point3(glam::DVec3::ZERO);
-    let obj = |v: glam::DVec3| (to_object * v).normalize_or_zero().to_array();
-    let view = obj(scene.camera.view_dir(origin));
-    let lights: Vec<([f64; 3], [f64; 3])> = ctx
-        .bump_lights()
-        .iter()
-        .map(|&i| (obj(scene.lights[i].dir_from(origin)), scene.lights[i].color))
-        .collect();
     let lit = !matches!(m.model, Shading::Chrome { .. } | Shading::EnvMap { .. });
-    if lit && lights.is_empty() {
+    if lit && ctx.frame.lights.is_empty() {
         return Err(NO_BUMP_LIGHT.into());
     }
-    let mean = |c: [f64; 3]| (c[0] + c[1] + c[2]) / 3.0;
-    if split {
-        let specular = match m.model {
-            Shading::Phong => m.specular,
-            Shading::Lambert => [0.0; 3],
+    let (z, lights) = ([0.0; 3], Vec::new());
+    let model = if split {
+        let lambert = match m.model {
+            Shading::Phong => false,
+            Shading::Lambert => true,
             _ => {
                 return Err(format!(
                     "split: material {id} uses the {} model: expected Phong or Lambert (Tarini \
@@ -38,63 +30,66 @@ pub(super) fn lighting_fn(ctx: &BuildCtx, id: u8, split: bool) -> Result<Lightin
                 ))
             }
         };
-        return Ok(LightingFn::SpecularSplit {
-            ambient: mean(m.ambient),
-            diffuse: mean(m.diffuse),
-            specular,
-            shininess: m.shininess,
-            view,
+        LightingFn::SpecularSplit {
+            ambient: 0.0,
+            diffuse: 0.0,
+            specular: z,
+            shininess: 0.0,
+            view: z,
             lights,
-        });
-    }
-    Ok(match &m.model {
-        Shading::Phong => LightingFn::Specular {
-            ambient: m.ambient,
-            diffuse: m.diffuse,
-            specular: m.specular,
-            shininess: m.shininess,
-            view,
-            lights,
-        },
-        Shading::Lambert => LightingFn::Lambert {
-            ambient: m.ambient,
-            diffuse: m.diffuse,
-            lights,
-        },
-        Shading::Cartoon { bands } => LightingFn::Cartoon {
-            bands: *bands,
-            ambient: m.ambient,
-            diffuse: m.diffuse,
-            lights,
-        },
-        Shading::DoubledAnglePhong => LightingFn::DoubledAnglePhong {
-            ambient: m.ambient,
-            diffuse: m.diffuse,
-            specular: m.specular,
-            shininess: m.shininess,
-            view,
-            light: lights[0],
-        },
-        Shading::Chrome { sky, ground } => LightingFn::Chrome {
-            view,
-            up: obj(glam::DVec3::Y),
-            sky: *sky,
-            ground: *ground,
-        },
-        Shading::EnvMap { .. } => {
-            let img = scene
-                .looks
-                .env_maps
-                .get(id as usize)
-                .and_then(Option::as_ref)
-                .ok_or_else(|| format!("material {id}: its environment map is not loaded"))?;
-            LightingFn::EnvMap {
-                view,
-                up: obj(glam::DVec3::from(scene.camera.up)),
-                image: img.rows_bottom_up(),
-                width: img.width,
-                height: img.height,
+            lambert,
+        }
+    } else {
+        match &m.model {
+            Shading::Phong => LightingFn::Specular {
+                ambient: z,
+                diffuse: z,
+                specular: z,
+                shininess: 0.0,
+                view: z,
+                lights,
+            },
+            Shading::Lambert => LightingFn::Lambert {
+                ambient: z,
+                diffuse: z,
+                lights,
+            },
+            Shading::Cartoon { bands } => LightingFn::Cartoon {
+                bands: *bands,
+                ambient: z,
+                diffuse: z,
+                lights,
+            },
+            Shading::DoubledAnglePhong => LightingFn::DoubledAnglePhong {
+                ambient: z,
+                diffuse: z,
+                specular: z,
+                shininess: 0.0,
+                view: z,
+                light: (z, z),
+            },
+            Shading::Chrome { sky, ground } => LightingFn::Chrome {
+                view: z,
+                up: z,
+                sky: *sky,
+                ground: *ground,
+            },
+            Shading::EnvMap { .. } => {
+                let img = scene
+                    .looks
+                    .env_maps
+                    .get(id as usize)
+                    .and_then(Option::as_ref)
+                    .ok_or_else(|| format!("material {id}: its environment map is not loaded"))?;
+                LightingFn::EnvMap {
+                    view: z,
+                    up: z,
+                    image: img.rows_bottom_up(),
+                    width: img.width,
+                    height: img.height,
+                }
             }
         }
-    })
+    };
+    model.with_frame(ctx.frame, id as usize)
 }

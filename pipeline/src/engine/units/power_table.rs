@@ -54,13 +54,18 @@ impl Spec for PowerTableSpec {
         if !(1..=32).contains(&value_bits) {
             return Err(format!("value_bits {value_bits}: expected 1 to 32"));
         }
-        let n = shininess.unwrap_or(ctx.scene.material.shininess);
+        let n = match shininess {
+            Some(n) => n,
+            None => ctx.frame.material(0)?.shininess,
+        };
         if !(n.is_finite() && n > 0.0) {
             return Err(format!("shininess {n}: expected a number above 0"));
         }
         let x = input(ins, &format!("{X}0"))?.enc;
-        Ok(Box::new(PowerTable::new(
-            x, count, index_bits, value_bits, n, parallel,
-        )))
+        let unit = PowerTable::new(x, count, index_bits, value_bits, n, parallel);
+        Ok(Box::new(match shininess {
+            Some(_) => unit,
+            None => unit.following_material(),
+        }))
     }
 }

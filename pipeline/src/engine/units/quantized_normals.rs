@@ -184,7 +184,7 @@ impl QuantizedNormalsSpec {
             .into_iter()
             .enumerate()
             .filter(|(_, r)| !r.is_empty())
-            .map(|(id, r)| Ok((r, lighting_fn(ctx, id as u8, self.split)?)))
+            .map(|(id, r)| Ok((id, r, lighting_fn(ctx, id as u8, self.split)?)))
             .collect::<Result<Vec<_>, String>>()?;
         let dp = &self.datapath;
         let formats = BuilderFormats {
@@ -196,7 +196,10 @@ impl QuantizedNormalsSpec {
             sphere: dp.sphere,
         };
         let table = pal.entries.iter().map(|n| n.to_array()).collect();
-        let builder = PaletteBuilder::new(table, materials, formats, self.entries_per_clock)?;
+        let ids = materials.iter().map(|m| m.0).collect();
+        let materials = materials.into_iter().map(|(_, r, f)| (r, f)).collect();
+        let builder = PaletteBuilder::new(table, materials, formats, self.entries_per_clock)?
+            .with_material_ids(ids)?;
         let unit = QuantizedFetch::new(
             ctx.unit,
             uv,

@@ -63,13 +63,7 @@ impl Spec for ShadeSpec {
     ) -> Result<Box<dyn Unit>, String> {
         let lights = some_bump_lights(ctx)?;
         check_parallel(self.parallel, lights.len() as u32)?;
-        let m = &ctx.scene.material;
-        let params = ShadeParams {
-            ambient: m.ambient,
-            diffuse: m.diffuse,
-            specular: m.specular,
-            light_colors: lights.iter().map(|&i| ctx.scene.lights[i].color).collect(),
-        };
+        let params = ShadeParams::from_frame(ctx.frame)?;
         let optional = |on: bool, name: &str| -> Result<Option<Encoding>, String> {
             Ok(if on {
                 Some(input(ins, name)?.enc)

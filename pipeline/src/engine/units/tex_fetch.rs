@@ -3,7 +3,7 @@
 use super::defaults::{mem_latency, ports};
 use super::ports::input;
 use super::textures::{key, texels, TextureSource};
-use super::{BuildCtx, Spec};
+use super::{recipe, BuildCtx, Spec};
 use crate::engine::palette;
 use bumpsim_hw::units::{Address, Filter, TexFetch};
 use bumpsim_hw::{Encoding, PortSpec, Unit};
@@ -68,6 +68,30 @@ fn is_wrap(a: &Address) -> bool {
     *a == Address::Wrap
 }
 
+impl TexFetchSpec {
+    /// The texture the unit reads, named `name`: its source's texels, as palette indices
+    /// when the unit has a palette.
+    fn texture(&self, ctx: &BuildCtx, name: &str) -> Result<Texture, String> {
+        let mut tex = texels(&self.source, ctx)?;
+        let table = match self.palette {
+            Some(n) => {
+                let table = match self.palette_table {
+                    PaletteTable::Hemisphere => palette::hemisphere(n as usize),
+                    PaletteTable::MedianCut => palette::median_cut(&tex.values, n as usize)?,
+                };
+                palette::quantize(&mut tex.values, &table);
+                Some((n, table))
+            }
+            None => None,
+        };
+        let t = Texture::new(name, self.texel, tex)?;
+        Ok(match table {
+            Some((n, table)) => t.with_palette_table(n, &table),
+            None => t,
+        })
+    }
+}
+
 impl Spec for TexFetchSpec {
     fn input_names(&self, _: &BuildCtx) -> Vec<String> {
         vec![UV.into()]
@@ -91,25 +115,14 @@ impl Spec for TexFetchSpec {
         if self.palette.is_some() && self.palette_table != PaletteTable::Hemisphere {
             key += &format!(" {:?}", self.palette_table);
         }
-        let tex = ctx.memory.get_or_build(&key, ctx.unit, |name| {
-            let mut tex = texels(&self.source, ctx)?;
-            let table = match self.palette {
-                Some(n) => {
-                    let table = match self.palette_table {
-                        PaletteTable::Hemisphere => palette::hemisphere(n as usize),
-                        PaletteTable::MedianCut => palette::median_cut(&tex.values, n as usize)?,
-                    };
-                    palette::quantize(&mut tex.values, &table);
-                    Some((n, table))
-                }
-                None => None,
-            };
-            let t = Texture::new(name, self.texel, tex)?;
-            Ok(match table {
-                Some((n, table)) => t.with_palette_table(n, &table),
-                None => t,
-            })
-        })?;
+        let tex = ctx
+            .memory
+            .get_or_build(&key, ctx.unit, |name| self.texture(ctx, name))?;
+        if self.source.per_frame() {
+            let spec = self.clone();
+            let build = move |ctx: &BuildCtx, name: &str| spec.texture(ctx, name);
+            ctx.memory.each_frame(&tex, recipe(build));
+        }
         let sampler =
             Sampler::new(self.filter, self.weight_bits)?.with_address(self.address, self.address);
         let unit = TexFetch::new(uv, tex, sampler, self.ports, self.mem_latency, self.out)?;

@@ -3,7 +3,7 @@
 
 use super::ports::input;
 use super::textures::{cube_faces, key, mip_levels, texels, TextureSource};
-use super::{BuildCtx, Spec};
+use super::{recipe, BuildCtx, Spec};
 use bumpsim_hw::units::texture_shader::{
     Datapath, OnBroken, Program, ShaderParams, StageSpec, TextureShader, MAX_STAGES,
 };
@@ -115,6 +115,23 @@ fn weight_bits() -> u32 {
     8
 }
 
+/// A stage's texture, named `name`: a cube map's six faces, or the source's texels with
+/// their mip levels, through the upload's conversion when it has one.
+fn stage_texture(t: &StageTexture, ctx: &BuildCtx, name: &str) -> Result<Texture, String> {
+    if t.source.is_cube() {
+        return Texture::cube(name, t.texel, cube_faces(&t.source, ctx)?);
+    }
+    let mut tex = Texture::new(name, t.texel, texels(&t.source, ctx)?)?;
+    let mips = mip_levels(&t.source, ctx)?;
+    if !mips.is_empty() {
+        tex = tex.with_mips(mips)?;
+    }
+    match &t.upload {
+        Some(u) => tex.with_upload(u),
+        None => Ok(tex),
+    }
+}
+
 impl Spec for TextureShaderSpec {
     fn input_names(&self, _: &BuildCtx) -> Vec<String> {
         let mut names: Vec<String> = (0..self.programs.len())
@@ -159,20 +176,14 @@ impl Spec for TextureShaderSpec {
             let tex = ctx
                 .memory
                 .get_or_build(&memory_key, &format!("{}.tex{i}", ctx.unit), |name| {
-                    if t.source.is_cube() {
-                        return Texture::cube(name, t.texel, cube_faces(&t.source, ctx)?);
-                    }
-                    let mut tex = Texture::new(name, t.texel, texels(&t.source, ctx)?)?;
-                    let mips = mip_levels(&t.source, ctx)?;
-                    if !mips.is_empty() {
-                        tex = tex.with_mips(mips)?;
-                    }
-                    match &t.upload {
-                        Some(u) => tex.with_upload(u),
-                        None => Ok(tex),
-                    }
+                    stage_texture(t, ctx, name)
                 })
                 .map_err(|m| format!("programs[{i}].texture: {m}"))?;
+            if t.source.per_frame() {
+                let t = t.clone();
+                let build = move |ctx: &BuildCtx, name: &str| stage_texture(&t, ctx, name);
+                ctx.memory.each_frame(&tex, recipe(build));
+            }
             let sampler = Sampler::new(t.filter, t.weight_bits)
                 .map_err(|m| format!("programs[{i}].texture.weight_bits: {m}"))?
                 .with_address(t.address, t.address);
