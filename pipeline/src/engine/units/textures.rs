@@ -154,7 +154,6 @@ pub fn cube_direction(face: usize, s: f64, t: f64) -> glam::DVec3 {
 }
 
 impl TextureSource {
-    /// Whether the source is a cube map ([`cube_faces`]).
     /// Whether the texels follow the frame's inputs (lights, camera, material): the host
     /// builds the texture again for every frame.
     pub fn per_frame(&self) -> bool {
@@ -167,6 +166,7 @@ impl TextureSource {
                 | TextureSource::CubeLighting { .. }
         )
     }
+    /// Whether the source is a cube map ([`cube_faces`]).
     pub fn is_cube(&self) -> bool {
         matches!(self, TextureSource::CubeLighting { .. })
     }
