@@ -280,3 +280,43 @@ fn a_frame_that_adds_a_bump_light_is_an_error_naming_the_frame_and_the_unit() {
         e.message
     );
 }
+
+/// What a moving light costs each frame, engine by engine (docs/configs.md, "Frames"): the
+/// units' frame work (cycles before the first triangle) and the host's uploads (bits), over
+/// frame 0, two frames whose light moved and one whose material's shininess changed.
+#[test]
+fn each_engine_pays_its_own_per_frame_cost_for_a_moving_light() {
+    let frames = r#"frames=[["scene.lights[0].kind.dir=(0.7071, 1.0, 1.2247)"], ["scene.lights[0].kind.dir=(0.3660, 1.0, 1.3660)"], ["scene.material.shininess=48.0"]]"#;
+    let cases: [(&str, u64, [u64; 4]); 6] = [
+        // the power table loaded each frame
+        ("sgi-teapot", 256, [0; 4]),
+        // the power table and one light's six register words
+        ("gouraud-teapot", 262, [0; 4]),
+        // Tarini's palette: 256 entries shaded, then loaded
+        ("quantized-sphere", 768, [0; 4]),
+        // Direct3D 6: the lighting environment map, rebuilt for every light and material
+        ("d3d6-embm-quad", 0, [0, 1_572_864, 1_572_864, 1_572_864]),
+        // NV20's cube maps of the lighting environment: the diffuse term's six 64 x 64 faces
+        // and the specular term's six 256 x 256, 24 bits a texel
+        ("nv20-reflect-cube", 0, [0, 10_027_008, 10_027_008, 10_027_008]),
+        // the (N.L, N.H) lighting table holds the material, not the light's direction
+        ("dependent-dot-lookup", 0, [0, 0, 0, 1_572_864]),
+    ];
+    for (name, work, uploads) in cases {
+        let sets = vec![
+            "scene.width=32".to_string(),
+            "scene.height=32".to_string(),
+            frames.to_string(),
+        ];
+        let l = config::load(&config(name), &sets).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let a = animation::run(&l).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let a = a.first.report.animation.expect("an animation section");
+        let got: Vec<(u64, u64)> = a
+            .per_frame
+            .iter()
+            .map(|f| (f.frame_work, f.upload_bits))
+            .collect();
+        let want: Vec<(u64, u64)> = uploads.iter().map(|&u| (work, u)).collect();
+        assert_eq!(got, want, "{name}");
+    }
+}
