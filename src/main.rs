@@ -82,6 +82,10 @@ enum Command {
         units: Option<Vec<String>>,
         #[arg(long, value_enum, default_value = "text")]
         format: TraceFormat,
+        /// Trace frame K of the config's animation (`frames`; 0, the config itself, by
+        /// default): its frame work is that frame's (the palette shaded for its light).
+        #[arg(long, value_name = "K", default_value_t = 0)]
+        frame: usize,
         #[arg(long)]
         out: PathBuf,
     },
@@ -358,10 +362,11 @@ fn execute(cmd: Command) -> Result<(), Failure> {
             cycles,
             units,
             format,
+            frame,
             out,
         } => {
             let cycles = parse_cycles(&cycles)?;
-            let l = args.load()?;
+            let l = config::frames::frame(&args.load()?, frame)?;
             let req = TraceRequest { cycles, units };
             let r = run::run(&l, Some(&req))?;
             let trace = r

@@ -298,7 +298,11 @@ fn each_engine_pays_its_own_per_frame_cost_for_a_moving_light() {
         ("d3d6-embm-quad", 0, [0, 1_572_864, 1_572_864, 1_572_864]),
         // NV20's cube maps of the lighting environment: the diffuse term's six 64 x 64 faces
         // and the specular term's six 256 x 256, 24 bits a texel
-        ("nv20-reflect-cube", 0, [0, 10_027_008, 10_027_008, 10_027_008]),
+        (
+            "nv20-reflect-cube",
+            0,
+            [0, 10_027_008, 10_027_008, 10_027_008],
+        ),
         // the (N.L, N.H) lighting table holds the material, not the light's direction
         ("dependent-dot-lookup", 0, [0, 0, 0, 1_572_864]),
     ];

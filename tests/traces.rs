@@ -292,3 +292,70 @@ fn reversed_or_empty_cycle_windows_are_rejected() {
         assert!(!out.exists());
     }
 }
+
+/// `--frame K` traces frame K of an animation: `quantized-sphere-orbit`'s palette entries
+/// written in the LUT load (cycles 600..604 of its 768 cycles of frame work) are shaded for
+/// frame 3's light: not frame 0's words, and those of the config with frame 3's override and
+/// no `frames`. A frame beyond the animation is an input error.
+#[test]
+fn a_trace_of_frame_k_shows_the_palette_built_for_its_light() {
+    let scratch = Scratch::new("trace-frame");
+    let cfg = config("quantized-sphere-orbit");
+    let run = |name: &str, extra: &[&str]| {
+        let out = scratch.join(name);
+        let mut args: Vec<std::ffi::OsString> = vec![
+            "trace".into(),
+            cfg.clone().into(),
+            "--cycles".into(),
+            "600..604".into(),
+            "--units".into(),
+            "qnm".into(),
+            "--out".into(),
+            out.clone().into(),
+        ];
+        args.extend(extra.iter().map(Into::into));
+        bumpsim(&args).expect_code(0, name);
+        std::fs::read_to_string(&out).unwrap()
+    };
+    let f0 = run("f0.txt", &[]);
+    let f3 = run("f3.txt", &["--frame", "3"]);
+    let alone = run(
+        "alone.txt",
+        &[
+            "--set",
+            "frames=[]",
+            "--set",
+            "scene.lights[0].kind.dir=(0.0000, 1.0, 1.4142)",
+        ],
+    );
+    assert_eq!(f3, alone);
+    assert_ne!(f3, f0);
+    // entry 89 is written at clock 601 in both, with other words
+    let entry = |t: &str| {
+        t.lines()
+            .find(|l| l.trim_start().starts_with("601 "))
+            .map(str::to_string)
+            .unwrap()
+    };
+    assert!(entry(&f0).contains("out#89 c=(39:"), "{}", entry(&f0));
+    assert!(entry(&f3).contains("out#89 c=(14:"), "{}", entry(&f3));
+    let out = scratch.join("f9.txt");
+    let args: Vec<std::ffi::OsString> = vec![
+        "trace".into(),
+        cfg.into(),
+        "--cycles".into(),
+        "0..4".into(),
+        "--frame".into(),
+        "9".into(),
+        "--out".into(),
+        out.clone().into(),
+    ];
+    let o = bumpsim(&args);
+    o.expect_code(2, "trace --frame 9");
+    assert!(
+        o.stderr.contains("no frame 9: the config has 8 frames"),
+        "{}",
+        o.stderr
+    );
+    assert!(!out.exists());
+}
