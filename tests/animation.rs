@@ -324,3 +324,38 @@ fn each_engine_pays_its_own_per_frame_cost_for_a_moving_light() {
         assert_eq!(got, want, "{name}");
     }
 }
+
+/// A table priced by its contents (a ROM) is hardware too: a frame that would change it is an
+/// error naming the frame and the unit, one that leaves it as it is renders.
+#[test]
+fn a_frame_cannot_reload_a_table_priced_as_a_rom() {
+    let run = |frame: &str| {
+        let sets: Vec<String> = [
+            "scene.width=32",
+            "scene.height=32",
+            "engine.units.spec.tables=Rom",
+            frame,
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        let l = config::load(&config("sgi-teapot"), &sets).unwrap_or_else(|e| panic!("{e}"));
+        animation::run(&l).map(|a| a.images.len())
+    };
+    // the light moves: the power table (x^32) stays
+    let moved = r#"frames=[["scene.lights[0].kind.dir=(0.7071, 1.0, 1.2247)"]]"#;
+    assert_eq!(run(moved).unwrap_or_else(|e| panic!("{e}")), 1);
+    let shinier = r#"frames=[["scene.lights[0].kind.dir=(0.7071, 1.0, 1.2247)"], ["scene.material.shininess=48.0"]]"#;
+    let e = match run(shinier) {
+        Ok(_) => panic!("a frame reloaded a ROM"),
+        Err(e) => e,
+    };
+    assert_eq!(e.field, "frames[1] (frame 2): scene");
+    assert!(
+        e.message
+            .starts_with("unit \"spec\": the frame changes its gate estimate from ")
+            && e.message.contains("cannot follow the frame's inputs"),
+        "{}",
+        e.message
+    );
+}

@@ -62,6 +62,8 @@ pub struct Engine {
     pub texture_cache: Option<crate::config::TextureCacheConfig>,
     /// The textures the host builds from the frame's inputs, built again each frame.
     frame_textures: Vec<memory::FrameTexture>,
+    /// Each stage's cost table (the config's, with the unit's table kinds), as `gates` priced it.
+    costs: Vec<bumpsim_hw::CostTable>,
 }
 
 /// A rendering pass after the first: its output and the ROP state that writes it.
@@ -95,6 +97,22 @@ impl Engine {
                 s.upload(&f.texture, &new);
             }
             f.texture = new;
+        }
+        // the hardware is the frame's too: a table priced by its contents (a ROM) cannot
+        // follow the frame
+        for ((s, (_, built)), cost) in self.stages.iter().zip(&self.gates).zip(&self.costs) {
+            let now = s.unit().gates(cost);
+            if now != *built {
+                return Err(format!(
+                    "unit {:?}: the frame changes its gate estimate from {:.1} to {:.1} GE: a \
+                     table priced by its contents (a ROM, `tables: Rom`) cannot follow the \
+                     frame's inputs; expected a loadable table kind, or the same table inputs \
+                     (lights, material) in every frame",
+                    s.name,
+                    built.total(),
+                    now.total()
+                ));
+            }
         }
         Ok(())
     }
@@ -261,6 +279,7 @@ pub fn build(l: &Loaded, scene: &Scene) -> Result<Engine, InputError> {
     let mut texels = Vec::new();
     let mut gates = Vec::new();
     let mut normal_maps = Vec::new();
+    let mut costs = Vec::new();
     for i in order {
         let u = &cfg.units[i];
         let field = format!("engine.units[{i}]");
@@ -349,7 +368,9 @@ pub fn build(l: &Loaded, scene: &Scene) -> Result<Engine, InputError> {
             texels.push((u.name.clone(), r.texture.bits_per_texel()));
         }
         check_table_kinds(u, unit.as_ref(), &l.config.cost).map_err(|m| err("table_kinds", m))?;
-        gates.push((u.name.clone(), unit.gates(&u.cost(&l.config.cost))));
+        let cost = u.cost(&l.config.cost);
+        gates.push((u.name.clone(), unit.gates(&cost)));
+        costs.push(cost);
         stages.push(Stage::new(u.name.clone(), unit, in_wires, out_slots));
     }
     let (output, rop) = pass_output(l, &signals, "engine", &cfg.output, cfg.rop)?;
@@ -401,6 +422,7 @@ pub fn build(l: &Loaded, scene: &Scene) -> Result<Engine, InputError> {
         gates,
         normal_maps: normal_maps.into_iter().map(|m| m.1).collect(),
         frame_textures: memory.into_frame_textures(),
+        costs,
     })
 }
 
