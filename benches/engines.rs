@@ -39,6 +39,25 @@ fn engines(c: &mut Criterion) {
             b.iter(|| pool.install(|| p.reference(reference).covered()))
         });
     }
+    // the same engine with the fixed-point attribute interpolator (integer weights and vertex
+    // words) in place of the exact one: what interpolation costs in integers (its images are
+    // not the default's, so it is measured beside it, not instead)
+    let sets = [
+        sets.as_slice(),
+        &["engine.interpolator=Fixed(weight_bits: 16)".to_string()],
+    ]
+    .concat();
+    let loaded = config::load(&path, &sets).expect("the bundled config loads");
+    let mut p = prepare(&loaded).expect("the bundled config prepares");
+    p.scene.key = None;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("a rayon pool");
+    g.bench_function(
+        "simulated (bit-accurate, timed, fixed-point interpolator), 1 threads",
+        |b| b.iter(|| pool.install(|| p.simulate(None).cycles.total)),
+    );
     g.finish();
 }
 

@@ -246,6 +246,51 @@ impl Format {
     /// Cast a raw value that has `from_frac` fraction bits into this format.
     #[inline]
     pub fn cast(&self, raw: i128, from_frac: u32, q: Quant, o: Overflow) -> i64 {
+        // The common case in i64 (a 128-bit shift, compare and add cost about twice as much):
+        // a value within 62 bits, moved by fewer than 62 bits, truncated or rounded half up.
+        // The same words as the general path (`format_props::cast_fast_path_is_the_general_path`).
+        if let Ok(r) = i64::try_from(raw) {
+            if let Some(v) = self.cast_small(r, from_frac, q, o) {
+                return v;
+            }
+        }
+        self.cast_wide(raw, from_frac, q, o)
+    }
+    /// [`Format::cast`] in i64 where that is exact: `None` outside its common case.
+    #[inline]
+    fn cast_small(&self, raw: i64, from_frac: u32, q: Quant, o: Overflow) -> Option<i64> {
+        const LIMIT: i64 = 1 << 62;
+        if !(-LIMIT..LIMIT).contains(&raw) {
+            return None;
+        }
+        let to = self.frac as u32;
+        let v = if from_frac <= to {
+            let up = to - from_frac;
+            let v = raw.checked_shl(up).filter(|v| up < 62 && v >> up == raw)?;
+            if !(-LIMIT..LIMIT).contains(&v) {
+                return None;
+            }
+            v
+        } else {
+            let by = from_frac - to;
+            match q {
+                _ if by >= 62 => return None,
+                Quant::Trn => raw >> by,
+                // |raw| < 2^62: the sum stays within i64
+                Quant::Rnd => (raw + (1i64 << (by - 1))) >> by,
+                _ => return None,
+            }
+        };
+        let (lo, hi) = (self.min_raw(), self.max_raw());
+        let sym_min = o == Overflow::SatSym && self.signed && v == lo;
+        if v >= lo && v <= hi && !sym_min {
+            return Some(v);
+        }
+        Some(self.overflow(v as i128, o))
+    }
+    /// [`Format::cast`] for any value, in i128.
+    #[doc(hidden)]
+    pub fn cast_wide(&self, raw: i128, from_frac: u32, q: Quant, o: Overflow) -> i64 {
         let to = self.frac as u32;
         let v = if from_frac <= to {
             let up = to - from_frac;

@@ -263,6 +263,15 @@ impl Stage {
         self.unit.upload(old, new);
     }
 
+    /// The stage's timing when it is the same for every fragment (no texture-cache misses):
+    /// latency, initiation interval and the most tokens in flight, as [`Stage::tick`] applies
+    /// them; `None` when misses delay fragments.
+    pub fn fixed_timing(&self) -> Option<(u64, u64, usize)> {
+        self.misses
+            .is_none()
+            .then_some((self.latency, self.interval, self.max_in_flight))
+    }
+
     /// Delay each fragment by its texture-cache misses as `m` says (a fragment beyond
     /// `m.misses` has none). A prefetching unit keeps up to its FIFO's depth in flight.
     pub fn set_misses(&mut self, m: MissTiming) {

@@ -265,6 +265,21 @@ proptest! {
         }
     }
 
+    /// `Format::cast`'s i64 fast path gives the general (i128) path's words, small formats
+    /// included.
+    #[test]
+    fn cast_fast_path_is_the_general_path(
+        (f, from_frac, raw) in ((1u32..=32, any::<bool>()).prop_flat_map(|(w, s)| {
+            (0..=w).prop_map(move |fr| Format::new(s, w, fr).unwrap())
+        }), 0u32..=62)
+            .prop_flat_map(|(f, ff)| (Just(f), Just(ff), source_raw(f, ff)))
+    ) {
+        for (q, o) in q_and_o() {
+            prop_assert_eq!(f.cast(raw, from_frac, q, o), f.cast_wide(raw, from_frac, q, o),
+                "{} cast({}, from_frac {}, {:?}, {:?})", f, raw, from_frac, q, o);
+        }
+    }
+
     #[test]
     fn overflow_matches_oracle(
         (f, v) in wide_format().prop_flat_map(|f| (Just(f), prop_oneof![

@@ -16,6 +16,7 @@
 //! mutable access to the engine and runs concurrently with the function (`function.rs`),
 //! which evaluates the engine's own stages: timing does not depend on data.
 
+mod events;
 mod function;
 
 use bumpsim_hw::{
@@ -318,11 +319,27 @@ fn timing_twins(stages: &[Stage]) -> Vec<Stage> {
         .collect()
 }
 
-/// The timing model of a frame over fragment ids: frame work, setup, scan, the stages and
-/// the frame buffer write, clock by clock. Returns the cycle report (without `killed`), the
-/// probes of the `trace` window without port values, and the index of the first fragment
-/// probe (the ones before it are frame work).
+/// The timing model of a frame over fragment ids. Returns the cycle report (without
+/// `killed`), the probes of the `trace` window without port values, and the index of the first
+/// fragment probe (the ones before it are frame work). Without a trace, and when no unit's
+/// timing depends on the fragment, on events (`events.rs`, the same report); otherwise clock
+/// by clock ([`clocked`]).
 fn timing(
+    engine: &[Stage],
+    w: &Workload,
+    trace: Option<(u64, u64)>,
+) -> (CycleReport, Vec<(usize, Probe)>, usize) {
+    if trace.is_none() {
+        if let Some(c) = events::timing(engine, w) {
+            return (c, Vec::new(), 0);
+        }
+    }
+    clocked(engine, w, trace)
+}
+
+/// The timing model of a frame clock by clock: frame work, setup, scan, the stages and the
+/// frame buffer write. Returns what [`timing`] returns.
+fn clocked(
     engine: &[Stage],
     w: &Workload,
     trace: Option<(u64, u64)>,
@@ -498,3 +515,6 @@ fn timing(
     };
     (cycles, probes, first)
 }
+
+#[cfg(test)]
+mod tests;
