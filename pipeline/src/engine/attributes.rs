@@ -437,7 +437,15 @@ pub fn interpolate_weighted(
     };
     let mut raws = [0i64; 4];
     for (l, r) in raws.iter_mut().enumerate().take(lanes) {
-        let sum: i128 = (0..3).map(|k| w[k] as i128 * codes[k][l] as i128).sum();
+        // in i64 when the products and their sum fit (the common case: codes within 31
+        // bits), else in i128; the same sum either way
+        let narrow = (0..3).try_fold(0i64, |s, k| {
+            w[k].checked_mul(codes[k][l]).and_then(|p| s.checked_add(p))
+        });
+        let sum = narrow.map_or_else(
+            || (0..3).map(|k| w[k] as i128 * codes[k][l] as i128).sum(),
+            i128::from,
+        );
         *r = int.cast(sum, bits, enc.quant, enc.overflow);
     }
     Word::from_raw(enc, &raws[..lanes])
@@ -564,6 +572,26 @@ mod tests {
             let w = fixed_weights([b0, b1, 0.0], bits);
             prop_assert_eq!(w[0], weight_by_round(b0, bits));
             prop_assert_eq!(w[1], weight_by_round(b1, bits));
+        }
+
+        /// The fixed-point interpolator's sum, in i64 where it fits, is the i128 sum cast.
+        #[test]
+        fn interpolate_weighted_is_the_wide_sum_cast(
+            codes in prop::array::uniform3(prop::array::uniform4(prop_oneof![
+                -(1i64 << 20)..(1i64 << 20), -(1i64 << 62)..(1i64 << 62)])),
+            q0 in 0i64..=1 << 30, q1 in 0i64..=1 << 30, bits in 4u32..=30,
+            signed in any::<bool>(), width in 2u32..=32,
+        ) {
+            let one = 1i64 << bits;
+            let (q0, q1) = (q0 % (one + 1), q1 % (one + 1));
+            let w = [q0, q1, one - q0 - q1];
+            let enc = Encoding::fixed(Format::new(signed, width, width / 2).unwrap());
+            let word = interpolate_weighted(&enc, 4, [&codes[0], &codes[1], &codes[2]], w, bits);
+            let int = Format { frac: 0, ..enc.format };
+            for l in 0..4 {
+                let sum: i128 = (0..3).map(|k| w[k] as i128 * codes[k][l] as i128).sum();
+                prop_assert_eq!(word.lanes[l].raw, int.cast(sum, bits, enc.quant, enc.overflow));
+            }
         }
     }
 
