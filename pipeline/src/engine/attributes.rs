@@ -588,9 +588,9 @@ mod tests {
             let enc = Encoding::fixed(Format::new(signed, width, width / 2).unwrap());
             let word = interpolate_weighted(&enc, 4, [&codes[0], &codes[1], &codes[2]], w, bits);
             let int = Format { frac: 0, ..enc.format };
-            for l in 0..4 {
+            for (l, lane) in word.lanes.iter().enumerate() {
                 let sum: i128 = (0..3).map(|k| w[k] as i128 * codes[k][l] as i128).sum();
-                prop_assert_eq!(word.lanes[l].raw, int.cast(sum, bits, enc.quant, enc.overflow));
+                prop_assert_eq!(lane.raw, int.cast(sum, bits, enc.quant, enc.overflow));
             }
         }
     }
