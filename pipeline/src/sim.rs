@@ -58,6 +58,37 @@ pub struct CycleReport {
     pub per_unit: BTreeMap<String, Counters>,
 }
 
+impl CycleReport {
+    /// The report of a frame of `total` clocks whose first `frame` were frame work: the
+    /// fixed units' counters (setup, scan, ROP) and the engine units' by name.
+    fn new(
+        [total, frame, fragments, triangles]: [u64; 4],
+        fixed: [Counters; 3],
+        units: impl IntoIterator<Item = (String, Counters)>,
+    ) -> Self {
+        let mut per_unit: BTreeMap<String, Counters> = FIXED_UNITS
+            .iter()
+            .map(|n| n.to_string())
+            .zip(fixed)
+            .collect();
+        per_unit.extend(units);
+        let work = total - frame;
+        CycleReport {
+            total,
+            frame,
+            fragments,
+            killed: 0,
+            triangles,
+            per_fragment: if fragments > 0 {
+                work as f64 / fragments as f64
+            } else {
+                0.0
+            },
+            per_unit,
+        }
+    }
+}
+
 /// What the simulator needs of the front end.
 pub struct Workload<'a> {
     /// Fragments of each triangle, in submission order; entries are indices into the frame's
@@ -496,28 +527,11 @@ fn clocked(
             break;
         }
     }
-    let mut per_unit = BTreeMap::new();
-    let [setup, scan, rop] = FIXED_UNITS;
-    per_unit.insert(setup.to_string(), setup_c);
-    per_unit.insert(scan.to_string(), scan_c);
-    per_unit.insert(rop.to_string(), rop_c);
-    for s in stages.iter() {
-        per_unit.insert(s.name.clone(), s.counters);
-    }
-    let work = cycle - frame;
-    let cycles = CycleReport {
-        total: cycle,
-        frame,
-        fragments: nfrag as u64,
-        killed: 0,
-        triangles: w.triangles.len() as u64,
-        per_fragment: if nfrag > 0 {
-            work as f64 / nfrag as f64
-        } else {
-            0.0
-        },
-        per_unit,
-    };
+    let cycles = CycleReport::new(
+        [cycle, frame, nfrag as u64, w.triangles.len() as u64],
+        [setup_c, scan_c, rop_c],
+        stages.iter().map(|s| (s.name.clone(), s.counters)),
+    );
     (cycles, probes, first)
 }
 

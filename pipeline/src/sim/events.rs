@@ -28,9 +28,8 @@
 //! converter stalls from `avail(i)` to `S(i)`; setup is busy from `s_t` to `d_t` and stalls
 //! from `d_t` to `h_t`.
 
-use super::{CycleReport, Workload, FIXED_UNITS};
+use super::{CycleReport, Workload};
 use bumpsim_hw::{Counters, Stage};
-use std::collections::BTreeMap;
 
 /// The cycle report of [`super::timing`] (without `killed`), computed on events; `None` when
 /// a unit's timing depends on the fragment (texture-cache misses).
@@ -104,27 +103,14 @@ pub(super) fn timing(engine: &[Stage], w: &Workload) -> Option<CycleReport> {
         stall: 0,
         accepted: nfrag,
     };
-    let mut per_unit = BTreeMap::new();
-    let [setup, scan, rop_name] = FIXED_UNITS;
-    per_unit.insert(setup.to_string(), setup_c);
-    per_unit.insert(scan.to_string(), scan_c);
-    per_unit.insert(rop_name.to_string(), rop_c);
-    for (s, u) in engine.iter().zip(&units) {
-        per_unit.insert(s.name.clone(), u.counters(nfrag, total, window));
-    }
-    Some(CycleReport {
-        total,
-        frame,
-        fragments: nfrag,
-        killed: 0,
-        triangles: w.triangles.len() as u64,
-        per_fragment: if nfrag > 0 {
-            window as f64 / nfrag as f64
-        } else {
-            0.0
-        },
-        per_unit,
-    })
+    Some(CycleReport::new(
+        [total, frame, nfrag, w.triangles.len() as u64],
+        [setup_c, scan_c, rop_c],
+        engine
+            .iter()
+            .zip(&units)
+            .map(|(s, u)| (s.name.clone(), u.counters(nfrag, total, window))),
+    ))
 }
 
 /// The last values of a per-fragment clock, by fragment sequence number.
