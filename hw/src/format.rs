@@ -15,6 +15,8 @@
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
+mod batch;
+
 /// Largest word width a port or register may have.
 pub const MAX_WIDTH: u8 = 32;
 

@@ -580,3 +580,96 @@ fn fast_path_is_the_general_path() {
     }
     assert!(checked > 10_000_000, "{checked}");
 }
+
+/// `from_f64_slice` against one `from_f64` per value: every format up to 12 bits, at every
+/// half LSB and the doubles either side of it, across and beyond the range (slices that mix
+/// the common case with overflowing values), pseudo-random values of every width and
+/// magnitude around the common case's 2^51 bound, and NaN and infinities among ordinary values.
+#[test]
+fn slice_is_from_f64_per_value() {
+    let mut checked = 0u64;
+    let mut check = |f: &Format, xs: &[f64]| {
+        for q in QUANTS {
+            for o in OVERFLOWS {
+                let mut out = vec![i64::MIN; xs.len()];
+                f.from_f64_slice(xs, q, o, &mut out);
+                for (&x, &r) in xs.iter().zip(&out) {
+                    assert_eq!(r, f.from_f64(x, q, o), "{f} from_f64({x:e}) {q:?} {o:?}");
+                }
+                checked += xs.len() as u64;
+            }
+        }
+    };
+    for width in 1..=12u32 {
+        for frac in 0..=width {
+            for signed in [false, true] {
+                let f = Format::new(signed, width, frac).unwrap();
+                let half = f.lsb() / 2.0;
+                let span = (1i64 << (width + 1)) + 4;
+                let xs: Vec<f64> = (-span..=span)
+                    .flat_map(|k| {
+                        let x = k as f64 * half;
+                        [x, x.next_up(), x.next_down()]
+                    })
+                    .collect();
+                check(&f, &xs);
+                // slices within the range only (no value redone): the first quarter of them
+                // lies below an unsigned format's range, so take the middle
+                let mid = xs.len() / 2;
+                check(&f, &xs[mid..mid + 3 * (1 << width).min(span as usize)]);
+            }
+        }
+    }
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut next = || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state
+    };
+    for _ in 0..20_000 {
+        let s = next();
+        let width = 1 + (s % 32) as u32;
+        let frac = ((s >> 8) % (width as u64 + 1)) as u32;
+        let f = Format::new(s >> 16 & 1 == 1, width, frac).unwrap();
+        let xs: Vec<f64> = (0..16)
+            .map(|_| {
+                let s = next();
+                // magnitudes from 2^-40 to 2^70 of the LSB, and 2^50 to 2^52 (the bound)
+                let e = if s & 1 == 0 {
+                    ((s >> 20) % 110) as i32 - 40
+                } else {
+                    50 + ((s >> 20) % 3) as i32
+                };
+                let m = (s >> 32) as f64 / 4_294_967_296.0;
+                let sign = if s >> 63 == 1 { -1.0 } else { 1.0 };
+                sign * m * bumpsim_hw::format::pow2(e) * f.lsb()
+            })
+            .collect();
+        check(&f, &xs);
+    }
+    let f = Format::s(16, 8);
+    check(
+        &f,
+        &[
+            1.5,
+            f64::NAN,
+            -0.0,
+            f64::INFINITY,
+            2.0,
+            f64::NEG_INFINITY,
+            4.0e18,
+            -4.0e18,
+            0.25,
+        ],
+    );
+    check(
+        &f,
+        &[
+            (1u64 << 43) as f64,
+            -((1u64 << 43) as f64),
+            2251799813685247.0 / 256.0,
+        ],
+    );
+    assert!(checked > 5_000_000, "{checked}");
+}

@@ -335,8 +335,11 @@ impl Prepared {
         stalls: crate::texcache::Timing,
     ) -> sim::Timed {
         let front = self.front(Mode::BitAccurate, true);
-        let attrs = &self.engine.attributes;
-        let fill = |f: usize, t: &mut Token| front.fill(attrs, Mode::BitAccurate, f, t);
+        let fill = front::FrontFill {
+            front: &front,
+            attrs: &self.engine.attributes,
+            mode: Mode::BitAccurate,
+        };
         let out = &self.engine.output;
         sim::run_lanes(
             &self.engine.stages,

@@ -111,7 +111,27 @@ pub struct Workload<'a> {
 
 /// Fills a token with a fragment's interpolated attributes (and id and position); called from
 /// any thread.
-pub type FillToken<'a> = dyn Fn(usize, &mut Token) + Sync + 'a;
+pub type FillToken<'a> = dyn Fill + 'a;
+
+/// The front end's filling of tokens: one fragment, or a batch of consecutive fragments
+/// (the same tokens as one call per fragment; a front end may compute a batch lane by lane).
+/// Every `Fn(usize, &mut Token)` is one.
+pub trait Fill: Sync {
+    /// Fill `t` with fragment `f`.
+    fn fill(&self, f: usize, t: &mut Token);
+    /// Fill `ts[k]` with fragment `first + k`, as [`Fill::fill`] would.
+    fn fill_batch(&self, first: usize, ts: &mut [Token]) {
+        for (k, t) in ts.iter_mut().enumerate() {
+            self.fill(first + k, t);
+        }
+    }
+}
+
+impl<F: Fn(usize, &mut Token) + Sync> Fill for F {
+    fn fill(&self, f: usize, t: &mut Token) {
+        self(f, t)
+    }
+}
 
 /// The result of a timed run.
 pub struct SimResult {

@@ -4,7 +4,10 @@
 use crate::config::{AttrSource, AttributeConfig};
 use crate::engine::attributes;
 use crate::raster::Fragment;
-use bumpsim_hw::{Codec, Mode, Sample, Token, Word};
+use bumpsim_hw::{Codec, Mode, Sample, Token, Word, MAX_LANES};
+
+/// Fragments the front end fills lane by lane at a time ([`Front::fill_batch`]).
+pub(super) const BATCH: usize = 64;
 
 /// Fragments grouped by triangle: ranges into the fragment list, one per submitted triangle.
 pub(super) fn triangle_ranges(frags: &[Fragment], ntri: usize) -> Vec<std::ops::Range<usize>> {
@@ -33,6 +36,9 @@ pub(super) fn triangle_ranges(frags: &[Fragment], ntri: usize) -> Vec<std::ops::
     fixed
 }
 
+/// The fixed-point interpolator's vertex words, weight bits and one fragment's weights.
+type Weights<'a> = (&'a [Vec<[i64; 4]>], u32, [i64; 3]);
+
 pub(super) struct Front<'a> {
     pub(super) frags: &'a [Fragment],
     pub(super) tris: &'a [[u32; 3]],
@@ -55,81 +61,163 @@ impl Front<'_> {
             return self.fill_values(attrs, f, t);
         }
         let frag = &self.frags[f];
-        let tri = self.tris[frag.tri as usize];
-        // the fixed-point interpolator's weights, once for all the fragment's attributes
-        let fixed = self
-            .fixed
-            .filter(|_| mode == Mode::BitAccurate)
-            .map(|(codes, bits)| (codes, bits, attributes::fixed_weights(frag.bary, bits)));
+        let fixed = self.weights(mode, frag);
         for (a, attr) in attrs.iter().enumerate() {
-            let lanes = attr.source.lanes() as usize;
-            t.slots[a] = if self.vd.flat[a] {
-                attributes::flat(
-                    mode,
-                    &attr.enc,
-                    lanes,
-                    &self.vd.values[a][frag.tri as usize],
-                )
-            } else if let Some((codes, bits, weights)) = fixed {
-                let mut c = tri.map(|i| codes[a][i as usize]);
-                if let Some(flips) = self.flips(attr, a, tri) {
-                    for (v, flip) in c.iter_mut().zip(flips) {
-                        if flip {
-                            *v = v.map(|x| -x);
-                        }
-                    }
-                }
-                attributes::interpolate_weighted(
-                    &attr.enc,
-                    lanes,
-                    [&c[0], &c[1], &c[2]],
-                    weights,
-                    bits,
-                )
-            } else if mode == Mode::BitAccurate && attr.enc.codec == Codec::Fixed {
-                // [`attributes::interpolate_snapped`] and [`Word::quantize`] of a fixed-point
-                // word, the same sums and roundings, written in place (the common case: the
-                // word built and copied through three calls was the profile's top entry)
-                let values = &self.values[a];
-                let mut v = tri.map(|i| &values[i as usize]);
-                let flipped;
-                if let Some(flips) = self.flips(attr, a, tri) {
-                    flipped = std::array::from_fn::<_, 3, _>(|k| {
-                        v[k].map(|x| if flips[k] { -x } else { x })
-                    });
-                    v = [&flipped[0], &flipped[1], &flipped[2]];
-                }
-                let (e, b) = (&attr.enc, frag.bary);
-                let lsb = e.format.lsb();
-                let w = &mut t.slots[a];
-                for (l, s) in w.lanes.iter_mut().enumerate() {
-                    *s = if l < lanes {
-                        let x = b[0] * v[0][l] + b[1] * v[1][l] + b[2] * v[2][l];
-                        Sample::fixed(e, lsb, x)
-                    } else {
-                        Sample::default()
-                    };
-                }
-                continue;
-            } else {
-                let mut v = tri.map(|i| self.values[a][i as usize]);
-                if let Some(flips) = self.flips(attr, a, tri) {
-                    for (v, flip) in v.iter_mut().zip(flips) {
-                        if flip {
-                            *v = v.map(|x| -x);
-                        }
-                    }
-                }
-                attributes::interpolate_snapped(
-                    mode,
-                    &attr.enc,
-                    lanes,
-                    [&v[0], &v[1], &v[2]],
-                    frag.bary,
-                )
-            };
+            self.fill_attribute(a, attr, mode, frag, fixed, &mut t.slots[a]);
         }
         (t.id, t.x, t.y) = (f as u64, frag.x, frag.y);
+    }
+
+    /// [`Front::fill`] of fragments `first..first + ts.len()` into `ts`, the same tokens. In
+    /// bit-accurate mode with the exact interpolator, the lanes of fixed-point attributes are
+    /// computed lane by lane over the batch and rounded by [`bumpsim_hw::Format::from_f64_slice`];
+    /// the other attributes fragment by fragment.
+    pub(super) fn fill_batch(
+        &self,
+        attrs: &[AttributeConfig],
+        mode: Mode,
+        first: usize,
+        ts: &mut [Token],
+    ) {
+        if mode == Mode::Exact || self.fixed.is_some() {
+            for (k, t) in ts.iter_mut().enumerate() {
+                self.fill(attrs, mode, first + k, t);
+            }
+            return;
+        }
+        for (c, ts) in ts.chunks_mut(BATCH).enumerate() {
+            let first = first + c * BATCH;
+            let frags = &self.frags[first..first + ts.len()];
+            let n = ts.len();
+            // each fragment's barycentrics and vertices, once for all attributes
+            let mut bary = [[0f64; 3]; BATCH];
+            let mut verts = [[0u32; 3]; BATCH];
+            for ((b, v), frag) in bary.iter_mut().zip(verts.iter_mut()).zip(frags) {
+                (*b, *v) = (frag.bary, self.tris[frag.tri as usize]);
+            }
+            let mut xs = [[0f64; BATCH]; MAX_LANES];
+            let mut raws = [0i64; BATCH];
+            for (a, attr) in attrs.iter().enumerate() {
+                let batched = !self.vd.flat[a]
+                    && attr.enc.codec == Codec::Fixed
+                    && !matches!(attr.source, AttrSource::Quaternion);
+                if !batched {
+                    for (frag, t) in frags.iter().zip(ts.iter_mut()) {
+                        self.fill_attribute(a, attr, mode, frag, None, &mut t.slots[a]);
+                    }
+                    continue;
+                }
+                // the sums and roundings of `fill_attribute`'s fixed-point case, a lane of the
+                // batch at a time
+                let (e, values) = (&attr.enc, &self.values[a]);
+                let lanes = (attr.source.lanes() as usize).min(MAX_LANES);
+                for k in 0..n {
+                    let (b, v) = (bary[k], verts[k].map(|i| &values[i as usize]));
+                    for (l, x) in xs.iter_mut().enumerate().take(lanes) {
+                        x[k] = b[0] * v[0][l] + b[1] * v[1][l] + b[2] * v[2][l];
+                    }
+                }
+                let lsb = e.format.lsb();
+                for (l, x) in xs.iter().enumerate() {
+                    if l >= lanes {
+                        for t in ts.iter_mut() {
+                            t.slots[a].lanes[l] = Sample::default();
+                        }
+                        continue;
+                    }
+                    e.format
+                        .from_f64_slice(&x[..n], e.quant, e.overflow, &mut raws[..n]);
+                    for (t, &raw) in ts.iter_mut().zip(&raws) {
+                        t.slots[a].lanes[l] = Sample {
+                            x: raw as f64 * lsb,
+                            raw,
+                        };
+                    }
+                }
+            }
+            for (k, (frag, t)) in frags.iter().zip(ts.iter_mut()).enumerate() {
+                (t.id, t.x, t.y) = ((first + k) as u64, frag.x, frag.y);
+            }
+        }
+    }
+
+    /// The fixed-point interpolator's vertex words, weight bits and the fragment's weights
+    /// (once for all its attributes), when the bit-accurate engine has one.
+    fn weights(&self, mode: Mode, frag: &Fragment) -> Option<Weights<'_>> {
+        self.fixed
+            .filter(|_| mode == Mode::BitAccurate)
+            .map(|(codes, bits)| (codes, bits, attributes::fixed_weights(frag.bary, bits)))
+    }
+
+    /// Attribute `a`'s word of fragment `frag` into `w`.
+    fn fill_attribute(
+        &self,
+        a: usize,
+        attr: &AttributeConfig,
+        mode: Mode,
+        frag: &Fragment,
+        fixed: Option<Weights<'_>>,
+        w: &mut Word,
+    ) {
+        let tri = self.tris[frag.tri as usize];
+        let lanes = attr.source.lanes() as usize;
+        *w = if self.vd.flat[a] {
+            attributes::flat(
+                mode,
+                &attr.enc,
+                lanes,
+                &self.vd.values[a][frag.tri as usize],
+            )
+        } else if let Some((codes, bits, weights)) = fixed {
+            let mut c = tri.map(|i| codes[a][i as usize]);
+            if let Some(flips) = self.flips(attr, a, tri) {
+                for (v, flip) in c.iter_mut().zip(flips) {
+                    if flip {
+                        *v = v.map(|x| -x);
+                    }
+                }
+            }
+            attributes::interpolate_weighted(&attr.enc, lanes, [&c[0], &c[1], &c[2]], weights, bits)
+        } else if mode == Mode::BitAccurate && attr.enc.codec == Codec::Fixed {
+            // [`attributes::interpolate_snapped`] and [`Word::quantize`] of a fixed-point
+            // word, the same sums and roundings, written in place (the common case: the
+            // word built and copied through three calls was the profile's top entry)
+            let values = &self.values[a];
+            let mut v = tri.map(|i| &values[i as usize]);
+            let flipped;
+            if let Some(flips) = self.flips(attr, a, tri) {
+                flipped =
+                    std::array::from_fn::<_, 3, _>(|k| v[k].map(|x| if flips[k] { -x } else { x }));
+                v = [&flipped[0], &flipped[1], &flipped[2]];
+            }
+            let (e, b) = (&attr.enc, frag.bary);
+            let lsb = e.format.lsb();
+            for (l, s) in w.lanes.iter_mut().enumerate() {
+                *s = if l < lanes {
+                    let x = b[0] * v[0][l] + b[1] * v[1][l] + b[2] * v[2][l];
+                    Sample::fixed(e, lsb, x)
+                } else {
+                    Sample::default()
+                };
+            }
+            return;
+        } else {
+            let mut v = tri.map(|i| self.values[a][i as usize]);
+            if let Some(flips) = self.flips(attr, a, tri) {
+                for (v, flip) in v.iter_mut().zip(flips) {
+                    if flip {
+                        *v = v.map(|x| -x);
+                    }
+                }
+            }
+            attributes::interpolate_snapped(
+                mode,
+                &attr.enc,
+                lanes,
+                [&v[0], &v[1], &v[2]],
+                frag.bary,
+            )
+        };
     }
 
     /// [`Front::fill`] in exact mode without raw words: the values of
@@ -183,5 +271,21 @@ pub(super) fn fixed(
     match i {
         crate::config::Interpolator::Exact => None,
         crate::config::Interpolator::Fixed { weight_bits } => Some((codes, weight_bits)),
+    }
+}
+
+/// The front end in a mode as the simulator's [`crate::sim::Fill`]: one fragment, or a batch.
+pub(super) struct FrontFill<'a> {
+    pub(super) front: &'a Front<'a>,
+    pub(super) attrs: &'a [AttributeConfig],
+    pub(super) mode: Mode,
+}
+
+impl crate::sim::Fill for FrontFill<'_> {
+    fn fill(&self, f: usize, t: &mut Token) {
+        self.front.fill(self.attrs, self.mode, f, t)
+    }
+    fn fill_batch(&self, first: usize, ts: &mut [Token]) {
+        self.front.fill_batch(self.attrs, self.mode, first, ts)
     }
 }

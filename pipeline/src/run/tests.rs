@@ -174,3 +174,65 @@ fn frames_of_one_scene_share_their_keys_and_only_they() {
         assert_eq!((&got.image.px, &got.mask), (&fresh.image.px, &fresh.mask));
     }
 }
+
+/// The front end's batches ([`front::Front::fill_batch`], lane by lane over up to
+/// [`front::BATCH`] fragments) fill the tokens that one call per fragment fills, bit for bit,
+/// for every bundled config, in both modes, from any first fragment.
+#[test]
+fn batched_fill_is_the_fill_of_every_fragment() {
+    use crate::sim::Fill;
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../configs");
+    let mut paths: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "ron"))
+        .collect();
+    paths.sort();
+    assert!(paths.len() >= 36, "{} configs", paths.len());
+    let sets = ["scene.width=40".to_string(), "scene.height=32".to_string()];
+    let bits = |t: &Token| {
+        let lanes = t.slots.iter().flat_map(|w| w.lanes.iter());
+        let words: Vec<(i64, u64)> = lanes.map(|s| (s.raw, s.x.to_bits())).collect();
+        (t.id, t.x, t.y, t.live, words)
+    };
+    let mut batched = 0;
+    for path in &paths {
+        let name = path.display();
+        let l = crate::config::load(path, &sets).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let p = prepare(&l).unwrap_or_else(|e| panic!("{name}: {e}"));
+        for mode in [Mode::BitAccurate, Mode::Exact] {
+            let front = p.front(mode, true);
+            let fill = front::FrontFill {
+                front: &front,
+                attrs: &p.engine.attributes,
+                mode,
+            };
+            let n = front.frags.len();
+            let token = || Token {
+                id: 0,
+                x: 0,
+                y: 0,
+                live: true,
+                slots: vec![Word::default(); p.engine.slots()],
+            };
+            let mut one = token();
+            // all fragments at once, and batches that start and end anywhere
+            for (first, len) in [(0, n), (n / 3, 5), (n / 2, 3 * front::BATCH + 7)] {
+                let len = len.min(n - first.min(n));
+                let mut ts: Vec<Token> = (0..len).map(|_| token()).collect();
+                fill.fill_batch(first, &mut ts);
+                for (k, t) in ts.iter().enumerate() {
+                    fill.fill(first + k, &mut one);
+                    assert_eq!(
+                        bits(t),
+                        bits(&one),
+                        "{name} {mode:?} fragment {}",
+                        first + k
+                    );
+                }
+                batched += len;
+            }
+        }
+    }
+    assert!(batched > 100_000, "{batched}");
+}

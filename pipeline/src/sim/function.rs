@@ -147,26 +147,42 @@ fn evaluate_into<T: Send + Copy>(
         .zip(live.par_chunks_mut(CHUNK))
         .enumerate()
         .for_each(|(c, (vals, live))| {
-            let (mut t, mut scratch) = (new_token(f.slots), Scratch::default());
-            for (k, l) in live.iter_mut().enumerate() {
-                let id = c * CHUNK + k;
-                let out = eval_one(
-                    f.stages,
-                    f.mode,
-                    f.output,
-                    id,
-                    &mut t,
-                    &mut scratch,
-                    f.fill_token,
-                );
-                if let Some(w) = out {
-                    *l = true;
-                    for (i, v) in vals[k * lanes..(k + 1) * lanes].iter_mut().enumerate() {
-                        *v = get(&w, i);
+            let mut ts: Vec<Token> = (0..BATCH).map(|_| new_token(f.slots)).collect();
+            let mut scratch = Scratch::default();
+            for (b, live) in live.chunks_mut(BATCH).enumerate() {
+                let first = c * CHUNK + b * BATCH;
+                let ts = &mut ts[..live.len()];
+                eval_batch(f, first, ts, &mut scratch);
+                for (k, (l, t)) in live.iter_mut().zip(ts.iter()).enumerate() {
+                    if t.live {
+                        *l = true;
+                        let w = f.output.read(&t.slots);
+                        let k = b * BATCH + k;
+                        for (i, v) in vals[k * lanes..(k + 1) * lanes].iter_mut().enumerate() {
+                            *v = get(&w, i);
+                        }
                     }
                 }
             }
         });
+}
+
+/// Fragments per batch of [`eval_batch`].
+const BATCH: usize = 64;
+
+/// Fragments `first..first + ts.len()` through every stage: their tokens filled as one batch
+/// ([`super::Fill::fill_batch`]), then each through the stages. `ts[k].live` tells whether
+/// fragment `first + k` survived.
+fn eval_batch(f: &Function<'_>, first: usize, ts: &mut [Token], scratch: &mut Scratch) {
+    for t in ts.iter_mut() {
+        t.live = true;
+    }
+    f.fill_token.fill_batch(first, ts);
+    for t in ts.iter_mut() {
+        for s in f.stages {
+            s.eval_token(t, f.mode, scratch);
+        }
+    }
 }
 
 /// What the function evaluates: the stages in a mode, read at the output wire, on tokens of
@@ -200,7 +216,7 @@ pub(super) fn eval_one(
     fill_token: &FillToken<'_>,
 ) -> Option<Word> {
     t.live = true;
-    fill_token(f, t);
+    fill_token.fill(f, t);
     for s in stages {
         s.eval_token(t, mode, scratch);
     }
