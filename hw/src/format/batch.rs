@@ -47,7 +47,10 @@ impl Format {
         let hi = self.max_raw();
         // SAT_SYM never gives a signed format's minimum: it is left to `from_f64`
         let lo = self.min_raw() + (o == Overflow::SatSym && self.signed) as i64;
-        let common = |s: f64, v: i64| (s.abs() < LIMIT) & (v >= lo) & (v <= hi);
+        // the range test in f64 (exact: the words are integers below 2^51 in magnitude, and
+        // SSE2 has no 64-bit integer comparison)
+        let (lo_f, hi_f) = (lo as f64, hi as f64);
+        let common = |s: f64, v: f64| (s.abs() < LIMIT) & (v >= lo_f) & (v <= hi_f);
         let mut all = true;
         for (r, &x) in out.iter_mut().zip(xs) {
             let s = x * scale;
@@ -57,13 +60,13 @@ impl Format {
             let fl = n - ((n > c) as u8 as f64);
             let rem = c - fl; // exact, in [0, 1)
             let fi = (fl + MAGIC).to_bits() as i64 - MAGIC.to_bits() as i64;
-            let v = fi + up(fi, rem) as i64;
-            all &= common(s, v);
-            *r = v;
+            let up = up(fi, rem);
+            all &= common(s, fl + up as u8 as f64);
+            *r = fi + up as i64;
         }
         if !all {
             for (r, &x) in out.iter_mut().zip(xs) {
-                if !common(x * scale, *r) {
+                if !common(x * scale, *r as f64) {
                     *r = self.from_f64(x, q, o);
                 }
             }
