@@ -437,18 +437,32 @@ pub fn interpolate_weighted(
     };
     let mut raws = [0i64; 4];
     for (l, r) in raws.iter_mut().enumerate().take(lanes) {
-        // in i64 when the products and their sum fit (the common case: codes within 31
-        // bits), else in i128; the same sum either way
-        let narrow = (0..3).try_fold(0i64, |s, k| {
-            w[k].checked_mul(codes[k][l]).and_then(|p| s.checked_add(p))
-        });
-        let sum = narrow.map_or_else(
-            || (0..3).map(|k| w[k] as i128 * codes[k][l] as i128).sum(),
-            i128::from,
-        );
-        *r = int.cast(sum, bits, enc.quant, enc.overflow);
+        *r = weighted_lane(enc, int, codes.map(|c| c[l]), w, bits);
     }
     Word::from_raw(enc, &raws[..lanes])
+}
+
+/// One lane of [`interpolate_weighted`]: the raw word of the vertex codes `c` under the
+/// weights `w` of `bits` fraction bits, cast by `int` (the encoding's format without fraction
+/// bits) in the encoding's rounding and overflow modes.
+#[inline]
+pub fn weighted_lane(
+    enc: &Encoding,
+    int: bumpsim_hw::Format,
+    c: [i64; 3],
+    w: [i64; 3],
+    bits: u32,
+) -> i64 {
+    // in i64 when the products and their sum fit (the common case: codes within 31 bits),
+    // else in i128; the same sum either way
+    let narrow = (0..3).try_fold(0i64, |s, k| {
+        w[k].checked_mul(c[k]).and_then(|p| s.checked_add(p))
+    });
+    let sum = narrow.map_or_else(
+        || (0..3).map(|k| w[k] as i128 * c[k] as i128).sum(),
+        i128::from,
+    );
+    int.cast(sum, bits, enc.quant, enc.overflow)
 }
 
 /// Gates of the fixed-point interpolator for `attrs` (per-vertex ones): per lane, two

@@ -79,11 +79,14 @@ impl Front<'_> {
         first: usize,
         ts: &mut [Token],
     ) {
-        if mode == Mode::Exact || self.fixed.is_some() {
+        if mode == Mode::Exact {
             for (k, t) in ts.iter_mut().enumerate() {
                 self.fill(attrs, mode, first + k, t);
             }
             return;
+        }
+        if let Some((codes, bits)) = self.fixed {
+            return self.fill_batch_weighted(attrs, first, ts, codes, bits);
         }
         for (c, ts) in ts.chunks_mut(BATCH).enumerate() {
             let first = first + c * BATCH;
@@ -131,6 +134,61 @@ impl Front<'_> {
                         t.slots[a].lanes[l] = Sample {
                             x: raw as f64 * lsb,
                             raw,
+                        };
+                    }
+                }
+            }
+            for (k, (frag, t)) in frags.iter().zip(ts.iter_mut()).enumerate() {
+                (t.id, t.x, t.y) = ((first + k) as u64, frag.x, frag.y);
+            }
+        }
+    }
+
+    /// [`Front::fill_batch`] with the fixed-point interpolator: each fragment's weights once,
+    /// then [`attributes::interpolate_weighted`]'s lanes written in place.
+    fn fill_batch_weighted(
+        &self,
+        attrs: &[AttributeConfig],
+        first: usize,
+        ts: &mut [Token],
+        codes: &[Vec<[i64; 4]>],
+        bits: u32,
+    ) {
+        let mode = Mode::BitAccurate;
+        for (c, ts) in ts.chunks_mut(BATCH).enumerate() {
+            let first = first + c * BATCH;
+            let frags = &self.frags[first..first + ts.len()];
+            let mut weights = [[0i64; 3]; BATCH];
+            let mut verts = [[0u32; 3]; BATCH];
+            for ((w, v), frag) in weights.iter_mut().zip(verts.iter_mut()).zip(frags) {
+                *w = attributes::fixed_weights(frag.bary, bits);
+                *v = self.tris[frag.tri as usize];
+            }
+            for (a, attr) in attrs.iter().enumerate() {
+                if self.vd.flat[a] || matches!(attr.source, AttrSource::Quaternion) {
+                    for (frag, t) in frags.iter().zip(ts.iter_mut()) {
+                        let fixed = self.weights(mode, frag);
+                        self.fill_attribute(a, attr, mode, frag, fixed, &mut t.slots[a]);
+                    }
+                    continue;
+                }
+                let (e, codes) = (&attr.enc, &codes[a]);
+                let int = bumpsim_hw::Format {
+                    frac: 0,
+                    ..e.format
+                };
+                let lanes = attr.source.lanes() as usize;
+                for (k, t) in ts.iter_mut().enumerate() {
+                    let (w, v) = (weights[k], verts[k].map(|i| &codes[i as usize]));
+                    for (l, s) in t.slots[a].lanes.iter_mut().enumerate() {
+                        *s = if l < lanes {
+                            let raw = attributes::weighted_lane(e, int, v.map(|c| c[l]), w, bits);
+                            Sample {
+                                x: e.decode(raw),
+                                raw,
+                            }
+                        } else {
+                            Sample::default()
                         };
                     }
                 }

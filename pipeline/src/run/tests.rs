@@ -177,7 +177,8 @@ fn frames_of_one_scene_share_their_keys_and_only_they() {
 
 /// The front end's batches ([`front::Front::fill_batch`], lane by lane over up to
 /// [`front::BATCH`] fragments) fill the tokens that one call per fragment fills, bit for bit,
-/// for every bundled config, in both modes, from any first fragment.
+/// for every bundled config with its own interpolator and with the fixed-point one, in both
+/// modes, from any first fragment.
 #[test]
 fn batched_fill_is_the_fill_of_every_fragment() {
     use crate::sim::Fill;
@@ -196,10 +197,23 @@ fn batched_fill_is_the_fill_of_every_fragment() {
         (t.id, t.x, t.y, t.live, words)
     };
     let mut batched = 0;
-    for path in &paths {
-        let name = path.display();
+    let mut weighted = 0;
+    // every config with its own interpolator, and with the fixed-point one
+    let fixed = "engine.interpolator=Fixed(weight_bits: 16)".to_string();
+    let variants = paths.iter().flat_map(|p| [(p, false), (p, true)]);
+    for (path, with_fixed) in variants {
+        let name = format!(
+            "{} (fixed-point interpolator: {with_fixed})",
+            path.display()
+        );
+        let sets: Vec<String> = sets
+            .iter()
+            .chain(with_fixed.then_some(&fixed))
+            .cloned()
+            .collect();
         let l = crate::config::load(path, &sets).unwrap_or_else(|e| panic!("{name}: {e}"));
         let p = prepare(&l).unwrap_or_else(|e| panic!("{name}: {e}"));
+        weighted += usize::from(with_fixed && p.front(Mode::BitAccurate, true).fixed.is_some());
         for mode in [Mode::BitAccurate, Mode::Exact] {
             let front = p.front(mode, true);
             let fill = front::FrontFill {
@@ -234,5 +248,6 @@ fn batched_fill_is_the_fill_of_every_fragment() {
             }
         }
     }
-    assert!(batched > 100_000, "{batched}");
+    assert!(batched > 200_000, "{batched}");
+    assert_eq!(weighted, paths.len());
 }
