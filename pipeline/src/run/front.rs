@@ -69,9 +69,11 @@ impl Front<'_> {
     }
 
     /// [`Front::fill`] of fragments `first..first + ts.len()` into `ts`, the same tokens. In
-    /// bit-accurate mode with the exact interpolator, the lanes of fixed-point attributes are
-    /// computed lane by lane over the batch and rounded by [`bumpsim_hw::Format::from_f64_slice`];
-    /// the other attributes fragment by fragment.
+    /// bit-accurate mode the per-vertex attributes are interpolated over batches of up to
+    /// [`BATCH`] fragments: with the exact interpolator the lanes of fixed-point attributes a
+    /// lane at a time, rounded by [`bumpsim_hw::Format::from_f64_slice`]
+    /// ([`Front::lanes_rounded`]), with the fixed-point one each fragment's weights once
+    /// ([`Front::lanes_weighted`]); the other attributes fragment by fragment.
     pub(super) fn fill_batch(
         &self,
         attrs: &[AttributeConfig],
@@ -85,58 +87,18 @@ impl Front<'_> {
             }
             return;
         }
-        if let Some((codes, bits)) = self.fixed {
-            return self.fill_batch_weighted(attrs, first, ts, codes, bits);
-        }
         for (c, ts) in ts.chunks_mut(BATCH).enumerate() {
             let first = first + c * BATCH;
             let frags = &self.frags[first..first + ts.len()];
-            let n = ts.len();
-            // each fragment's barycentrics and vertices, once for all attributes
-            let mut bary = [[0f64; 3]; BATCH];
+            // each fragment's vertices, once for all attributes
             let mut verts = [[0u32; 3]; BATCH];
-            for ((b, v), frag) in bary.iter_mut().zip(verts.iter_mut()).zip(frags) {
-                (*b, *v) = (frag.bary, self.tris[frag.tri as usize]);
+            for (v, frag) in verts.iter_mut().zip(frags) {
+                *v = self.tris[frag.tri as usize];
             }
-            let mut xs = [[0f64; BATCH]; MAX_LANES];
-            let mut raws = [0i64; BATCH];
-            for (a, attr) in attrs.iter().enumerate() {
-                let batched = !self.vd.flat[a]
-                    && attr.enc.codec == Codec::Fixed
-                    && !matches!(attr.source, AttrSource::Quaternion);
-                if !batched {
-                    for (frag, t) in frags.iter().zip(ts.iter_mut()) {
-                        self.fill_attribute(a, attr, mode, frag, None, &mut t.slots[a]);
-                    }
-                    continue;
-                }
-                // the sums and roundings of `fill_attribute`'s fixed-point case, a lane of the
-                // batch at a time
-                let (e, values) = (&attr.enc, &self.values[a]);
-                let lanes = (attr.source.lanes() as usize).min(MAX_LANES);
-                for k in 0..n {
-                    let (b, v) = (bary[k], verts[k].map(|i| &values[i as usize]));
-                    for (l, x) in xs.iter_mut().enumerate().take(lanes) {
-                        x[k] = b[0] * v[0][l] + b[1] * v[1][l] + b[2] * v[2][l];
-                    }
-                }
-                let lsb = e.format.lsb();
-                for (l, x) in xs.iter().enumerate() {
-                    if l >= lanes {
-                        for t in ts.iter_mut() {
-                            t.slots[a].lanes[l] = Sample::default();
-                        }
-                        continue;
-                    }
-                    e.format
-                        .from_f64_slice(&x[..n], e.quant, e.overflow, &mut raws[..n]);
-                    for (t, &raw) in ts.iter_mut().zip(&raws) {
-                        t.slots[a].lanes[l] = Sample {
-                            x: raw as f64 * lsb,
-                            raw,
-                        };
-                    }
-                }
+            let verts = &verts[..frags.len()];
+            match self.fixed {
+                Some((codes, bits)) => self.lanes_weighted(attrs, frags, verts, ts, codes, bits),
+                None => self.lanes_rounded(attrs, frags, verts, ts),
             }
             for (k, (frag, t)) in frags.iter().zip(ts.iter_mut()).enumerate() {
                 (t.id, t.x, t.y) = ((first + k) as u64, frag.x, frag.y);
@@ -144,57 +106,111 @@ impl Front<'_> {
         }
     }
 
-    /// [`Front::fill_batch`] with the fixed-point interpolator: each fragment's weights once,
-    /// then [`attributes::interpolate_weighted`]'s lanes written in place.
-    fn fill_batch_weighted(
+    /// Whether attribute `a` is interpolated over a batch: per vertex, and not a quaternion
+    /// (whose signs triangle setup chooses per triangle, [`Front::flips`]).
+    fn batched(&self, a: usize, attr: &AttributeConfig) -> bool {
+        !self.vd.flat[a] && !matches!(attr.source, AttrSource::Quaternion)
+    }
+
+    /// The attributes other than [`Front::batched`] ones, fragment by fragment.
+    fn attribute_each(
+        &self,
+        a: usize,
+        attr: &AttributeConfig,
+        frags: &[Fragment],
+        ts: &mut [Token],
+    ) {
+        let mode = Mode::BitAccurate;
+        for (frag, t) in frags.iter().zip(ts.iter_mut()) {
+            let fixed = self.weights(mode, frag);
+            self.fill_attribute(a, attr, mode, frag, fixed, &mut t.slots[a]);
+        }
+    }
+
+    /// A batch with the exact interpolator: the sums and roundings of
+    /// [`Front::fill_attribute`]'s fixed-point case, a lane of the batch at a time.
+    fn lanes_rounded(
         &self,
         attrs: &[AttributeConfig],
-        first: usize,
+        frags: &[Fragment],
+        verts: &[[u32; 3]],
+        ts: &mut [Token],
+    ) {
+        let n = frags.len();
+        let mut xs = [[0f64; BATCH]; MAX_LANES];
+        let mut raws = [0i64; BATCH];
+        for (a, attr) in attrs.iter().enumerate() {
+            if !self.batched(a, attr) || attr.enc.codec != Codec::Fixed {
+                self.attribute_each(a, attr, frags, ts);
+                continue;
+            }
+            let (e, values) = (&attr.enc, &self.values[a]);
+            let lanes = (attr.source.lanes() as usize).min(MAX_LANES);
+            for (k, (frag, v)) in frags.iter().zip(verts).enumerate() {
+                let (b, v) = (frag.bary, v.map(|i| &values[i as usize]));
+                for (l, x) in xs.iter_mut().enumerate().take(lanes) {
+                    x[k] = b[0] * v[0][l] + b[1] * v[1][l] + b[2] * v[2][l];
+                }
+            }
+            let lsb = e.format.lsb();
+            for (l, x) in xs.iter().enumerate() {
+                if l >= lanes {
+                    for t in ts.iter_mut() {
+                        t.slots[a].lanes[l] = Sample::default();
+                    }
+                    continue;
+                }
+                e.format
+                    .from_f64_slice(&x[..n], e.quant, e.overflow, &mut raws[..n]);
+                for (t, &raw) in ts.iter_mut().zip(&raws) {
+                    t.slots[a].lanes[l] = Sample {
+                        x: raw as f64 * lsb,
+                        raw,
+                    };
+                }
+            }
+        }
+    }
+
+    /// A batch with the fixed-point interpolator: each fragment's weights once, then
+    /// [`attributes::interpolate_weighted`]'s lanes written in place.
+    fn lanes_weighted(
+        &self,
+        attrs: &[AttributeConfig],
+        frags: &[Fragment],
+        verts: &[[u32; 3]],
         ts: &mut [Token],
         codes: &[Vec<[i64; 4]>],
         bits: u32,
     ) {
-        let mode = Mode::BitAccurate;
-        for (c, ts) in ts.chunks_mut(BATCH).enumerate() {
-            let first = first + c * BATCH;
-            let frags = &self.frags[first..first + ts.len()];
-            let mut weights = [[0i64; 3]; BATCH];
-            let mut verts = [[0u32; 3]; BATCH];
-            for ((w, v), frag) in weights.iter_mut().zip(verts.iter_mut()).zip(frags) {
-                *w = attributes::fixed_weights(frag.bary, bits);
-                *v = self.tris[frag.tri as usize];
+        let mut weights = [[0i64; 3]; BATCH];
+        for (w, frag) in weights.iter_mut().zip(frags) {
+            *w = attributes::fixed_weights(frag.bary, bits);
+        }
+        for (a, attr) in attrs.iter().enumerate() {
+            if !self.batched(a, attr) {
+                self.attribute_each(a, attr, frags, ts);
+                continue;
             }
-            for (a, attr) in attrs.iter().enumerate() {
-                if self.vd.flat[a] || matches!(attr.source, AttrSource::Quaternion) {
-                    for (frag, t) in frags.iter().zip(ts.iter_mut()) {
-                        let fixed = self.weights(mode, frag);
-                        self.fill_attribute(a, attr, mode, frag, fixed, &mut t.slots[a]);
-                    }
-                    continue;
+            let (e, codes) = (&attr.enc, &codes[a]);
+            let int = bumpsim_hw::Format {
+                frac: 0,
+                ..e.format
+            };
+            let lanes = attr.source.lanes() as usize;
+            for ((t, w), v) in ts.iter_mut().zip(&weights).zip(verts) {
+                let v = v.map(|i| &codes[i as usize]);
+                for (l, s) in t.slots[a].lanes.iter_mut().enumerate() {
+                    *s = if l < lanes {
+                        let raw = attributes::weighted_lane(e, int, v.map(|c| c[l]), *w, bits);
+                        Sample {
+                            x: e.decode(raw),
+                            raw,
+                        }
+                    } else {
+                        Sample::default()
+                    };
                 }
-                let (e, codes) = (&attr.enc, &codes[a]);
-                let int = bumpsim_hw::Format {
-                    frac: 0,
-                    ..e.format
-                };
-                let lanes = attr.source.lanes() as usize;
-                for (k, t) in ts.iter_mut().enumerate() {
-                    let (w, v) = (weights[k], verts[k].map(|i| &codes[i as usize]));
-                    for (l, s) in t.slots[a].lanes.iter_mut().enumerate() {
-                        *s = if l < lanes {
-                            let raw = attributes::weighted_lane(e, int, v.map(|c| c[l]), w, bits);
-                            Sample {
-                                x: e.decode(raw),
-                                raw,
-                            }
-                        } else {
-                            Sample::default()
-                        };
-                    }
-                }
-            }
-            for (k, (frag, t)) in frags.iter().zip(ts.iter_mut()).enumerate() {
-                (t.id, t.x, t.y) = ((first + k) as u64, frag.x, frag.y);
             }
         }
     }
