@@ -543,22 +543,15 @@ fn fast_path_is_the_general_path() {
         for frac in 0..=width {
             for signed in [false, true] {
                 let f = Format::new(signed, width, frac).unwrap();
-                let half = f.lsb() / 2.0;
-                let span = (1i64 << (width + 1)) + 4;
-                for k in -span..=span {
-                    let x = k as f64 * half;
+                for x in half_lsb_grid(&f) {
                     check(&f, x);
-                    check(&f, x.next_up());
-                    check(&f, x.next_down());
                 }
             }
         }
     }
-    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut next = xorshift();
     for _ in 0..200_000 {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
+        let state = next();
         let width = 1 + (state % 32) as u32;
         let frac = ((state >> 8) % (width as u64 + 1)) as u32;
         let f = Format::new(state >> 16 & 1 == 1, width, frac).unwrap();
@@ -604,29 +597,16 @@ fn slice_is_from_f64_per_value() {
         for frac in 0..=width {
             for signed in [false, true] {
                 let f = Format::new(signed, width, frac).unwrap();
-                let half = f.lsb() / 2.0;
-                let span = (1i64 << (width + 1)) + 4;
-                let xs: Vec<f64> = (-span..=span)
-                    .flat_map(|k| {
-                        let x = k as f64 * half;
-                        [x, x.next_up(), x.next_down()]
-                    })
-                    .collect();
+                let xs = half_lsb_grid(&f);
                 check(&f, &xs);
                 // slices within the range only (no value redone): the first quarter of them
                 // lies below an unsigned format's range, so take the middle
                 let mid = xs.len() / 2;
-                check(&f, &xs[mid..mid + 3 * (1 << width).min(span as usize)]);
+                check(&f, &xs[mid..mid + 3 * (1usize << width)]);
             }
         }
     }
-    let mut state = 0x2545_f491_4f6c_dd1du64;
-    let mut next = || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        state
-    };
+    let mut next = xorshift();
     for _ in 0..20_000 {
         let s = next();
         let width = 1 + (s % 32) as u32;
@@ -672,4 +652,28 @@ fn slice_is_from_f64_per_value() {
         ],
     );
     assert!(checked > 5_000_000, "{checked}");
+}
+
+/// Every half LSB of `f` across its range and two LSBs beyond, and the doubles either side of
+/// each: where the rounding modes and the overflow modes decide.
+fn half_lsb_grid(f: &Format) -> Vec<f64> {
+    let half = f.lsb() / 2.0;
+    let span = (1i64 << (f.width + 1)) + 4;
+    (-span..=span)
+        .flat_map(|k| {
+            let x = k as f64 * half;
+            [x, x.next_up(), x.next_down()]
+        })
+        .collect()
+}
+
+/// A xorshift64 stream from a fixed seed.
+fn xorshift() -> impl FnMut() -> u64 {
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state
+    }
 }
