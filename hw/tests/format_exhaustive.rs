@@ -552,9 +552,7 @@ fn fast_path_is_the_general_path() {
     let mut next = xorshift();
     for _ in 0..200_000 {
         let state = next();
-        let width = 1 + (state % 32) as u32;
-        let frac = ((state >> 8) % (width as u64 + 1)) as u32;
-        let f = Format::new(state >> 16 & 1 == 1, width, frac).unwrap();
+        let f = random_format(state);
         // magnitudes from 2^-40 to 2^70 of the LSB, either sign
         let e = ((state >> 20) % 110) as i32 - 40;
         let m = (state >> 32) as f64 / 4_294_967_296.0;
@@ -609,9 +607,7 @@ fn slice_is_from_f64_per_value() {
     let mut next = xorshift();
     for _ in 0..20_000 {
         let s = next();
-        let width = 1 + (s % 32) as u32;
-        let frac = ((s >> 8) % (width as u64 + 1)) as u32;
-        let f = Format::new(s >> 16 & 1 == 1, width, frac).unwrap();
+        let f = random_format(s);
         let xs: Vec<f64> = (0..16)
             .map(|_| {
                 let s = next();
@@ -676,4 +672,11 @@ fn xorshift() -> impl FnMut() -> u64 {
         state ^= state << 17;
         state
     }
+}
+
+/// A format of 1 to 32 bits drawn from the random word `s` (its low 17 bits).
+fn random_format(s: u64) -> Format {
+    let width = 1 + (s % 32) as u32;
+    let frac = ((s >> 8) % (width as u64 + 1)) as u32;
+    Format::new(s >> 16 & 1 == 1, width, frac).unwrap()
 }
