@@ -9,6 +9,9 @@
 
 use crate::format::{shift_round, Codec, Encoding, Format, Quant};
 
+mod writer;
+pub use writer::Writer;
+
 /// An exact intermediate value `raw / 2^frac`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Acc {

@@ -15,7 +15,7 @@
 //! * Cube maps: the face and face coordinates of a direction ([`cube_face`],
 //!   [`cube_face_bits`]), OpenGL 1.3 §3.8.6.
 
-use crate::arith::{Acc, Reader};
+use crate::arith::{Acc, Reader, Writer};
 use crate::format::Encoding;
 use crate::texture::{Level, Texture};
 use crate::unit::MAX_LANES;
@@ -191,20 +191,59 @@ impl Sampler {
         frac: u32,
         out: &Encoding,
     ) -> [i64; MAX_LANES] {
+        let plan = self.plan(tex.texel(), out);
+        self.sample_planned(tex, level, face, s, t, frac, &plan)
+    }
+
+    /// The casts of [`Sampler::sample_bits`] from texels of encoding `texel` into `out`,
+    /// planned once (a unit that always reads one texel format into one port keeps its plan).
+    pub fn plan(&self, texel: &Encoding, out: &Encoding) -> SamplePlan {
+        let read = Reader::new(texel);
+        let wb = self.weight_bits;
+        SamplePlan {
+            texel: *texel,
+            out: *out,
+            nearest: read.map(|r| (r, Writer::new(r.frac, out))),
+            bilinear: read
+                .filter(|r| r.bits + 2 * wb <= 62)
+                .map(|r| (r, Writer::new(r.frac + 2 * wb, out))),
+        }
+    }
+
+    /// [`Sampler::sample_bits`] with the casts of `plan` (made by [`Sampler::plan`] for this
+    /// texture's texel encoding).
+    #[allow(clippy::too_many_arguments)]
+    pub fn sample_planned(
+        &self,
+        tex: &Texture,
+        level: usize,
+        face: usize,
+        s: i64,
+        t: i64,
+        frac: u32,
+        plan: &SamplePlan,
+    ) -> [i64; MAX_LANES] {
+        debug_assert_eq!(
+            plan.texel,
+            *tex.texel(),
+            "a plan for another texel encoding"
+        );
         let l = tex.level_at(level);
         let (log_w, log_h) = l.logs();
         let centered = self.filter == Filter::Bilinear;
         let (i, fu) = texel_axis(s, frac, log_w, centered);
         let (j, fv) = texel_axis(t, frac, log_h, centered);
-        let texel = tex.texel();
-        let code = |k: usize, lane: usize| Acc::from_code(l.code(k)[lane], texel);
+        let (texel, out) = (&plan.texel, &plan.out);
         let lanes = tex.lanes() as usize;
         let mut res = [0i64; MAX_LANES];
         match self.filter {
             Filter::Nearest => {
-                let k = self.index(l, face, i, j);
-                for (lane, r) in res.iter_mut().enumerate().take(lanes) {
-                    *r = code(k, lane).to_code(out);
+                let code = l.code(self.index(l, face, i, j));
+                for (r, &c) in res.iter_mut().zip(code).take(lanes) {
+                    *r = match &plan.nearest {
+                        Some((read, write)) => write.write(read.read(c)),
+                        None => Acc::from_code(c, texel).to_code(out),
+                    };
                 }
             }
             Filter::Bilinear => {
@@ -220,18 +259,37 @@ impl Sampler {
                 let (wu, wv) = (trunc(fu, frac - log_w), trunc(fv, frac - log_h));
                 let taps = [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)]
                     .map(|(a, b)| l.code(self.index(l, face, a, b)));
-                let narrow = Reader::new(texel).filter(|r| r.bits + 2 * wb <= 62);
-                res = bilinear(taps, texel, lanes, [wu, wv], wb, out, narrow);
+                res = bilinear(
+                    taps,
+                    texel,
+                    lanes,
+                    [wu, wv],
+                    wb,
+                    out,
+                    plan.bilinear.as_ref(),
+                );
             }
         }
         res
     }
 }
 
+/// The casts of one texel encoding into one output encoding ([`Sampler::plan`]): the texel's
+/// [`Reader`] and the [`Writer`] of a nearest texel and of a bilinear sum, where they fit in
+/// `i64`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SamplePlan {
+    texel: Encoding,
+    out: Encoding,
+    nearest: Option<(Reader, Writer)>,
+    bilinear: Option<(Reader, Writer)>,
+}
+
 /// The bilinear filter of four taps' codes (t00, t10, t01, t11) of encoding `texel`, with
 /// weights `w = [wu, wv]` of `wb` bits, cast into `out`: the exact `a (1 - w) + b w` along u,
 /// then along v. With `narrow` (the texel's [`Reader`], its readings and two weights within
-/// 62 bits) the same integers are summed in `i64` instead of `i128`.
+/// 62 bits, and the [`Writer`] of the sum into `out`) the same integers are summed in `i64`
+/// instead of `i128`.
 fn bilinear(
     taps: [&[i64; MAX_LANES]; 4],
     texel: &Encoding,
@@ -239,17 +297,17 @@ fn bilinear(
     w: [i64; 2],
     wb: u32,
     out: &Encoding,
-    narrow: Option<Reader>,
+    narrow: Option<&(Reader, Writer)>,
 ) -> [i64; MAX_LANES] {
     let mut res = [0i64; MAX_LANES];
-    if let Some(r) = narrow {
+    if let Some((r, write)) = narrow {
         let full = 1i64 << wb;
         let lerp = |a: i64, b: i64, w: i64| a * (full - w) + b * w;
         for (lane, o) in res.iter_mut().enumerate().take(lanes) {
             let c = |k: usize| r.read(taps[k][lane]);
             let top = lerp(c(0), c(1), w[0]);
             let bot = lerp(c(2), c(3), w[0]);
-            *o = Acc::new(lerp(top, bot, w[1]) as i128, r.frac + 2 * wb).to_code(out);
+            *o = write.write(lerp(top, bot, w[1]));
         }
         return res;
     }
@@ -355,10 +413,12 @@ mod tests {
             let codes = codes.map(|c| c.map(|x| f.min_raw() + (x as u64 % span) as i64));
             let w = w.map(|x| i64::from(x) % ((1i64 << wb) + 1));
             let taps = [&codes[0], &codes[1], &codes[2], &codes[3]];
-            let narrow = Reader::new(&texel).filter(|r| r.bits + 2 * wb <= 62);
+            let narrow = Reader::new(&texel)
+                .filter(|r| r.bits + 2 * wb <= 62)
+                .map(|r| (r, Writer::new(r.frac + 2 * wb, &out)));
             prop_assume!(narrow.is_some());
             prop_assert_eq!(
-                bilinear(taps, &texel, 4, w, wb, &out, narrow),
+                bilinear(taps, &texel, 4, w, wb, &out, narrow.as_ref()),
                 bilinear(taps, &texel, 4, w, wb, &out, None)
             );
         }
@@ -376,7 +436,7 @@ mod tests {
             let texel = Encoding::texel(codec, signed, 4);
             let out = Encoding::texel(codec, signed, 8);
             let (lo, hi) = (texel.format.min_raw(), texel.format.max_raw());
-            let narrow = Reader::new(&texel);
+            let narrow = Reader::new(&texel).map(|r| (r, Writer::new(r.frac + 8, &out)));
             assert!(narrow.is_some());
             for a in lo..=hi {
                 for b in lo..=hi {
@@ -385,7 +445,7 @@ mod tests {
                     for wu in 0..=16 {
                         for wv in [0, 1, 7, 8, 15, 16] {
                             assert_eq!(
-                                bilinear(taps, &texel, 4, [wu, wv], 4, &out, narrow),
+                                bilinear(taps, &texel, 4, [wu, wv], 4, &out, narrow.as_ref()),
                                 bilinear(taps, &texel, 4, [wu, wv], 4, &out, None),
                                 "{codec:?} {a} {b} {wu} {wv}"
                             );

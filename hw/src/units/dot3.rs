@@ -10,7 +10,7 @@
 //! Bit-accurate mode: the products and their sum are exact (`(wa + wb + 2)`-bit adder), then
 //! clamped and cast once into the output encoding with its rounding and overflow modes.
 
-use crate::arith::{Acc, Reader};
+use crate::arith::{Acc, Reader, Writer};
 use crate::format::Encoding;
 use crate::gates::{CostTable, GateBudget};
 use crate::unit::{Mode, PortSpec, Unit, Word};
@@ -32,8 +32,18 @@ pub struct Dot3 {
     outputs: Vec<PortSpec>,
     parallel: u32,
     clamp: Clamp,
-    /// The readers of `a` and `b` when a sum of three products fits in `i64` (62 bits).
-    narrow: Option<(Reader, Reader)>,
+    /// The datapath in `i64`, when a sum of three products fits in 62 bits.
+    narrow: Option<Narrow>,
+}
+
+/// The readers of `a` and `b`, the clamp's 1 at the sum's scale and the writer of the
+/// clamped sum, for the `i64` datapath.
+#[derive(Clone, Copy)]
+struct Narrow {
+    a: Reader,
+    b: Reader,
+    one: i64,
+    out: Writer,
 }
 
 impl Dot3 {
@@ -53,7 +63,17 @@ impl Dot3 {
             .collect();
         let narrow = Reader::new(&a)
             .zip(Reader::new(&b))
-            .filter(|(ra, rb)| ra.bits + rb.bits + 2 <= 62);
+            .filter(|(ra, rb)| ra.bits + rb.bits + 2 <= 62)
+            .map(|(a, b)| {
+                let frac = a.frac + b.frac;
+                Narrow {
+                    a,
+                    b,
+                    // a sum below 2^62 is below 1 when 1 is 2^62 or more
+                    one: if frac < 63 { 1i64 << frac } else { i64::MAX },
+                    out: Writer::new(frac, &out),
+                }
+            });
         Dot3 {
             inputs,
             outputs,
@@ -127,17 +147,22 @@ impl Unit for Dot3 {
                     let d: f64 = (0..3).map(|j| a.lanes[j].x * b.lanes[j].x).sum();
                     *o = Word::from_exact(&out, &[self.clamp_f64(d)]);
                 }
-                Mode::BitAccurate => {
-                    let s = if let Some((ra, rb)) = self.narrow {
-                        // the same exact sum in i64 (three products of one scale)
-                        let p = |j: usize| ra.read(a.lanes[j].raw) * rb.read(b.lanes[j].raw);
-                        Acc::new((p(0) + p(1) + p(2)) as i128, ra.frac + rb.frac)
-                    } else {
-                        let (ea, eb) = (&self.inputs[0].enc, &self.inputs[1 + i].enc);
-                        let rd =
-                            |w: &Word, j: usize, e: &Encoding| Acc::from_code(w.lanes[j].raw, e);
-                        (0..3).fold(Acc::ZERO, |s, j| s.add(rd(a, j, ea).mul(rd(b, j, eb))))
+                Mode::BitAccurate if self.narrow.is_some() => {
+                    let n = self.narrow.as_ref().expect("checked");
+                    // the same exact sum and clamp in i64 (three products of one scale)
+                    let p = |j: usize| n.a.read(a.lanes[j].raw) * n.b.read(b.lanes[j].raw);
+                    let s = p(0) + p(1) + p(2);
+                    let s = match self.clamp {
+                        Clamp::Unit => s.clamp(0, n.one),
+                        Clamp::Positive => s.max(0),
+                        Clamp::None => s,
                     };
+                    *o = Word::from_raw(&out, &[n.out.write(s)]);
+                }
+                Mode::BitAccurate => {
+                    let (ea, eb) = (&self.inputs[0].enc, &self.inputs[1 + i].enc);
+                    let rd = |w: &Word, j: usize, e: &Encoding| Acc::from_code(w.lanes[j].raw, e);
+                    let s = (0..3).fold(Acc::ZERO, |s, j| s.add(rd(a, j, ea).mul(rd(b, j, eb))));
                     let s = match self.clamp {
                         Clamp::Unit => s.clamp(Acc::ZERO, Acc::new(1, 0)),
                         Clamp::Positive => {

@@ -18,8 +18,8 @@
 
 use crate::format::{Codec, Encoding};
 use crate::gates::{CostTable, GateBudget, TableRole};
-use crate::sampler::Sampler;
 pub use crate::sampler::{Address, Filter};
+use crate::sampler::{SamplePlan, Sampler};
 pub use crate::texture::Texels;
 use crate::texture::Texture;
 use crate::unit::{Mode, PortSpec, TextureRead, Unit, Word};
@@ -32,6 +32,8 @@ pub struct TexFetch {
     ports: u32,
     mem_latency: u32,
     tex: Arc<Texture>,
+    /// The sampler's casts from the texture's texels into `t`.
+    plan: SamplePlan,
 }
 
 impl TexFetch {
@@ -68,6 +70,7 @@ impl TexFetch {
             sampler,
             ports,
             mem_latency: mem_latency.max(1),
+            plan: sampler.plan(tex.texel(), &out),
             tex,
         })
     }
@@ -107,7 +110,7 @@ impl TexFetch {
                 let (s, t) = (uv.lanes[0].raw, uv.lanes[1].raw);
                 let res = self
                     .sampler
-                    .sample_bits(&self.tex, level, 0, s, t, frac, &out);
+                    .sample_planned(&self.tex, level, 0, s, t, frac, &self.plan);
                 Word::from_raw(&out, &res[..lanes])
             }
         }
@@ -140,6 +143,7 @@ impl Unit for TexFetch {
     }
     fn upload(&mut self, old: &Arc<Texture>, new: &Arc<Texture>) {
         if Arc::ptr_eq(&self.tex, old) {
+            self.plan = self.sampler.plan(new.texel(), &self.outputs[0].enc);
             self.tex = new.clone();
         }
     }

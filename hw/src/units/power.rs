@@ -15,7 +15,7 @@ use crate::format::{Codec, Encoding};
 use crate::frame::FrameInputs;
 use crate::gates::{CostTable, GateBudget, TableRole};
 use crate::unit::{Mode, PortSpec, Unit, Word};
-use crate::units::specgen::{nearest_index, power_table_codes};
+use crate::units::specgen::{nearest_index, power_table_codes, NearestIndex};
 
 pub struct PowerTable {
     inputs: Vec<PortSpec>,
@@ -26,6 +26,8 @@ pub struct PowerTable {
     table: Vec<i64>,
     /// The shininess is the frame's material's ([`PowerTable::following_material`]).
     follows_material: bool,
+    /// The index of an input word, planned for the inputs' encoding.
+    indexer: NearestIndex,
 }
 
 impl PowerTable {
@@ -55,6 +57,7 @@ impl PowerTable {
             parallel: parallel.clamp(1, k.max(1)),
             table,
             follows_material: false,
+            indexer: NearestIndex::new(&input, index_bits),
         }
     }
 
@@ -167,10 +170,7 @@ impl Unit for PowerTable {
             let s = ins[i].lanes[0];
             *o = match mode {
                 Mode::Exact => Word::from_exact(&out, &[s.x.clamp(0.0, 1.0).powf(self.shininess)]),
-                Mode::BitAccurate => {
-                    let idx = self.index(s.raw, &self.inputs[i].enc);
-                    Word::from_raw(&out, &[self.table[idx]])
-                }
+                Mode::BitAccurate => Word::from_raw(&out, &[self.table[self.indexer.index(s.raw)]]),
             };
         }
     }

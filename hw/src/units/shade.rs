@@ -14,7 +14,7 @@
 //! host once per frame, quantized to the coefficient encoding. The sum is exact and cast once
 //! into the output encoding.
 
-use crate::arith::{Acc, Reader};
+use crate::arith::{Acc, Reader, Writer};
 use crate::format::{Codec, Encoding};
 use crate::frame::FrameInputs;
 use crate::gates::{CostTable, GateBudget};
@@ -71,11 +71,18 @@ struct Fast {
     ksl: Vec<[i64; 3]>,
     /// Left shifts of the src, ambient, diffuse and specular terms to `frac`.
     shift: [u32; 4],
-    frac: u32,
+    /// The writer of the sum, which has `frac` fraction bits, into the output encoding.
+    out: Writer,
 }
 
 impl Fast {
-    fn new(intensity: &Encoding, has: &ShadeInputs, coef: &Encoding, k: usize) -> Option<Fast> {
+    fn new(
+        intensity: &Encoding,
+        has: &ShadeInputs,
+        coef: &Encoding,
+        k: usize,
+        out: &Encoding,
+    ) -> Option<Fast> {
         let (d, kc) = (Reader::new(intensity)?, Reader::new(coef)?);
         let opt = |e: &Option<Encoding>| {
             e.as_ref()
@@ -108,7 +115,7 @@ impl Fast {
             kdl: Vec::new(),
             ksl: Vec::new(),
             shift,
-            frac,
+            out: Writer::new(frac, out),
         })
     }
 }
@@ -150,7 +157,7 @@ impl Shade {
             .collect();
         let base_port = crate::unit::port_index(&inputs, "base");
         let src_port = crate::unit::port_index(&inputs, "src");
-        let fast = Fast::new(&intensity, &has, &coef, k as usize).map(|f| {
+        let fast = Fast::new(&intensity, &has, &coef, k as usize, &out).map(|f| {
             let raw = |a: &[Acc; 3]| a.map(|a| a.raw as i64);
             Fast {
                 ka: raw(&ka),
@@ -371,22 +378,26 @@ impl Unit for Shade {
             Mode::BitAccurate if self.fast.is_some() => {
                 let f = self.fast.as_ref().expect("checked");
                 let [s_src, s_ka, s_kd, s_ks] = f.shift;
-                let codes: [i64; 3] = std::array::from_fn(|c| {
-                    let code = |w: Option<&Word>, r: Option<Reader>| {
-                        w.zip(r).map(|(w, r)| r.read(w.lanes[c].raw))
-                    };
-                    let b = code(base, f.base).unwrap_or(1);
-                    let mut v = code(src, f.src).map_or(0, |x| x << s_src);
-                    v += (f.ka[c] * b) << s_ka;
-                    for (i, d) in ins.iter().enumerate().take(k) {
-                        v += (f.kdl[i][c] * b * f.d.read(d.lanes[0].raw)) << s_kd;
-                        if let (Some(s), Some(r)) = (spec(i), f.s) {
-                            v += (f.ksl[i][c] * r.read(s.lanes[0].raw)) << s_ks;
+                let read = |w: Option<&Word>, r: Option<Reader>, c: usize| {
+                    w.zip(r).map(|(w, r)| r.read(w.lanes[c].raw))
+                };
+                // the sums of the three channels, light by light (integer sums in any order)
+                let b: [i64; 3] = std::array::from_fn(|c| read(base, f.base, c).unwrap_or(1));
+                let mut v: [i64; 3] = std::array::from_fn(|c| {
+                    (read(src, f.src, c).unwrap_or(0) << s_src) + ((f.ka[c] * b[c]) << s_ka)
+                });
+                for (i, d) in ins.iter().enumerate().take(k) {
+                    let d = f.d.read(d.lanes[0].raw);
+                    for c in 0..3 {
+                        v[c] += (f.kdl[i][c] * b[c] * d) << s_kd;
+                    }
+                    if let Some(s) = spec(i).zip(f.s).map(|(w, r)| r.read(w.lanes[0].raw)) {
+                        for c in 0..3 {
+                            v[c] += (f.ksl[i][c] * s) << s_ks;
                         }
                     }
-                    Acc::new(v as i128, f.frac).to_code(&out)
-                });
-                outs[0] = Word::from_raw(&out, &codes);
+                }
+                outs[0] = Word::from_raw(&out, &v.map(|v| f.out.write(v)));
             }
             Mode::BitAccurate => {
                 let rd = |w: &Word, l: usize, e: &Encoding| Acc::from_code(w.lanes[l].raw, e);

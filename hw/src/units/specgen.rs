@@ -37,8 +37,8 @@
 //!   errors made early are doubled by every later squaring near `x = 1` (measured: 11.6 LSB for
 //!   `w = 12, n = 64`; the `k`-LSB rule of thumb holds for `n <= 64` only up to `w = 9`).
 
-use crate::arith::Acc;
-use crate::format::{shift_round, Codec, Encoding, Quant};
+use crate::arith::{Acc, Reader, Writer};
+use crate::format::{shift_round, Codec, Encoding, Format, Overflow, Quant};
 use crate::gates::{CostTable, GateBudget, TableRole};
 
 /// Which specular intensity generator, and its widths.
@@ -85,6 +85,44 @@ pub fn nearest_index(raw: i64, enc: &Encoding, index_bits: u32) -> usize {
     let last = (1i128 << index_bits) - 1;
     let i = Acc::from_code(raw, enc).scale(last).round_int(Quant::Rnd);
     i.clamp(0, last) as usize
+}
+
+/// [`nearest_index`] planned once for one input encoding: the word read by its [`Reader`],
+/// scaled by `2^b - 1`, and rounded and clamped by a [`Writer`] into `b` unsigned bits, in
+/// `i64` where that fits (`tests::the_planned_index_is_nearest_index`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NearestIndex {
+    enc: Encoding,
+    index_bits: u32,
+    fast: Option<(Reader, Writer)>,
+}
+
+impl NearestIndex {
+    pub fn new(enc: &Encoding, index_bits: u32) -> NearestIndex {
+        let index = Encoding {
+            format: Format::u(index_bits.clamp(1, 60) as u8, 0),
+            codec: Codec::Fixed,
+            quant: Quant::Rnd,
+            overflow: Overflow::Sat,
+        };
+        let fast = Reader::new(enc)
+            .filter(|r| (1..=60).contains(&index_bits) && r.bits + index_bits <= 62)
+            .map(|r| (r, Writer::new(r.frac, &index)));
+        NearestIndex {
+            enc: *enc,
+            index_bits,
+            fast,
+        }
+    }
+
+    /// `nearest_index(raw, enc, index_bits)`.
+    #[inline]
+    pub fn index(&self, raw: i64) -> usize {
+        match &self.fast {
+            Some((r, w)) => w.write(r.read(raw) * ((1i64 << self.index_bits) - 1)) as usize,
+            None => nearest_index(raw, &self.enc, self.index_bits),
+        }
+    }
 }
 
 /// Error of reading a word of `enc` into an [`Acc`] (bit replication of the `c / (2^n - 1)`
@@ -396,8 +434,44 @@ fn entry_error(value_bits: u32) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::format::Format;
     use std::collections::BTreeSet;
+
+    #[test]
+    fn the_planned_index_is_nearest_index() {
+        // every code of every codec to 9 bits, both signs (fixed formats at three
+        // fractions), into every index width to 14 bits
+        let mut encs = Vec::new();
+        for width in 1..=9u8 {
+            for signed in [false, true] {
+                for codec in [Codec::UnitUnsigned, Codec::UnitSigned, Codec::UnitSymmetric] {
+                    encs.push(Encoding::texel(codec, signed, width));
+                }
+                for frac in [0, width / 2, width] {
+                    encs.push(Encoding::fixed(Format {
+                        signed,
+                        width,
+                        frac,
+                    }));
+                }
+            }
+        }
+        let mut checks = 0;
+        for enc in &encs {
+            for bits in 1..=14 {
+                let n = NearestIndex::new(enc, bits);
+                assert!(n.fast.is_some());
+                for raw in enc.format.min_raw()..=enc.format.max_raw() {
+                    assert_eq!(
+                        n.index(raw),
+                        nearest_index(raw, enc, bits),
+                        "{enc:?} {bits} {raw}"
+                    );
+                    checks += 1;
+                }
+            }
+        }
+        assert!(checks > 100_000, "{checks}");
+    }
 
     /// A fine input: u1.14, every value of [0, 1] on a 2^-14 grid.
     fn fine() -> Encoding {
