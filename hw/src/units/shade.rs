@@ -388,12 +388,12 @@ impl Unit for Shade {
                 });
                 for (i, d) in ins.iter().enumerate().take(k) {
                     let d = f.d.read(d.lanes[0].raw);
-                    for c in 0..3 {
-                        v[c] += (f.kdl[i][c] * b[c] * d) << s_kd;
+                    for ((v, kd), b) in v.iter_mut().zip(f.kdl[i]).zip(b) {
+                        *v += (kd * b * d) << s_kd;
                     }
                     if let Some(s) = spec(i).zip(f.s).map(|(w, r)| r.read(w.lanes[0].raw)) {
-                        for c in 0..3 {
-                            v[c] += (f.ksl[i][c] * s) << s_ks;
+                        for (v, ks) in v.iter_mut().zip(f.ksl[i]) {
+                            *v += (ks * s) << s_ks;
                         }
                     }
                 }
