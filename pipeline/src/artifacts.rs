@@ -25,7 +25,7 @@ pub const SMOOTH_LSB: f64 = 1.0;
 pub const FALSE_STEP_LSB: f64 = 1.0;
 /// Neighbouring values closer than this (LSB) are equal (a plateau).
 pub const FLAT_LSB: f64 = 0.5;
-/// The smallest group of 8-connected pixels with a step that [`banding`] counts as a contour
+/// The smallest group of 8-connected pixels with a step that `banding` counts as a contour
 /// (shorter groups are specks: the resolved steps of dither noise).
 pub const MIN_CONTOUR_PX: usize = 8;
 /// A reference step of at least this many LSBs between neighbours is a strong edge.

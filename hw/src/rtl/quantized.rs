@@ -17,7 +17,7 @@
 //!   1)` is read nearest (GL's `NEAREST_MIPMAP_NEAREST`, the model's
 //!   [`crate::texture::Texture::nearest_level`]): per level the sampler's nearest address in
 //!   the level, the level's offset and base address selected and added, the levels one after
-//!   the other in the index memory ([`mip_fetch`]).
+//!   the other in the index memory (`mip_fetch`).
 
 use super::fixed::{clamp, from_code, overflow, raw_word, shift_round, to_code};
 use super::palette_builder::builder;

@@ -1,7 +1,7 @@
 //! Co-simulation: a Verilog testbench that loads a unit's host registers, replays input
 //! vectors and compares every output word with the model's, run with iverilog.
 //!
-//! Files written by [`write`] into a directory: `unit.v` (the generated unit), `tb.v`,
+//! Files written by [`write`](fn@write) into a directory: `unit.v` (the generated unit), `tb.v`,
 //! `in.hex` / `out.hex` (one 32-bit word per lane per vector, lanes in
 //! [`RtlUnit::inputs`] / [`RtlUnit::outputs`] order), `cfg.hex` (the register words) and
 //! the contents of the unit's texture memories ([`RtlUnit::memories`]).
@@ -185,7 +185,7 @@ pub fn iverilog_bin() -> (String, String) {
     (iv, vvp)
 }
 
-/// Compile and run the testbench in `dir` (written by [`write`]).
+/// Compile and run the testbench in `dir` (written by [`write`](fn@write)).
 pub fn run_iverilog(dir: &Path) -> Result<CosimReport, String> {
     let (iv, vvp) = iverilog_bin();
     let o = Command::new(&iv)

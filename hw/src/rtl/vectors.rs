@@ -116,7 +116,7 @@ fn inputs(ports: &[PortSpec], i: usize, r: &mut SplitMix) -> Vec<Word> {
 }
 
 /// `n` input vectors for `unit` from `seed`, with the model's bit-accurate outputs (the
-/// ROP's datapath gets its depths paired, [`rop_vectors`]).
+/// ROP's datapath gets its depths paired, `rop_vectors`).
 pub fn vectors(unit: &dyn Unit, n: usize, seed: u64) -> (Vec<Vec<Word>>, Vec<Vec<Word>>) {
     if unit.as_any().is::<crate::units::RopDatapath>() {
         return rop_vectors(unit, n, seed);

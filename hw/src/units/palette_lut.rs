@@ -24,7 +24,7 @@
 //!   A table given as f64 values ([`PaletteLut::new`], [`PaletteLut::set_values`]) is encoded
 //!   with the entry encoding; a table built bit-accurately is loaded as words
 //!   ([`PaletteLut::load`]).
-//! * Gates: the SRAM (entries x 4 x width, [`CostTable::sram`]), the index register and the
+//! * Gates: the SRAM (entries x 4 x width, [`CostTable::table`](crate::gates::CostTable::table)), the index register and the
 //!   output register (4 x width), plus the range compare when the table is not full.
 
 use crate::format::{Codec, Encoding};

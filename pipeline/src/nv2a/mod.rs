@@ -266,7 +266,7 @@ fn check(f: &Frame) -> Result<(), (String, String)> {
 }
 
 /// The work of a frame: every pixel of each quad's bounds, once per pass with a shader (at
-/// most [`frame::MAX_SHADED`] in a frame that loads).
+/// most `frame::MAX_SHADED` in a frame that loads).
 pub fn shaded_pixels(f: &Frame) -> u64 {
     f.quads
         .iter()

@@ -175,8 +175,8 @@ impl Text {
 }
 
 /// A title fitted to [`TITLE_WIDTH`]: wrapped at spaces (a word too long for a line broken
-/// where it must), at the largest size from [`TITLE_SIZE`] down to [`TITLE_MIN`] that needs
-/// at most [`TITLE_LINES`] lines; beyond that, cut with "…". The lines joined by `\n`, and
+/// where it must), at the largest size from `TITLE_SIZE` down to `TITLE_MIN` that needs
+/// at most `TITLE_LINES` lines; beyond that, cut with "…". The lines joined by `\n`, and
 /// the size.
 pub fn fit_title(title: &str) -> (String, f64) {
     let f = font::font();

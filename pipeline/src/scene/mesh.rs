@@ -289,7 +289,7 @@ fn position_key(p: DVec3) -> [u64; 3] {
 }
 
 /// The rule's first two steps over triangles given by their corner positions, in file order:
-/// a zero-area triangle ([`degenerate3`]) is dropped, and of the triangles on the same three
+/// a zero-area triangle (`degenerate3`) is dropped, and of the triangles on the same three
 /// positions (equal coordinates, in either winding: exact duplicates and back-to-back pairs)
 /// only the first is kept. Returns whether each is kept, and the zero-area and repeat counts.
 pub fn kept_faces_counted(
@@ -491,7 +491,7 @@ impl FileMesh {
 
     /// The mesh with the file's texture coordinates (times `rep`): the kept triangles, one
     /// vertex per distinct (position, uv, normal) of their corners in order of first use,
-    /// normals by [`FileMesh::corner_normal`], `Pu`, `Pv` per triangle from positions and
+    /// normals by `FileMesh::corner_normal`, `Pu`, `Pv` per triangle from positions and
     /// uvs, averaged per vertex weighted by area. A kept face of zero uv area is an error
     /// naming its place.
     pub fn to_mesh(&self, rep: DVec2) -> Result<(Mesh, Defects), String> {

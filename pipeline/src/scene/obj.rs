@@ -1,4 +1,4 @@
-//! OBJ files: the reader of `MeshSpec::Obj` ([`read`], one pass, every error with its line),
+//! OBJ files: the reader of `MeshSpec::Obj` (`read`, one pass, every error with its line),
 //! giving a [`FileMesh`] that `super::mesh` builds by the rule for scan defects
 //! (`docs/assets.md`).
 

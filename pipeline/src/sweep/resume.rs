@@ -1,5 +1,5 @@
 //! A sweep run into its output directory: each row journaled as its point finishes
-//! ([`journal`](super::journal)), the final files written all or nothing at the end and the
+//! ([`super::journal`]), the final files written all or nothing at the end and the
 //! journal removed; with `resume`, the rows of an earlier run (its journal and its
 //! `sweep.jsonl`) are kept where they still match their point, and only the rest run.
 //!

@@ -15,8 +15,8 @@
 //! * the input column (`in#<fragment id>` and the accepted input ports) is padded to its
 //!   widest entry for that unit, so the output column lines up per unit; trailing blanks are
 //!   trimmed;
-//! * a lane is `hex:value`: the raw bits ([`Format::bits`]) zero-padded to
-//!   [`Format::hex_digits`], and the lane's real value rounded to 6 significant digits and
+//! * a lane is `hex:value`: the raw bits ([`Format::bits`](bumpsim_hw::Format::bits)) zero-padded to
+//!   [`Format::hex_digits`](bumpsim_hw::Format::hex_digits), and the lane's real value rounded to 6 significant digits and
 //!   printed with `{}` (`-0` prints as `0`); only the port's `lanes` lanes are shown;
 //! * a port without a word in the probe prints `name=?`; a record naming a unit the trace
 //!   does not have prints as unit `?<index>` with its word counts.

@@ -1,5 +1,5 @@
 //! Simplification to a target face count (Wang et al. §4: "We adopted Garland's
-//! simplification method [1]"): the quadric error metric of Garland and Heckbert, through
+//! simplification method \[1\]"): the quadric error metric of Garland and Heckbert, through
 //! the `meshopt` crate (meshoptimizer's `meshopt_simplify`, edge collapses ordered by
 //! quadric error, topology kept).
 //!

@@ -10,7 +10,7 @@
 //! OFFSET_TEXTURE_2D and OFFSET_TEXTURE_2D_SCALE (the specified clamp, and the NV2A luminance
 //! reading with or without the colour converter), TEXTURE_CUBE_MAP,
 //! DOT_PRODUCT_TEXTURE_CUBE_MAP, DOT_PRODUCT_DIFFUSE_CUBE_MAP, the two reflections
-//! (DOT_PRODUCT_REFLECT_CUBE_MAP, _CONST_EYE_REFLECT_CUBE_MAP; [`cube`]) and
+//! (DOT_PRODUCT_REFLECT_CUBE_MAP, _CONST_EYE_REFLECT_CUBE_MAP; `cube`) and
 //! DOT_PRODUCT_DEPTH_REPLACE. A stage whose consistency rule is broken runs NONE, as the
 //! model.
 //!
@@ -19,14 +19,14 @@
 //!
 //! * **TEXTURE_2D**: `s/q`, `t/q` as the model's `div` (`p = s 2^f`, the divisor's sign moved
 //!   into `p`, `floor((2p + |q|) / (2|q|))`, 0 when `q = 0`, then the coordinate overflow):
-//!   one unsigned divider of the magnitudes per coordinate ([`arith::divide`]). With
+//!   one unsigned divider of the magnitudes per coordinate (`arith::divide`). With
 //!   `ShaderParams::lod` the mip level `clamp(floor(lod + 1/2), 0, levels - 1)`.
 //! * **DEPENDENT_AR / _GB**: the previous texel's lanes read by their codec and cast into the
 //!   coordinate encoding.
 //! * **DOT_PRODUCT(_TEXTURE_2D)**: the mapped vector N at `dot_frac` fraction bits (8-bit
 //!   channels and 16-bit HI / LO codes divided by 127, 255, 32767 or 65535 with round half
 //!   up through [`crate::rtl::divide::div_round`]; the hemisphere's `z` the integer square
-//!   root of `2^(2 dot_frac) - hi^2 - lo^2` ([`arith::isqrt`], digit by digit); other texel
+//!   root of `2^(2 dot_frac) - hi^2 - lo^2` (`arith::isqrt`, digit by digit); other texel
 //!   widths by value), three exact products with `(s, t, r)`, one cast.
 //! * **OFFSET_TEXTURE_2D(_SCALE)**: `s + a1 ds + a3 dt`, `t + a2 ds + a4 dt` with the matrix
 //!   as shift-and-add constants, one cast each; the scale `l = scale mag + bias` (constants),
@@ -34,7 +34,7 @@
 //!   constants as reciprocals).
 //! * **The cube maps**: the direction (the inputs' `(s, t, r)`, the three dots, or the
 //!   eye vector reflected about the dots, `2 N (N.E) / (N.N) - E` rounded into the coordinate)
-//!   projected onto its cube face ([`cube::face`]); the face and the face coordinates
+//!   projected onto its cube face (`cube::face`); the face and the face coordinates
 //!   (`f + 2` bits, in `[0, 1]`) are registered like a 2D stage's `(s, t)`, the six faces
 //!   stored one after another in the stage's memory.
 //! * **PASS_THROUGH**: the coordinate clamped to `[0, 1]` and the colour converter
@@ -44,11 +44,11 @@
 //!   It is not an output lane of [`RtlUnit::outputs`] (the model kills through
 //!   [`crate::unit::Unit::live`], not a port).
 //!
-//! **Texel fetch** ([`sample`]): each stage with a texture has its own texture memory
+//! **Texel fetch** (`sample`): each stage with a texture has its own texture memory
 //! (`{top}_tex{i}`, one read port per tap, one clock); a TEXTURE_2D stage with `lod` stores
 //! every mip level in that one memory, the levels one after the other (level `l` from its
 //! base address), and selects the tap offsets, base and weights by the level. Addressing,
-//! weights, lerps and the cast are the TexFetch generator's ([`crate::rtl::fetch::axis`]).
+//! weights, lerps and the cast are the TexFetch generator's (`crate::rtl::fetch::axis`).
 //!
 //! **Clocking**: one fragment at a time (the `RtlUnit` contract: inputs held from `start`
 //! until `done`, outputs registered and held until the next fragment's edges write them).

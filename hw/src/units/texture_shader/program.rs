@@ -18,22 +18,22 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 pub enum DotMapping {
-    /// [0] x / 255 (NV_texture_shader UNSIGNED_IDENTITY_NV).
+    /// \[0\] x / 255 (NV_texture_shader UNSIGNED_IDENTITY_NV).
     #[default]
     ZeroToOne,
-    /// [1] (x - 128) / 127 (Direct3D's signed reading).
+    /// \[1\] (x - 128) / 127 (Direct3D's signed reading).
     Minus1To1D3d,
-    /// [2] (2x + 1) / 255 - 1 (OpenGL's EXPAND of a packed signed value).
+    /// \[2\] (2x + 1) / 255 - 1 (OpenGL's EXPAND of a packed signed value).
     Minus1To1Gl,
-    /// [3] x read as two's complement, / 127.
+    /// \[3\] x read as two's complement, / 127.
     Minus1To1,
-    /// [4] (hi / 65535, lo / 65535, 1).
+    /// \[4\] (hi / 65535, lo / 65535, 1).
     Hilo1,
-    /// [5] hi, lo by (c - 32768) / 32767, z = sqrt(max(0, 1 - hi^2 - lo^2)).
+    /// \[5\] hi, lo by (c - 32768) / 32767, z = sqrt(max(0, 1 - hi^2 - lo^2)).
     HiloHemisphereD3d,
-    /// [6] hi, lo by (2c + 1) / 65535 - 1, z as above.
+    /// \[6\] hi, lo by (2c + 1) / 65535 - 1, z as above.
     HiloHemisphereGl,
-    /// [7] hi, lo two's complement / 32767, z as above (SIGNED_HILO of NV_texture_shader).
+    /// \[7\] hi, lo two's complement / 32767, z as above (SIGNED_HILO of NV_texture_shader).
     HiloHemisphere,
 }
 

@@ -166,7 +166,7 @@ impl TextureSource {
                 | TextureSource::CubeLighting { .. }
         )
     }
-    /// Whether the source is a cube map ([`cube_faces`]).
+    /// Whether the source is a cube map (`cube_faces`).
     pub fn is_cube(&self) -> bool {
         matches!(self, TextureSource::CubeLighting { .. })
     }
