@@ -134,9 +134,10 @@ pub mod reads {
         });
     }
 
-    /// Run `f` on this thread with its texel reads recorded: `f` gets a drain that hands it
-    /// the reads since the last drain, in order.
-    pub fn record<T>(f: impl FnOnce(&mut dyn FnMut() -> Vec<Read>) -> T) -> T {
+    /// Run `f` on this thread with its texel reads recorded: `f` gets a drain that appends
+    /// the reads since the last drain, in order, to the vector it is given. Threads record
+    /// apart (a thread-local stream each), so chunks of fragments may be recorded in parallel.
+    pub fn record<T>(f: impl FnOnce(&mut dyn FnMut(&mut Vec<Read>)) -> T) -> T {
         STREAM.with(|s| *s.borrow_mut() = Some(Vec::new()));
         ACTIVE.fetch_add(1, Ordering::Relaxed);
         // stop recording however `f` ends
@@ -148,12 +149,11 @@ pub mod reads {
             }
         }
         let _stop = Stop;
-        let mut drain = || {
+        let mut drain = |out: &mut Vec<Read>| {
             STREAM.with(|s| {
-                s.borrow_mut()
-                    .as_mut()
-                    .map(std::mem::take)
-                    .unwrap_or_default()
+                if let Some(v) = s.borrow_mut().as_mut() {
+                    out.append(v); // keeps the stream's capacity
+                }
             })
         };
         f(&mut drain)

@@ -428,12 +428,16 @@ impl Prepared {
     }
 
     /// The texel reads of the frame through `engine.texture_cache` (`None` without one):
-    /// every fragment in rasterization order, bit-accurate, on this thread.
+    /// every fragment in rasterization order, bit-accurate (evaluated in parallel chunks, the
+    /// reads taken by the caches in rasterization order: `texcache::simulate`).
     pub fn texture_cache(&self) -> Option<(crate::texcache::CacheReport, crate::texcache::Timing)> {
         let c = self.engine.texture_cache.as_ref()?;
         let front = self.front(Mode::BitAccurate, true);
-        let attrs = &self.engine.attributes;
-        let fill = |f: usize, t: &mut Token| front.fill(attrs, Mode::BitAccurate, f, t);
+        let fill = front::FrontFill {
+            front: &front,
+            attrs: &self.engine.attributes,
+            mode: Mode::BitAccurate,
+        };
         Some(crate::texcache::simulate(
             c,
             &self.engine.stages,

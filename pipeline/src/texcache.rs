@@ -23,9 +23,11 @@
 //! (`PerCache`): [`bumpsim_hw::stage::MissTiming::memory`].
 
 use crate::config::{TextureBus, TextureCacheConfig};
+use crate::sim::FillToken;
 use bumpsim_hw::texture::reads::{self, Read};
 use bumpsim_hw::units::texture_cache::CacheShape;
 use bumpsim_hw::{GateBudget, Mode, Scratch, Stage, Texture, Token};
+use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -123,6 +125,71 @@ struct LevelInfo {
     face: u32,
 }
 
+/// Fragments whose reads are held at once (about 16 bytes a texel read).
+const WINDOW: usize = 1 << 15;
+/// Fragments per parallel task of a window.
+const CHUNK: usize = 1 << 11;
+/// Tokens filled at once (`Fill::fill_batch`).
+const BATCH: usize = 64;
+
+/// The texel reads of a chunk of fragments from `first`: `reads` in order, and for each
+/// fragment and stage (fragment-major) the end of its reads in `reads`.
+struct ChunkReads {
+    first: usize,
+    reads: Vec<Read>,
+    ends: Vec<u32>,
+}
+
+/// The texel reads of the fragments of `window` through every stage (bit-accurate), recorded
+/// in parallel chunks, in fragment order: the same reads as one thread recording them all.
+fn record_window(
+    stages: &[Stage],
+    window: std::ops::Range<usize>,
+    slots: usize,
+    fill: &FillToken<'_>,
+) -> Vec<ChunkReads> {
+    let chunks: Vec<usize> = window.clone().step_by(CHUNK).collect();
+    chunks
+        .into_par_iter()
+        .map(|first| {
+            let end = (first + CHUNK).min(window.end);
+            let mut ts: Vec<Token> = (0..BATCH)
+                .map(|_| Token {
+                    id: 0,
+                    x: 0,
+                    y: 0,
+                    live: true,
+                    slots: vec![bumpsim_hw::Word::default(); slots],
+                })
+                .collect();
+            let mut scratch = Scratch::default();
+            let mut out = ChunkReads {
+                first,
+                reads: Vec::new(),
+                ends: Vec::with_capacity((end - first) * stages.len()),
+            };
+            reads::record(|drain| {
+                for b in (first..end).step_by(BATCH) {
+                    let ts = &mut ts[..(end - b).min(BATCH)];
+                    for t in ts.iter_mut() {
+                        t.live = true;
+                    }
+                    fill.fill_batch(b, ts);
+                    for t in ts.iter_mut() {
+                        for s in stages {
+                            s.eval_token(t, Mode::BitAccurate, &mut scratch);
+                            drain(&mut out.reads);
+                            // a chunk's reads stay far below 2^32
+                            out.ends.push(out.reads.len() as u32);
+                        }
+                    }
+                }
+            });
+            out
+        })
+        .collect()
+}
+
 /// The misses of each fragment in each stage (`None` for a stage without a miss), for the
 /// timing model (`sim::Workload::extra`, with the cache's `miss_cycles`, `fill_cycles` and
 /// `prefetch`).
@@ -130,13 +197,15 @@ pub type Timing = Vec<Option<bumpsim_hw::stage::MissTiming>>;
 
 /// The texel reads of every fragment through `stages` (bit-accurate mode, rasterization
 /// order), through the caches `c` describes, and with `c.miss_cycles` their stalls. `fill`
-/// builds fragment `f`'s token.
+/// builds the fragments' tokens. The engine runs over windows of fragments in parallel
+/// chunks (rayon), each recording its reads; the caches then take the reads in
+/// rasterization order, so the result is the same at any thread count.
 pub fn simulate(
     c: &TextureCacheConfig,
     stages: &[Stage],
     nfrag: usize,
     slots: usize,
-    fill: &(dyn Fn(usize, &mut Token) + Sync),
+    fill: &FillToken<'_>,
 ) -> (CacheReport, Timing) {
     let mut stall: Vec<Vec<u32>> = if c.miss_cycles > 0 {
         vec![Vec::new(); stages.len()]
@@ -178,51 +247,50 @@ pub fn simulate(
     }
     let shift = c.block.trailing_zeros();
     let line_texels = u64::from(c.block) * u64::from(c.block);
-    let mut t = Token {
-        id: 0,
-        x: 0,
-        y: 0,
-        live: true,
-        slots: vec![bumpsim_hw::Word::default(); slots],
-    };
-    let mut scratch = Scratch::default();
-    reads::record(|drain| {
-        for f in 0..nfrag {
-            t.live = true;
-            fill(f, &mut t);
-            for (i, s) in stages.iter().enumerate() {
-                s.eval_token(&mut t, Mode::BitAccurate, &mut scratch);
-                let got: Vec<Read> = drain();
-                let Some(cache) = caches.get_mut(cache_of[i]) else {
-                    continue;
-                };
-                let mut missed = 0u32;
-                for r in got {
-                    let Some(l) = levels.get(&r.level_key()) else {
+    // the reads of a window of fragments, recorded in parallel chunks, then through the
+    // caches in rasterization order
+    let mut window_start = 0;
+    while window_start < nfrag {
+        let window = window_start..(window_start + WINDOW).min(nfrag);
+        for chunk in record_window(stages, window.clone(), slots, fill) {
+            let mut start = 0;
+            for (k, ends) in chunk.ends.chunks(stages.len()).enumerate() {
+                let f = chunk.first + k;
+                for (i, &end) in ends.iter().enumerate() {
+                    let got = &chunk.reads[start..end as usize];
+                    start = end as usize;
+                    let Some(cache) = caches.get_mut(cache_of[i]) else {
                         continue;
                     };
-                    let face = r.index / l.face;
-                    let within = r.index % l.face;
-                    let (x, y) = (within % l.width, within / l.width);
-                    let hit = cache.access((r.level_key(), face, x >> shift, y >> shift));
-                    let st = &mut cache.stats;
-                    st.reads += 1;
-                    st.uncached_bits += u64::from(l.bits);
-                    if !hit {
-                        st.misses += 1;
-                        st.fill_bits += line_texels * u64::from(l.bits);
-                        missed = missed.saturating_add(1);
+                    let mut missed = 0u32;
+                    for r in got {
+                        let Some(l) = levels.get(&r.level_key()) else {
+                            continue;
+                        };
+                        let face = r.index / l.face;
+                        let within = r.index % l.face;
+                        let (x, y) = (within % l.width, within / l.width);
+                        let hit = cache.access((r.level_key(), face, x >> shift, y >> shift));
+                        let st = &mut cache.stats;
+                        st.reads += 1;
+                        st.uncached_bits += u64::from(l.bits);
+                        if !hit {
+                            st.misses += 1;
+                            st.fill_bits += line_texels * u64::from(l.bits);
+                            missed = missed.saturating_add(1);
+                        }
                     }
-                }
-                if let Some(s) = stall.get_mut(i) {
-                    if missed > 0 {
-                        s.resize(nfrag, 0);
-                        s[f] = missed;
+                    if let Some(s) = stall.get_mut(i) {
+                        if missed > 0 {
+                            s.resize(nfrag, 0);
+                            s[f] = missed;
+                        }
                     }
                 }
             }
         }
-    });
+        window_start = window.end;
+    }
     let caches: Vec<Cache> = caches
         .into_iter()
         .filter(|k| !k.stats.readers.is_empty())

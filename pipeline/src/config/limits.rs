@@ -415,11 +415,12 @@ pub fn estimate(c: &Config) -> Estimate {
             passes * pixels * cost::PIXEL_BYTES,
         );
     }
-    // the texture cache evaluates the engine once more, on one thread, and keeps each
-    // fragment's misses per stage for the timing model
+    // the texture cache evaluates the engine once more (in parallel chunks, its reads held a
+    // window of fragments at a time) and keeps each fragment's misses per stage for the
+    // timing model
     if c.engine.texture_cache.is_some() {
         e.add(
-            format!("engine.texture_cache: {pixels} pixels x {units} engine units, one thread"),
+            format!("engine.texture_cache: {pixels} pixels x {units} engine units"),
             pixels * units.max(1.0) * cost::PIXEL_UNIT_S,
             pixels * units * 4.0,
         );
