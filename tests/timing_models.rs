@@ -35,3 +35,21 @@ fn events_and_clocks_agree_on_the_default_config_at_full_size() {
     assert!(events.per_fragment >= 2.0, "{}", events.per_fragment);
     assert!(events.per_unit["fetch"].stall > 0);
 }
+
+#[test]
+fn events_and_clocks_agree_with_texture_cache_misses() {
+    // the misses of the one reading unit queue at its memory alone: the events model takes
+    // them (blocking or prefetching, either bus); the clocked model is the reference
+    let plain = both(&config("sgi-teapot"), &[])[0].total;
+    for cache in [
+        "(lines: 64, ways: 4, block: 4, miss_cycles: 20)",
+        "(lines: 16, ways: 2, block: 2, miss_cycles: 7, fill_cycles: 3, bus: PerCache)",
+        "(lines: 64, ways: 4, block: 4, miss_cycles: 30, fill_cycles: 4, prefetch: 8)",
+        "(lines: 8, ways: 8, block: 4, miss_cycles: 50, fill_cycles: 2, prefetch: 2, bus: PerCache)",
+    ] {
+        let sets = [format!("engine.texture_cache=Some({cache})")];
+        let [events, clocked] = both(&config("sgi-teapot"), &sets);
+        assert_eq!(events, clocked, "{cache}");
+        assert!(events.total > plain, "{cache}: {} <= {plain}", events.total);
+    }
+}

@@ -267,9 +267,18 @@ impl Stage {
     /// latency, initiation interval and the most tokens in flight, as [`Stage::tick`] applies
     /// them; `None` when misses delay fragments.
     pub fn fixed_timing(&self) -> Option<(u64, u64, usize)> {
-        self.misses
-            .is_none()
-            .then_some((self.latency, self.interval, self.max_in_flight))
+        self.misses.is_none().then(|| self.timing())
+    }
+
+    /// Latency, initiation interval and the most tokens in flight (with a prefetching
+    /// unit's FIFO when misses are set): the numbers [`Stage::schedule`] starts from.
+    pub fn timing(&self) -> (u64, u64, usize) {
+        (self.latency, self.interval, self.max_in_flight)
+    }
+
+    /// The texture-cache misses that delay the stage's fragments, if set.
+    pub fn misses(&self) -> Option<&MissTiming> {
+        self.misses.as_ref()
     }
 
     /// Delay each fragment by its texture-cache misses as `m` says (a fragment beyond
@@ -283,8 +292,9 @@ impl Stage {
 
     /// The cycle fragment `id`, accepted at `cycle`, is ready and the next cycle the unit may
     /// accept, after its misses; `memories` holds the cycle each memory can issue its next
-    /// fill.
-    fn schedule(&self, cycle: u64, id: u64, memories: &mut [u64]) -> (u64, u64) {
+    /// fill (an index beyond it: a memory of the fragment's own). [`Stage::tick`] calls it on
+    /// each accept; a timing model on events may call it in the same order per memory.
+    pub fn schedule(&self, cycle: u64, id: u64, memories: &mut [u64]) -> (u64, u64) {
         let plain = (
             cycle.saturating_add(self.latency),
             cycle.saturating_add(self.interval),

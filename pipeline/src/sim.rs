@@ -16,10 +16,10 @@
 //! mutable access to the engine and runs concurrently with the function (`function.rs`),
 //! which evaluates the engine's own stages: timing does not depend on data.
 //!
-//! A run without a trace whose units' timing is the same for every fragment (no texture-cache
-//! misses) gets the same model's report from recurrences on each fragment's entry and exit
-//! clocks (`events.rs`), per fragment and unit instead of per clock; `tests.rs` checks the
-//! two against each other.
+//! A run without a trace (and without two units' texture-cache misses queued at one memory)
+//! gets the same model's report from recurrences on each fragment's entry and exit clocks
+//! (`events.rs`), per fragment and unit instead of per clock; `tests.rs` checks the two
+//! against each other, misses included.
 
 mod events;
 mod function;

@@ -1,9 +1,11 @@
 //! The timing model on events: the clock-by-clock model of [`super::timing`] written as
 //! recurrences on the cycle each fragment enters and leaves each unit, computed fragment by
 //! fragment (work per fragment and unit, none per idle clock). It gives the same cycle report
-//! as the clocked model whenever every unit's timing is the same for all fragments (no
-//! texture-cache misses); traces, which need each clock's state, and misses, whose shared
-//! memory queues are served in the clock's tick order, run on the clocked model.
+//! as the clocked model whenever no two units' texture-cache misses queue at one texture
+//! memory: a unit's misses ([`Stage::schedule`]) take its memory's fill queue in its accept
+//! order, which is fragment order, as in the clocked model. Traces, which need each clock's
+//! state, and misses of several units on one memory, whose queue the clocked model serves in
+//! a clock's tick order, run on the clocked model.
 //!
 //! With `D` the FIFO depth and, for a unit, `L` its latency, `I` its interval and `M` the
 //! tokens it may hold (`ceil(L / I)`), fragment `i` in submission order:
@@ -12,9 +14,13 @@
 //!   clock its triangle was taken (its first fragment) or `S(i - 1) + 1`, and `A_0(i - D)`
 //!   frees a place (the unit after the FIFO is ticked first in a clock, so a place freed in a
 //!   clock is refilled in it);
-//! * **a unit**: accepted at `A(i) = max(P(i) + 1, A(i - 1) + I, X(i - M))` (`P`: pushed into
-//!   its input FIFO, seen the next clock; `X`: emitted), ready at `A(i) + L`, and emitted at
-//!   `X(i) = max(A(i) + L, X(i - 1) + 1, A'(i - D))` with `A'` the next unit's accepts;
+//! * **a unit**: accepted at `A(i) = max(P(i) + 1, N(i - 1), X(i - M))` (`P`: pushed into
+//!   its input FIFO, seen the next clock; `X`: emitted; `N(i) = A(i) + I`, the next accept),
+//!   ready at `R(i) = A(i) + L`, and emitted at `X(i) = max(R(i), X(i - 1) + 1, A'(i - D))`
+//!   with `A'` the next unit's accepts. With misses, `R(i)` and `N(i)` are
+//!   [`Stage::schedule`]'s (a blocking unit adds the fills' wait to both; a prefetching one
+//!   makes `R(i)` at least the clock after its last fill's data), and `M` counts a prefetching
+//!   unit's FIFO;
 //! * **ROP**: `A(i) = max(P(i) + 1, A(i - 1) + 1)`;
 //! * **setup**: triangle `t` starts at `s_t` (the frame work's end for the first), is set up
 //!   at `d_t = s_t + setup_t` and handed to the scan converter at `h_t = max(d_t, g_{t-1})`,
@@ -24,7 +30,7 @@
 //!   clock after it was taken, for a triangle without fragments).
 //!
 //! Counters follow: a unit stalls while its oldest token is ready and not emitted, is busy in
-//! the union of `[A(i), max(X(i), A(i) + I))` less its stalls, and idle otherwise; the scan
+//! the union of `[A(i), max(X(i), N(i)))` less its stalls, and idle otherwise; the scan
 //! converter stalls from `avail(i)` to `S(i)`; setup is busy from `s_t` to `d_t` and stalls
 //! from `d_t` to `h_t`.
 
@@ -32,16 +38,42 @@ use super::{CycleReport, Workload};
 use bumpsim_hw::{Counters, Stage};
 
 /// The cycle report of [`super::timing`] (without `killed`), computed on events; `None` when
-/// a unit's timing depends on the fragment (texture-cache misses).
+/// texture-cache misses of two stages queue at one texture memory (the clocked model serves
+/// that queue in its tick order within a clock).
 pub(super) fn timing(engine: &[Stage], w: &Workload) -> Option<CycleReport> {
-    if w.extra.iter().any(Option::is_some) {
+    let depth = w.fifo_depth.max(1);
+    // the stages' timing twins with their misses, and the memories' fill queues as the
+    // clocked model has them (`super::clocked`)
+    let twins: Vec<Option<Stage>> = (0..engine.len())
+        .map(|k| w.extra.get(k).cloned().flatten())
+        .zip(super::timing_twins(engine))
+        .map(|(m, mut twin)| {
+            m.map(|m| {
+                twin.set_misses(m);
+                twin
+            })
+        })
+        .collect();
+    let nmem = w.extra.iter().flatten().map(|m| m.memory.saturating_add(1));
+    let nmem = nmem.max().unwrap_or(0).min(w.extra.len());
+    let mut users = vec![0usize; nmem];
+    for m in twins.iter().flatten().filter_map(Stage::misses) {
+        if let Some(u) = users.get_mut(m.memory) {
+            *u += 1;
+        }
+    }
+    if users.iter().any(|&u| u > 1) {
         return None;
     }
-    let depth = w.fifo_depth.max(1);
-    let mut units = engine
+    let mut memories = vec![0u64; nmem];
+    let mut units: Vec<UnitEvents> = engine
         .iter()
-        .map(|s| s.fixed_timing().map(|t| UnitEvents::new(t, depth)))
-        .collect::<Option<Vec<_>>>()?;
+        .zip(twins)
+        .map(|(s, twin)| {
+            let t = twin.as_ref().map_or_else(|| s.timing(), Stage::timing);
+            UnitEvents::new(t, depth, twin)
+        })
+        .collect();
     let frame: u64 = engine
         .iter()
         .map(|s| s.unit().frame_cycles())
@@ -63,7 +95,7 @@ pub(super) fn timing(engine: &[Stage], w: &Workload) -> Option<CycleReport> {
         let taken = handed.saturating_add(1).max(scan_free);
         let mut avail = taken;
         let mut last_scan = None;
-        for _ in frags.clone() {
+        for id in frags.clone() {
             let room = units
                 .first()
                 .map_or(&rop, |u| &u.accepted)
@@ -75,7 +107,7 @@ pub(super) fn timing(engine: &[Stage], w: &Workload) -> Option<CycleReport> {
             for k in 0..units.len() {
                 let down = units.get(k + 1).map_or(&rop, |u| &u.accepted);
                 let room = down.before(seq, depth);
-                pushed = units[k].take(seq, pushed, room);
+                pushed = units[k].take(seq, id as u64, pushed, room, &mut memories);
             }
             rop_last = pushed.saturating_add(1).max(rop_last.saturating_add(1));
             rop.set(seq, rop_last);
@@ -142,9 +174,12 @@ struct UnitEvents {
     latency: u64,
     interval: u64,
     max_in_flight: usize,
+    /// The stage's timing twin when texture-cache misses delay its fragments
+    /// ([`Stage::schedule`] gives each fragment's ready clock and the unit's next accept).
+    misses: Option<Stage>,
     accepted: Ring,
     emitted: Ring,
-    last: Option<(u64, u64)>, // (accept, emit) of the fragment before
+    last: Option<(u64, u64)>, // (next accept, emit) after the fragment before
     stall: u64,
     /// The union of the busy-or-stalled spans so far: its length and end.
     occupied: u64,
@@ -152,12 +187,17 @@ struct UnitEvents {
 }
 
 impl UnitEvents {
-    fn new((latency, interval, max_in_flight): (u64, u64, usize), depth: usize) -> Self {
+    fn new(
+        (latency, interval, max_in_flight): (u64, u64, usize),
+        depth: usize,
+        misses: Option<Stage>,
+    ) -> Self {
         let n = depth.max(max_in_flight) + 1;
         UnitEvents {
             latency,
             interval,
             max_in_flight,
+            misses,
             accepted: Ring::new(n),
             emitted: Ring::new(n),
             last: None,
@@ -167,20 +207,28 @@ impl UnitEvents {
         }
     }
 
-    /// Fragment `seq`, pushed into the unit's input FIFO at `pushed`, with a place in its
-    /// output FIFO from `room`: the clock it is emitted.
-    fn take(&mut self, seq: usize, pushed: u64, room: u64) -> u64 {
+    /// Fragment `seq` (id `id`), pushed into the unit's input FIFO at `pushed`, with a place
+    /// in its output FIFO from `room`: the clock it is emitted. `memories`: the texture
+    /// memories' next free clocks, which its misses' fills take.
+    fn take(&mut self, seq: usize, id: u64, pushed: u64, room: u64, memories: &mut [u64]) -> u64 {
         let held = self.emitted.before(seq, self.max_in_flight);
         let mut accept = pushed.saturating_add(1).max(held);
         let mut front = 0; // the fragment becomes the oldest in the unit
-        if let Some((a, x)) = self.last {
-            accept = accept.max(a.saturating_add(self.interval));
+        if let Some((next, x)) = self.last {
+            accept = accept.max(next);
             front = x.saturating_add(1);
         }
-        let ready = accept.saturating_add(self.latency).max(front);
+        let (ready, next) = match &self.misses {
+            Some(twin) => twin.schedule(accept, id, memories),
+            None => (
+                accept.saturating_add(self.latency),
+                accept.saturating_add(self.interval),
+            ),
+        };
+        let ready = ready.max(front);
         let emit = ready.max(room);
         self.stall += emit - ready;
-        let (lo, hi) = (accept, emit.max(accept.saturating_add(self.interval)));
+        let (lo, hi) = (accept, emit.max(next));
         let lo = lo.max(self.occupied_end);
         if hi > lo {
             self.occupied += hi - lo;
@@ -188,7 +236,7 @@ impl UnitEvents {
         }
         self.accepted.set(seq, accept);
         self.emitted.set(seq, emit);
-        self.last = Some((accept, emit));
+        self.last = Some((next, emit));
         emit
     }
 

@@ -91,19 +91,76 @@ fn events_give_the_clocked_report_over_a_long_frame() {
     }
 }
 
-/// Texture-cache misses make timing depend on the fragment: the events give way to the
-/// clocked model.
+/// Misses of two stages queued at one texture memory: the clocked model serves the queue in
+/// its tick order within a clock, so the events give way to it.
 #[test]
-fn misses_run_on_the_clocked_model() {
-    let stages = timing_twins(&[stage(0, (2, 1, 0))]);
+fn misses_sharing_a_memory_run_on_the_clocked_model() {
+    let stages = timing_twins(&[stage(0, (2, 1, 0)), stage(1, (1, 1, 0))]);
     let fill = |_: usize, _: &mut Token| {};
     let mut w = workload(&fill, &[3], vec![1], 2);
-    w.extra = vec![Some(bumpsim_hw::stage::MissTiming {
+    let m = bumpsim_hw::stage::MissTiming {
         misses: vec![0, 2, 0].into(),
         latency: 5,
         occupancy: 1,
         memory: 0,
         prefetch: None,
-    })];
+    };
+    w.extra = vec![Some(m.clone()), Some(m)];
     assert_eq!(events::timing(&stages, &w), None);
+}
+
+/// A stage's texture-cache misses: each fragment's count (mostly none), the fill latency and
+/// occupancy, the memory, and blocking or a prefetch FIFO's depth.
+fn misses() -> impl Strategy<Value = Option<bumpsim_hw::stage::MissTiming>> {
+    let m = (
+        prop::collection::vec(prop_oneof![3 => Just(0u32), 1 => 0u32..=3], 0..=120),
+        0u32..=9,
+        1u32..=4,
+        0usize..=5,
+        prop_oneof![Just(None), (1u32..=4).prop_map(Some)],
+    )
+        .prop_map(|(misses, latency, occupancy, memory, prefetch)| {
+            bumpsim_hw::stage::MissTiming {
+                misses: misses.into(),
+                latency,
+                occupancy,
+                memory,
+                prefetch,
+            }
+        });
+    prop_oneof![Just(None), m.prop_map(Some)]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(400))]
+
+    /// With misses, the events give the clocked report whenever no two stages' fills queue
+    /// at one memory (an index beyond the memories is a memory of the fragment's own), and
+    /// give way to the clocked model otherwise.
+    #[test]
+    fn events_with_misses_give_the_clocked_report(
+        units in prop::collection::vec((unit(), misses()), 1..=4),
+        tris in prop::collection::vec((0usize..=9, 0u32..=12), 0..=12),
+        fifo_depth in 0usize..=4,
+    ) {
+        let (units, extra): (Vec<_>, Vec<_>) = units.into_iter().unzip();
+        let stages: Vec<Stage> =
+            units.into_iter().enumerate().map(|(k, u)| stage(k, u)).collect();
+        let fill = |_: usize, _: &mut Token| {};
+        let (sizes, setup): (Vec<usize>, Vec<u32>) = tris.into_iter().unzip();
+        let mut w = workload(&fill, &sizes, setup, fifo_depth);
+        w.extra = extra;
+        let nmem = w.extra.iter().flatten().map(|m| m.memory + 1).max().unwrap_or(0);
+        let nmem = nmem.min(w.extra.len());
+        let shared = (0..nmem).any(|k| {
+            w.extra.iter().flatten().filter(|m| m.memory == k).count() > 1
+        });
+        let want = clocked(&stages, &w, None).0;
+        let got = events::timing(&stages, &w);
+        if shared {
+            prop_assert_eq!(got, None);
+        } else {
+            prop_assert_eq!(got, Some(want));
+        }
+    }
 }
