@@ -178,23 +178,6 @@ impl Sampler {
         }
     }
 
-    /// The filtered texel at raw coordinates (s, t) with `frac` fraction bits, as raw words of
-    /// `out` (bit-accurate mode). Lanes beyond the texture's are 0.
-    #[allow(clippy::too_many_arguments)]
-    pub fn sample_bits(
-        &self,
-        tex: &Texture,
-        level: usize,
-        face: usize,
-        s: i64,
-        t: i64,
-        frac: u32,
-        out: &Encoding,
-    ) -> [i64; MAX_LANES] {
-        let plan = self.plan(tex.texel(), out);
-        self.sample_planned(tex, level, face, s, t, frac, &plan)
-    }
-
     /// The casts of [`Sampler::sample_bits`] from texels of encoding `texel` into `out`,
     /// planned once (a unit that always reads one texel format into one port keeps its plan).
     pub fn plan(&self, texel: &Encoding, out: &Encoding) -> SamplePlan {
@@ -210,10 +193,11 @@ impl Sampler {
         }
     }
 
-    /// [`Sampler::sample_bits`] with the casts of `plan` (made by [`Sampler::plan`] for this
-    /// texture's texel encoding).
+    /// The filtered texel at raw coordinates (s, t) with `frac` fraction bits, as raw words of
+    /// the output encoding of `plan` (made by [`Sampler::plan`] for this texture's texel
+    /// encoding; bit-accurate mode). Lanes beyond the texture's are 0.
     #[allow(clippy::too_many_arguments)]
-    pub fn sample_planned(
+    pub fn sample_bits(
         &self,
         tex: &Texture,
         level: usize,

@@ -117,23 +117,6 @@ mod tests {
     use super::*;
     use crate::format::Format;
 
-    const QUANTS: [Quant; 8] = [
-        Quant::Trn,
-        Quant::TrnZero,
-        Quant::Rnd,
-        Quant::RndZero,
-        Quant::RndInf,
-        Quant::RndMinInf,
-        Quant::RndConv,
-        Quant::RndConvOdd,
-    ];
-    const OVERFLOWS: [Overflow; 4] = [
-        Overflow::Wrap,
-        Overflow::Sat,
-        Overflow::SatZero,
-        Overflow::SatSym,
-    ];
-
     /// Every encoding of each codec, sign, rounding and overflow mode up to `max_width` bits
     /// (fixed formats with every fraction from 0 to the width).
     fn encodings(max_width: u8) -> Vec<Encoding> {
@@ -152,8 +135,8 @@ mod tests {
                         0..=0
                     };
                     for frac in fracs {
-                        for quant in QUANTS {
-                            for overflow in OVERFLOWS {
+                        for quant in Quant::ALL {
+                            for overflow in Overflow::ALL {
                                 let format = Format {
                                     signed,
                                     width,
@@ -216,8 +199,8 @@ mod tests {
                     Codec::UnitSigned,
                     Codec::UnitSymmetric,
                 ][(r >> 16) as usize % 4],
-                quant: QUANTS[(r >> 20) as usize % 8],
-                overflow: OVERFLOWS[(r >> 24) as usize % 4],
+                quant: Quant::ALL[(r >> 20) as usize % 8],
+                overflow: Overflow::ALL[(r >> 24) as usize % 4],
             };
             let from_frac = ((r >> 28) % 64) as u32;
             let w = Writer::new(from_frac, &enc);

@@ -110,7 +110,7 @@ impl TexFetch {
                 let (s, t) = (uv.lanes[0].raw, uv.lanes[1].raw);
                 let res = self
                     .sampler
-                    .sample_planned(&self.tex, level, 0, s, t, frac, &self.plan);
+                    .sample_bits(&self.tex, level, 0, s, t, frac, &self.plan);
                 Word::from_raw(&out, &res[..lanes])
             }
         }

@@ -310,10 +310,11 @@ impl Arith for FixedArith {
     }
     fn sample2d(&self, st: &Compiled, level: usize, s: i64, t: i64) -> Word {
         let tex = st.spec.texture.as_ref().expect("checked: a 2D texture");
+        let plan = st.plan.as_ref().expect("planned with the texture");
         let r = st
             .spec
             .sampler
-            .sample_bits(tex, level, 0, s, t, self.f(), &st.out_enc);
+            .sample_bits(tex, level, 0, s, t, self.f(), plan);
         let mut w = Word::from_raw(&st.out_enc, &r[..st.lanes as usize]);
         fill_missing(&mut w, st.lanes, &st.out_enc, false);
         w
@@ -322,10 +323,8 @@ impl Arith for FixedArith {
         let tex = st.spec.texture.as_ref().expect("checked: a cube map");
         let f = self.f();
         let (face, s, t) = cube_face_bits(d, f);
-        let r = st
-            .spec
-            .sampler
-            .sample_bits(tex, 0, face, s, t, f, &st.out_enc);
+        let plan = st.plan.as_ref().expect("planned with the texture");
+        let r = st.spec.sampler.sample_bits(tex, 0, face, s, t, f, plan);
         let mut w = Word::from_raw(&st.out_enc, &r[..st.lanes as usize]);
         fill_missing(&mut w, st.lanes, &st.out_enc, false);
         w

@@ -49,7 +49,7 @@ pub use program::{DotMapping, Offset, Program};
 
 use crate::format::{Codec, Encoding, Format, Quant};
 use crate::gates::{CostTable, GateBudget};
-use crate::sampler::{Filter, Sampler};
+use crate::sampler::{Filter, SamplePlan, Sampler};
 use crate::texture::Texture;
 use crate::unit::{Mode, PortSpec, TextureRead, Unit, Word};
 use eval::{run, ExactArith, FixedArith};
@@ -161,6 +161,8 @@ pub(crate) struct Compiled {
     pub matrix_raw: [i64; 4],
     pub scale_raw: [i64; 2],
     pub broken: Option<String>,
+    /// The sampler's casts from the stage's texture into `out_enc`, if it has a texture.
+    pub plan: Option<SamplePlan>,
 }
 
 /// The texture-shader unit. See the module documentation.
@@ -285,7 +287,12 @@ impl TextureShader {
                     return Err(format!("stage {i}: eye {eye:?}: expected finite values"));
                 }
             }
+            let plan = spec
+                .texture
+                .as_ref()
+                .map(|t| spec.sampler.plan(t.texel(), &out_enc));
             compiled.push(Compiled {
+                plan,
                 spec,
                 out_enc,
                 lanes,
@@ -412,6 +419,7 @@ impl Unit for TextureShader {
     fn upload(&mut self, old: &Arc<Texture>, new: &Arc<Texture>) {
         for s in &mut self.stages {
             if s.spec.texture.as_ref().is_some_and(|t| Arc::ptr_eq(t, old)) {
+                s.plan = Some(s.spec.sampler.plan(new.texel(), &s.out_enc));
                 s.spec.texture = Some(new.clone());
             }
         }
