@@ -28,7 +28,8 @@ use bumpsim_hw::{
     CostTable, Counters, CycleState, Fifo, GateBudget, Mode, PortSpec, Probe, Scratch, Stage,
     Token, Unit, Wire, Word,
 };
-use function::{eval_one, new_token};
+use function::eval_one;
+pub(crate) use function::new_token;
 pub use function::{evaluate, evaluate_lanes, Outputs};
 use serde::Serialize;
 use std::collections::BTreeMap;

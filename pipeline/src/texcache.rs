@@ -23,7 +23,7 @@
 //! (`PerCache`): [`bumpsim_hw::stage::MissTiming::memory`].
 
 use crate::config::{TextureBus, TextureCacheConfig};
-use crate::sim::FillToken;
+use crate::sim::{new_token, FillToken};
 use bumpsim_hw::texture::reads::{self, Read};
 use bumpsim_hw::units::texture_cache::CacheShape;
 use bumpsim_hw::{GateBudget, Mode, Scratch, Stage, Texture, Token};
@@ -153,15 +153,7 @@ fn record_window(
         .into_par_iter()
         .map(|first| {
             let end = (first + CHUNK).min(window.end);
-            let mut ts: Vec<Token> = (0..BATCH)
-                .map(|_| Token {
-                    id: 0,
-                    x: 0,
-                    y: 0,
-                    live: true,
-                    slots: vec![bumpsim_hw::Word::default(); slots],
-                })
-                .collect();
+            let mut ts: Vec<Token> = (0..BATCH).map(|_| new_token(slots)).collect();
             let mut scratch = Scratch::default();
             let mut out = ChunkReads {
                 first,
@@ -254,7 +246,8 @@ pub fn simulate(
         let window = window_start..(window_start + WINDOW).min(nfrag);
         for chunk in record_window(stages, window.clone(), slots, fill) {
             let mut start = 0;
-            for (k, ends) in chunk.ends.chunks(stages.len()).enumerate() {
+            // (an engine without stages reads nothing: no chunk of ends)
+            for (k, ends) in chunk.ends.chunks(stages.len().max(1)).enumerate() {
                 let f = chunk.first + k;
                 for (i, &end) in ends.iter().enumerate() {
                     let got = &chunk.reads[start..end as usize];

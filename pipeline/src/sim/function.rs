@@ -195,7 +195,8 @@ struct Function<'a> {
     fill_token: &'a FillToken<'a>,
 }
 
-pub(super) fn new_token(slots: usize) -> Token {
+/// A token of `slots` slots, live, its words zero.
+pub(crate) fn new_token(slots: usize) -> Token {
     Token {
         id: 0,
         x: 0,
