@@ -71,6 +71,55 @@ fn every_output_word_decodes_to_its_value_in_both_modes() {
     assert!(checked > 50_000, "only {checked} lanes checked");
 }
 
+/// Every stage over batches of columns (`Stage::eval_columns`: the unit's batch datapath, or
+/// its `eval` on words decoded from the columns) writes each output port's raw words that
+/// `eval_token` writes, on the fragments of every harness config: whatever the output
+/// columns held before (they are filled with junk first).
+#[test]
+fn batches_of_columns_give_each_stages_words() {
+    use bumpsim_hw::{ColumnScratch, Columns, BATCH};
+    let mut checked = 0u64;
+    for cfg in harness_configs() {
+        let name = stem(&cfg);
+        let l = config::load(&cfg, &[]).unwrap();
+        let p = prepare(&l).unwrap();
+        let tokens: Vec<_> = sample(&p)
+            .into_iter()
+            .map(|f| (f, p.fragment_token(Mode::BitAccurate, f)))
+            .collect();
+        let mut scratch = ColumnScratch::default();
+        for batch in tokens.chunks(BATCH) {
+            for s in &p.engine.stages {
+                let mut cols = Columns::new(p.engine.slots());
+                cols.start(batch.len());
+                for (k, (_, t)) in batch.iter().enumerate() {
+                    for (slot, w) in t.slots.iter().enumerate() {
+                        cols.set_word(slot, k, w);
+                    }
+                }
+                for &o in s.out_slots() {
+                    *cols.slots[o] = [[0x5a5a_5a5a; BATCH]; bumpsim_hw::MAX_LANES];
+                }
+                s.eval_columns(&mut cols, &mut scratch);
+                let ports = s.unit().outputs();
+                for (k, (f, t)) in batch.iter().enumerate() {
+                    for ((port, w), &o) in ports.iter().zip(s.output_words(t)).zip(s.out_slots()) {
+                        for l in 0..port.lanes as usize {
+                            assert_eq!(
+                                cols.slots[o][l][k], w.lanes[l].raw,
+                                "{name}: {}.{} lane {l}, fragment {f}",
+                                s.name, port.name
+                            );
+                            checked += 1;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    assert!(checked > 50_000, "only {checked} lanes checked");
+}
+
 #[test]
 fn timed_outputs_are_the_untimed_evaluation_at_any_fifo_depth() {
     for name in [

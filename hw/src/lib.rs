@@ -2,6 +2,7 @@
 //! model, and one module per hardware unit. Knows nothing of scenes or configs.
 
 pub mod arith;
+pub mod columns;
 pub mod format;
 pub mod frame;
 pub mod gates;
@@ -12,10 +13,11 @@ pub mod texture;
 pub mod unit;
 pub mod units;
 
+pub use columns::{Column, ColumnIn, Columns, BATCH};
 pub use format::{Codec, Encoding, Format, Overflow, Quant};
 pub use frame::{FrameInputs, FrameLight, FrameMaterial};
 pub use gates::{CostTable, GateBudget};
 pub use sampler::{Address, Filter, Sampler};
-pub use stage::{Counters, CycleState, Fifo, Probe, Scratch, Stage, Token, Wire};
+pub use stage::{ColumnScratch, Counters, CycleState, Fifo, Probe, Scratch, Stage, Token, Wire};
 pub use texture::{Texels, Texture};
 pub use unit::{AsAny, FrameRead, Mode, PortSpec, Sample, TextureRead, Unit, Word, MAX_LANES};

@@ -23,6 +23,9 @@
 use crate::unit::{Mode, Unit, Word, MAX_LANES};
 use std::collections::VecDeque;
 
+mod batch;
+pub use batch::ColumnScratch;
+
 /// The values one fragment carries through the pipeline.
 #[derive(Debug, Clone)]
 pub struct Token {

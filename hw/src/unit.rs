@@ -13,6 +13,7 @@
 //! clocked shell [`crate::stage::Stage`] wraps any unit and provides it, so a unit only states
 //! its numbers.
 
+use crate::columns::{Column, ColumnIn};
 use crate::format::{Codec, Encoding};
 use crate::frame::FrameInputs;
 use crate::gates::{CostTable, GateBudget};
@@ -242,6 +243,15 @@ pub trait Unit: Send + Sync + AsAny {
     /// Compute the outputs for one set of inputs. `ins` follow [`Unit::inputs`] and `outs`
     /// follow [`Unit::outputs`].
     fn eval(&self, mode: Mode, ins: &[Word], outs: &mut [Word]);
+    /// The bit-accurate datapath over a batch of `n` fragments held as columns
+    /// ([`crate::columns`]): `ins[p].lanes[l][k]` is the raw word of lane `l` of input port
+    /// `p` for fragment `k`; write the output ports' raw words the same way, each the one
+    /// [`Unit::eval`] gives in [`Mode::BitAccurate`]. Returns `false`, writing nothing, when
+    /// the unit has no batch datapath (the default): [`Unit::eval`] then runs fragment by
+    /// fragment. Not called for a unit that [`Unit::can_kill`].
+    fn eval_columns(&self, _n: usize, _ins: &[ColumnIn<'_>], _outs: &mut [&mut Column]) -> bool {
+        false
+    }
 }
 
 /// Index of a port by name, for wiring.

@@ -374,8 +374,11 @@ impl Prepared {
     /// first's: `passes.rs`).
     pub fn pass_outputs(&self, mode: Mode) -> Vec<sim::Outputs> {
         let front = self.front(mode, false);
-        let attrs = &self.engine.attributes;
-        let fill = |f: usize, t: &mut Token| front.fill(attrs, mode, f, t);
+        let fill = front::FrontFill {
+            front: &front,
+            attrs: &self.engine.attributes,
+            mode,
+        };
         self.engine
             .passes
             .iter()
@@ -399,8 +402,11 @@ impl Prepared {
     pub fn rop_inputs(&self, n: usize) -> Vec<Vec<crate::rop::RopInput>> {
         let mode = Mode::BitAccurate;
         let front = self.front(mode, false);
-        let attrs = &self.engine.attributes;
-        let fill = |f: usize, t: &mut Token| front.fill(attrs, mode, f, t);
+        let fill = front::FrontFill {
+            front: &front,
+            attrs: &self.engine.attributes,
+            mode,
+        };
         let out = &self.engine.output;
         let first = sim::evaluate_lanes(
             &self.engine.stages,

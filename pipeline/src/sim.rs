@@ -25,8 +25,8 @@ mod events;
 mod function;
 
 use bumpsim_hw::{
-    CostTable, Counters, CycleState, Fifo, GateBudget, Mode, PortSpec, Probe, Scratch, Stage,
-    Token, Unit, Wire, Word,
+    Columns, CostTable, Counters, CycleState, Fifo, GateBudget, Mode, PortSpec, Probe, Scratch,
+    Stage, Token, Unit, Wire, Word,
 };
 use function::eval_one;
 pub(crate) use function::new_token;
@@ -124,6 +124,28 @@ pub trait Fill: Sync {
     fn fill_batch(&self, first: usize, ts: &mut [Token]) {
         for (k, t) in ts.iter_mut().enumerate() {
             self.fill(first + k, t);
+        }
+    }
+    /// Start a batch of fragments `first..first + n` (at most [`bumpsim_hw::BATCH`]) in
+    /// `cols` and write their bit-accurate tokens' raw words, as [`Fill::fill`] would.
+    fn fill_columns(&self, first: usize, n: usize, cols: &mut Columns) {
+        fill_columns_each(self, first, n, cols);
+    }
+}
+
+/// [`Fill::fill_columns`] by one [`Fill::fill`] per fragment.
+pub(crate) fn fill_columns_each<F: Fill + ?Sized>(
+    f: &F,
+    first: usize,
+    n: usize,
+    cols: &mut Columns,
+) {
+    cols.start(n);
+    let mut t = new_token(cols.slots.len());
+    for k in 0..cols.len() {
+        f.fill(first + k, &mut t);
+        for (s, w) in t.slots.iter().enumerate() {
+            cols.set_word(s, k, w);
         }
     }
 }

@@ -11,6 +11,7 @@
 //! clamped and cast once into the output encoding with its rounding and overflow modes.
 
 use crate::arith::{Acc, Reader, Writer};
+use crate::columns::{Column, ColumnIn};
 use crate::format::Encoding;
 use crate::gates::{CostTable, GateBudget};
 use crate::unit::{Mode, PortSpec, Unit, Word};
@@ -136,6 +137,27 @@ impl Unit for Dot3 {
         g.add(format!("input register {}", 3 * wa), 1, t.register(3 * wa));
         g.add(format!("result register {wo}"), self.k(), t.register(wo));
         g
+    }
+    fn eval_columns(&self, n: usize, ins: &[ColumnIn<'_>], outs: &mut [&mut Column]) -> bool {
+        // the narrow datapath of `eval`, a column at a time
+        let Some(nw) = self.narrow.as_ref() else {
+            return false;
+        };
+        let a = &ins[0].lanes;
+        for (o, b) in outs.iter_mut().zip(&ins[1..]) {
+            let b = &b.lanes;
+            for (k, o) in o[0][..n].iter_mut().enumerate() {
+                let p = |j: usize| nw.a.read(a[j][k]) * nw.b.read(b[j][k]);
+                let s = p(0) + p(1) + p(2);
+                let s = match self.clamp {
+                    Clamp::Unit => s.clamp(0, nw.one),
+                    Clamp::Positive => s.max(0),
+                    Clamp::None => s,
+                };
+                *o = nw.out.write(s);
+            }
+        }
+        true
     }
     fn eval(&self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
         let a = &ins[0];

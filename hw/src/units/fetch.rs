@@ -16,6 +16,7 @@
 //! Memory: `ports` texels are read per clock, so a bilinear fetch takes `ceil(4 / ports)`
 //! clocks. Exact mode reads the unquantized texels with exact weights.
 
+use crate::columns::{Column, ColumnIn};
 use crate::format::{Codec, Encoding};
 use crate::gates::{CostTable, GateBudget, TableRole};
 pub use crate::sampler::{Address, Filter};
@@ -213,6 +214,21 @@ impl Unit for TexFetch {
             );
         }
         g
+    }
+    fn eval_columns(&self, n: usize, ins: &[ColumnIn<'_>], outs: &mut [&mut Column]) -> bool {
+        let frac = self.inputs[0].enc.format.frac as u32;
+        let [s, t, ..] = ins[0].lanes;
+        let lanes = self.tex.lanes() as usize;
+        let o = &mut outs[0];
+        for k in 0..n {
+            let res = self
+                .sampler
+                .sample_bits(&self.tex, 0, 0, s[k], t[k], frac, &self.plan);
+            for (o, r) in o.iter_mut().zip(res).take(lanes) {
+                o[k] = r;
+            }
+        }
+        true
     }
     fn eval(&self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
         outs[0] = self.sample(mode, 0, &ins[0]);

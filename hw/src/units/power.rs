@@ -11,6 +11,7 @@
 //! those of [`crate::units::SpecGen::Table`] (`specgen.rs`), which also offers interpolated
 //! and repeated-squaring generators.
 
+use crate::columns::{Column, ColumnIn};
 use crate::format::{Codec, Encoding};
 use crate::frame::FrameInputs;
 use crate::gates::{CostTable, GateBudget, TableRole};
@@ -163,6 +164,14 @@ impl Unit for PowerTable {
             );
         }
         g
+    }
+    fn eval_columns(&self, n: usize, ins: &[ColumnIn<'_>], outs: &mut [&mut Column]) -> bool {
+        for (o, x) in outs.iter_mut().zip(ins) {
+            for (o, &x) in o[0][..n].iter_mut().zip(&x.lanes[0][..n]) {
+                *o = self.table[self.indexer.index(x)];
+            }
+        }
+        true
     }
     fn eval(&self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
         let out = self.outputs[0].enc;

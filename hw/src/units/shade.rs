@@ -15,6 +15,7 @@
 //! into the output encoding.
 
 use crate::arith::{Acc, Reader, Writer};
+use crate::columns::{Column, ColumnIn};
 use crate::format::{Codec, Encoding};
 use crate::frame::FrameInputs;
 use crate::gates::{CostTable, GateBudget};
@@ -200,6 +201,36 @@ impl ShadeParams {
     }
 }
 
+impl Shade {
+    /// The integer datapath's three channel sums, before the output cast, of the inputs whose
+    /// raw words `raw(port, lane)` gives: the sums light by light (integer sums in any order).
+    #[inline(always)]
+    fn fast_sums(&self, f: &Fast, raw: impl Fn(usize, usize) -> i64) -> [i64; 3] {
+        let k = self.k();
+        let [s_src, s_ka, s_kd, s_ks] = f.shift;
+        let read = |p: Option<usize>, r: Option<Reader>, c: usize| {
+            p.zip(r).map(|(p, r)| r.read(raw(p, c)))
+        };
+        let b: [i64; 3] = std::array::from_fn(|c| read(self.base_port, f.base, c).unwrap_or(1));
+        let mut v: [i64; 3] = std::array::from_fn(|c| {
+            (read(self.src_port, f.src, c).unwrap_or(0) << s_src) + ((f.ka[c] * b[c]) << s_ka)
+        });
+        for i in 0..k {
+            let d = f.d.read(raw(i, 0));
+            for ((v, kd), b) in v.iter_mut().zip(f.kdl[i]).zip(b) {
+                *v += (kd * b * d) << s_kd;
+            }
+            let spec = self.has.specular.and(f.s);
+            if let Some(s) = spec.map(|r| r.read(raw(k + i, 0))) {
+                for (v, ks) in v.iter_mut().zip(f.ksl[i]) {
+                    *v += (ks * s) << s_ks;
+                }
+            }
+        }
+        v
+    }
+}
+
 impl Unit for Shade {
     fn kind(&self) -> &'static str {
         "shade"
@@ -355,6 +386,19 @@ impl Unit for Shade {
         }
         g
     }
+    fn eval_columns(&self, n: usize, ins: &[ColumnIn<'_>], outs: &mut [&mut Column]) -> bool {
+        let Some(f) = self.fast.as_ref() else {
+            return false;
+        };
+        let o = &mut outs[0];
+        for k in 0..n {
+            let v = self.fast_sums(f, |p, l| ins[p].lanes[l][k]);
+            for (o, v) in o.iter_mut().zip(v) {
+                o[k] = f.out.write(v);
+            }
+        }
+        true
+    }
     fn eval(&self, mode: Mode, ins: &[Word], outs: &mut [Word]) {
         let out = self.outputs[0].enc;
         let k = self.k();
@@ -377,26 +421,7 @@ impl Unit for Shade {
             }
             Mode::BitAccurate if self.fast.is_some() => {
                 let f = self.fast.as_ref().expect("checked");
-                let [s_src, s_ka, s_kd, s_ks] = f.shift;
-                let read = |w: Option<&Word>, r: Option<Reader>, c: usize| {
-                    w.zip(r).map(|(w, r)| r.read(w.lanes[c].raw))
-                };
-                // the sums of the three channels, light by light (integer sums in any order)
-                let b: [i64; 3] = std::array::from_fn(|c| read(base, f.base, c).unwrap_or(1));
-                let mut v: [i64; 3] = std::array::from_fn(|c| {
-                    (read(src, f.src, c).unwrap_or(0) << s_src) + ((f.ka[c] * b[c]) << s_ka)
-                });
-                for (i, d) in ins.iter().enumerate().take(k) {
-                    let d = f.d.read(d.lanes[0].raw);
-                    for ((v, kd), b) in v.iter_mut().zip(f.kdl[i]).zip(b) {
-                        *v += (kd * b * d) << s_kd;
-                    }
-                    if let Some(s) = spec(i).zip(f.s).map(|(w, r)| r.read(w.lanes[0].raw)) {
-                        for (v, ks) in v.iter_mut().zip(f.ksl[i]) {
-                            *v += (ks * s) << s_ks;
-                        }
-                    }
-                }
+                let v = self.fast_sums(f, |p, l| ins[p].lanes[l].raw);
                 outs[0] = Word::from_raw(&out, &v.map(|v| f.out.write(v)));
             }
             Mode::BitAccurate => {

@@ -4,10 +4,7 @@
 use crate::config::{AttrSource, AttributeConfig};
 use crate::engine::attributes;
 use crate::raster::Fragment;
-use bumpsim_hw::{Codec, Mode, Sample, Token, Word, MAX_LANES};
-
-/// Fragments the front end fills lane by lane at a time ([`Front::fill_batch`]).
-pub(super) const BATCH: usize = 64;
+use bumpsim_hw::{Codec, Columns, Mode, Sample, Token, Word, BATCH, MAX_LANES};
 
 /// Fragments grouped by triangle: ranges into the fragment list, one per submitted triangle.
 pub(super) fn triangle_ranges(frags: &[Fragment], ntri: usize) -> Vec<std::ops::Range<usize>> {
@@ -69,11 +66,8 @@ impl Front<'_> {
     }
 
     /// [`Front::fill`] of fragments `first..first + ts.len()` into `ts`, the same tokens. In
-    /// bit-accurate mode the per-vertex attributes are interpolated over batches of up to
-    /// [`BATCH`] fragments: with the exact interpolator the lanes of fixed-point attributes a
-    /// lane at a time, rounded by [`bumpsim_hw::Format::from_f64_slice`]
-    /// ([`Front::lanes_rounded`]), with the fixed-point one each fragment's weights once
-    /// ([`Front::lanes_weighted`]); the other attributes fragment by fragment.
+    /// bit-accurate mode each batch of up to [`BATCH`] fragments is interpolated as columns
+    /// ([`Front::fill_columns`]) and its words decoded into the tokens.
     pub(super) fn fill_batch(
         &self,
         attrs: &[AttributeConfig],
@@ -87,22 +81,46 @@ impl Front<'_> {
             }
             return;
         }
+        let mut cols = Columns::new(attrs.len());
         for (c, ts) in ts.chunks_mut(BATCH).enumerate() {
             let first = first + c * BATCH;
-            let frags = &self.frags[first..first + ts.len()];
-            // each fragment's vertices, once for all attributes
-            let mut verts = [[0u32; 3]; BATCH];
-            for (v, frag) in verts.iter_mut().zip(frags) {
-                *v = self.tris[frag.tri as usize];
-            }
-            let verts = &verts[..frags.len()];
-            match self.fixed {
-                Some((codes, bits)) => self.lanes_weighted(attrs, frags, verts, ts, codes, bits),
-                None => self.lanes_rounded(attrs, frags, verts, ts),
-            }
-            for (k, (frag, t)) in frags.iter().zip(ts.iter_mut()).enumerate() {
+            self.fill_columns(attrs, first, ts.len(), &mut cols);
+            for (k, t) in ts.iter_mut().enumerate() {
+                for (a, attr) in attrs.iter().enumerate() {
+                    let lanes = attr.source.lanes() as usize;
+                    t.slots[a] = cols.word(a, k, &attr.enc, lanes);
+                }
+                let frag = &self.frags[first + k];
                 (t.id, t.x, t.y) = ((first + k) as u64, frag.x, frag.y);
             }
+        }
+    }
+
+    /// The bit-accurate attribute words of fragments `first..first + n` (at most [`BATCH`])
+    /// into the first slots of `cols`, which starts a batch of `n` fragments: the per-vertex
+    /// attributes a lane of the batch at a time: with the exact interpolator the lanes of
+    /// fixed-point attributes rounded by [`bumpsim_hw::Format::from_f64_slice`]
+    /// ([`Front::lanes_rounded`]), with the fixed-point one each fragment's weights once
+    /// ([`Front::lanes_weighted`]); the other attributes fragment by fragment.
+    pub(super) fn fill_columns(
+        &self,
+        attrs: &[AttributeConfig],
+        first: usize,
+        n: usize,
+        cols: &mut Columns,
+    ) {
+        cols.start(n);
+        let n = cols.len();
+        let frags = &self.frags[first..first + n];
+        // each fragment's vertices, once for all attributes
+        let mut verts = [[0u32; 3]; BATCH];
+        for (v, frag) in verts.iter_mut().zip(frags) {
+            *v = self.tris[frag.tri as usize];
+        }
+        let verts = &verts[..n];
+        match self.fixed {
+            Some((codes, bits)) => self.lanes_weighted(attrs, frags, verts, cols, codes, bits),
+            None => self.lanes_rounded(attrs, frags, verts, cols),
         }
     }
 
@@ -118,12 +136,14 @@ impl Front<'_> {
         a: usize,
         attr: &AttributeConfig,
         frags: &[Fragment],
-        ts: &mut [Token],
+        cols: &mut Columns,
     ) {
         let mode = Mode::BitAccurate;
-        for (frag, t) in frags.iter().zip(ts.iter_mut()) {
+        let mut w = Word::default();
+        for (k, frag) in frags.iter().enumerate() {
             let fixed = self.weights(mode, frag);
-            self.fill_attribute(a, attr, mode, frag, fixed, &mut t.slots[a]);
+            self.fill_attribute(a, attr, mode, frag, fixed, &mut w);
+            cols.set_word(a, k, &w);
         }
     }
 
@@ -134,14 +154,13 @@ impl Front<'_> {
         attrs: &[AttributeConfig],
         frags: &[Fragment],
         verts: &[[u32; 3]],
-        ts: &mut [Token],
+        cols: &mut Columns,
     ) {
         let n = frags.len();
         let mut xs = [[0f64; BATCH]; MAX_LANES];
-        let mut raws = [0i64; BATCH];
         for (a, attr) in attrs.iter().enumerate() {
             if !self.batched(a, attr) || attr.enc.codec != Codec::Fixed {
-                self.attribute_each(a, attr, frags, ts);
+                self.attribute_each(a, attr, frags, cols);
                 continue;
             }
             let (e, values) = (&attr.enc, &self.values[a]);
@@ -152,34 +171,25 @@ impl Front<'_> {
                     x[k] = b[0] * v[0][l] + b[1] * v[1][l] + b[2] * v[2][l];
                 }
             }
-            let lsb = e.format.lsb();
-            for (l, x) in xs.iter().enumerate() {
+            for (l, (x, col)) in xs.iter().zip(cols.slots[a].iter_mut()).enumerate() {
                 if l >= lanes {
-                    for t in ts.iter_mut() {
-                        t.slots[a].lanes[l] = Sample::default();
-                    }
+                    col[..n].fill(0);
                     continue;
                 }
                 e.format
-                    .from_f64_slice(&x[..n], e.quant, e.overflow, &mut raws[..n]);
-                for (t, &raw) in ts.iter_mut().zip(&raws) {
-                    t.slots[a].lanes[l] = Sample {
-                        x: raw as f64 * lsb,
-                        raw,
-                    };
-                }
+                    .from_f64_slice(&x[..n], e.quant, e.overflow, &mut col[..n]);
             }
         }
     }
 
     /// A batch with the fixed-point interpolator: each fragment's weights once, then
-    /// [`attributes::interpolate_weighted`]'s lanes written in place.
+    /// [`attributes::interpolate_weighted`]'s lanes.
     fn lanes_weighted(
         &self,
         attrs: &[AttributeConfig],
         frags: &[Fragment],
         verts: &[[u32; 3]],
-        ts: &mut [Token],
+        cols: &mut Columns,
         codes: &[Vec<[i64; 4]>],
         bits: u32,
     ) {
@@ -189,7 +199,7 @@ impl Front<'_> {
         }
         for (a, attr) in attrs.iter().enumerate() {
             if !self.batched(a, attr) {
-                self.attribute_each(a, attr, frags, ts);
+                self.attribute_each(a, attr, frags, cols);
                 continue;
             }
             let (e, codes) = (&attr.enc, &codes[a]);
@@ -198,17 +208,13 @@ impl Front<'_> {
                 ..e.format
             };
             let lanes = attr.source.lanes() as usize;
-            for ((t, w), v) in ts.iter_mut().zip(&weights).zip(verts) {
-                let v = v.map(|i| &codes[i as usize]);
-                for (l, s) in t.slots[a].lanes.iter_mut().enumerate() {
-                    *s = if l < lanes {
-                        let raw = attributes::weighted_lane(e, int, v.map(|c| c[l]), *w, bits);
-                        Sample {
-                            x: e.decode(raw),
-                            raw,
-                        }
+            for (l, col) in cols.slots[a].iter_mut().enumerate() {
+                for (k, (w, v)) in weights.iter().zip(verts).enumerate() {
+                    col[k] = if l < lanes {
+                        let v = v.map(|i| codes[i as usize][l]);
+                        attributes::weighted_lane(e, int, v, *w, bits)
                     } else {
-                        Sample::default()
+                        0
                     };
                 }
             }
@@ -361,5 +367,11 @@ impl crate::sim::Fill for FrontFill<'_> {
     }
     fn fill_batch(&self, first: usize, ts: &mut [Token]) {
         self.front.fill_batch(self.attrs, self.mode, first, ts)
+    }
+    fn fill_columns(&self, first: usize, n: usize, cols: &mut Columns) {
+        match self.mode {
+            Mode::BitAccurate => self.front.fill_columns(self.attrs, first, n, cols),
+            Mode::Exact => crate::sim::fill_columns_each(self, first, n, cols),
+        }
     }
 }

@@ -176,20 +176,13 @@ fn frames_of_one_scene_share_their_keys_and_only_they() {
 }
 
 /// The front end's batches ([`front::Front::fill_batch`], lane by lane over up to
-/// [`front::BATCH`] fragments) fill the tokens that one call per fragment fills, bit for bit,
+/// [`bumpsim_hw::BATCH`] fragments) fill the tokens that one call per fragment fills, bit for bit,
 /// for every bundled config with its own interpolator and with the fixed-point one, in both
 /// modes, from any first fragment.
 #[test]
 fn batched_fill_is_the_fill_of_every_fragment() {
     use crate::sim::Fill;
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../configs");
-    let mut paths: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "ron"))
-        .collect();
-    paths.sort();
-    assert!(paths.len() >= 36, "{} configs", paths.len());
+    let paths = bundled();
     let sets = ["scene.width=40".to_string(), "scene.height=32".to_string()];
     let bits = |t: &Token| {
         let lanes = t.slots.iter().flat_map(|w| w.lanes.iter());
@@ -231,7 +224,7 @@ fn batched_fill_is_the_fill_of_every_fragment() {
             };
             let mut one = token();
             // all fragments at once, and batches that start and end anywhere
-            for (first, len) in [(0, n), (n / 3, 5), (n / 2, 3 * front::BATCH + 7)] {
+            for (first, len) in [(0, n), (n / 3, 5), (n / 2, 3 * bumpsim_hw::BATCH + 7)] {
                 let len = len.min(n - first.min(n));
                 let mut ts: Vec<Token> = (0..len).map(|_| token()).collect();
                 fill.fill_batch(first, &mut ts);
@@ -250,4 +243,79 @@ fn batched_fill_is_the_fill_of_every_fragment() {
     }
     assert!(batched > 200_000, "{batched}");
     assert_eq!(weighted, paths.len());
+}
+
+/// The bundled top-level configs, sorted.
+fn bundled() -> Vec<std::path::PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../configs");
+    let mut paths: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "ron"))
+        .collect();
+    paths.sort();
+    assert!(paths.len() >= 36, "{} configs", paths.len());
+    paths
+}
+
+/// The bit-accurate function over batches of columns (`sim::evaluate_lanes`:
+/// `Stage::eval_columns`, the units' batch datapaths) gives every output port's raw words and
+/// live bits that the tokens give fragment by fragment (`sim::evaluate`: `Stage::eval_token`),
+/// and their decodings are the tokens' values, bit for bit: every bundled config, every
+/// pass, with its own interpolator and with the fixed-point one.
+#[test]
+fn columns_are_the_tokens_of_every_fragment() {
+    let sets = ["scene.width=40".to_string(), "scene.height=32".to_string()];
+    let fixed = "engine.interpolator=Fixed(weight_bits: 16)".to_string();
+    let (mut compared, mut killed) = (0usize, 0usize);
+    for path in bundled() {
+        for with_fixed in [false, true] {
+            let name = format!(
+                "{} (fixed-point interpolator: {with_fixed})",
+                path.display()
+            );
+            let sets: Vec<String> = sets
+                .iter()
+                .chain(with_fixed.then_some(&fixed))
+                .cloned()
+                .collect();
+            let l = crate::config::load(&path, &sets).unwrap_or_else(|e| panic!("{name}: {e}"));
+            let p = prepare(&l).unwrap_or_else(|e| panic!("{name}: {e}"));
+            let mode = Mode::BitAccurate;
+            let front = p.front(mode, false);
+            let fill = front::FrontFill {
+                front: &front,
+                attrs: &p.engine.attributes,
+                mode,
+            };
+            let n = front.frags.len();
+            let outputs =
+                std::iter::once(&p.engine.output).chain(p.engine.passes.iter().map(|q| &q.output));
+            for out in outputs {
+                let stages = &p.engine.stages;
+                let slots = p.engine.slots();
+                let tokens = sim::evaluate(stages, mode, out.wire, n, slots, &fill);
+                let cols = sim::evaluate_lanes(stages, mode, out.wire, &out.spec, n, slots, &fill);
+                let lanes = out.spec.lanes as usize;
+                for (f, t) in tokens.iter().enumerate() {
+                    let bits = |w: &Word| -> Vec<(i64, u64)> {
+                        w.lanes[..lanes]
+                            .iter()
+                            .map(|s| (s.raw, s.x.to_bits()))
+                            .collect()
+                    };
+                    let c = cols.word(f);
+                    assert_eq!(
+                        t.as_ref().map(bits),
+                        c.as_ref().map(bits),
+                        "{name} fragment {f}"
+                    );
+                    killed += usize::from(t.is_none());
+                }
+                compared += n;
+            }
+        }
+    }
+    assert!(compared > 80_000, "{compared}");
+    assert!(killed > 0, "no config killed a fragment");
 }

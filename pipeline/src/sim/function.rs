@@ -3,7 +3,9 @@
 //! the same at any thread count; and [`Outputs`], the outputs as the ROP reads them.
 
 use super::FillToken;
-use bumpsim_hw::{Encoding, Mode, PortSpec, Scratch, Stage, Token, Wire, Word, MAX_LANES};
+use bumpsim_hw::{
+    ColumnScratch, Columns, Encoding, Mode, PortSpec, Scratch, Stage, Token, Wire, Word, MAX_LANES,
+};
 use rayon::prelude::*;
 
 /// Fragments per task of the parallel function evaluation.
@@ -115,7 +117,7 @@ pub fn evaluate_lanes(
     let values = match mode {
         Mode::BitAccurate => {
             let mut raw = vec![0i64; nfrag * lanes];
-            evaluate_into(&f, &mut raw, lanes, &mut live, |w, l| w.lanes[l].raw);
+            evaluate_columns(&f, &mut raw, lanes, &mut live);
             Lanes::Raw(raw)
         }
         Mode::Exact => {
@@ -168,7 +170,43 @@ fn evaluate_into<T: Send + Copy>(
 }
 
 /// Fragments per batch of [`eval_batch`].
-const BATCH: usize = 64;
+const BATCH: usize = bumpsim_hw::BATCH;
+
+/// [`evaluate_into`] in bit-accurate mode, of the raw words, a batch of fragments at a time
+/// as columns ([`bumpsim_hw::columns`]): the front end fills the batch's attribute columns and
+/// every stage evaluates the batch ([`Stage::eval_columns`]) before the next.
+fn evaluate_columns(f: &Function<'_>, values: &mut [i64], lanes: usize, live: &mut [bool]) {
+    values
+        .par_chunks_mut(CHUNK * lanes)
+        .zip(live.par_chunks_mut(CHUNK))
+        .enumerate()
+        .for_each(|(c, (vals, live))| {
+            let mut cols = Columns::new(f.slots);
+            let mut scratch = ColumnScratch::default();
+            for (b, live) in live.chunks_mut(BATCH).enumerate() {
+                let first = c * CHUNK + b * BATCH;
+                f.fill_token.fill_columns(first, live.len(), &mut cols);
+                for s in f.stages {
+                    s.eval_columns(&mut cols, &mut scratch);
+                }
+                let out = wire_lanes(&f.output, &cols);
+                for (k, l) in live.iter_mut().enumerate() {
+                    *l = cols.live[k];
+                    if *l {
+                        let k0 = (b * BATCH + k) * lanes;
+                        for (v, lane) in vals[k0..k0 + lanes].iter_mut().zip(out) {
+                            *v = lane[k];
+                        }
+                    }
+                }
+            }
+        });
+}
+
+/// The lanes wire `w` reads of the batch's slot columns.
+fn wire_lanes<'a>(w: &Wire, cols: &'a Columns) -> [&'a bumpsim_hw::columns::Lane; MAX_LANES] {
+    w.columns(&cols.slots).lanes
+}
 
 /// Fragments `first..first + ts.len()` through every stage: their tokens filled as one batch
 /// ([`super::Fill::fill_batch`]), then each through the stages. `ts[k].live` tells whether
