@@ -15,7 +15,7 @@ use crate::scene::Scene;
 use crate::sim;
 use crate::trace::{Trace, TraceUnit};
 use bumpsim_hw::{Mode, Token, Word};
-use front::{fixed, triangle_ranges, Front};
+use front::{fixed, raster_ranges, Front};
 use std::sync::Arc;
 pub use timings::Timings;
 
@@ -286,7 +286,7 @@ impl Prepared {
         fill: &'a sim::FillToken<'a>,
         stalls: crate::texcache::Timing,
     ) -> sim::Workload<'a> {
-        let ranges = triangle_ranges(&self.raster.fragments, self.scene.mesh.triangles.len());
+        let ranges = raster_ranges(&self.raster, self.scene.mesh.triangles.len());
         let setup = self
             .raster
             .triangles

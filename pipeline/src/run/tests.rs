@@ -319,3 +319,35 @@ fn columns_are_the_tokens_of_every_fragment() {
     assert!(compared > 80_000, "{compared}");
     assert!(killed > 0, "no config killed a fragment");
 }
+
+/// The fragment ranges by triangle from the rasterizer's counts are the scan's, on every
+/// bundled config, and still when the fragments were edited after rasterization (the counts
+/// no longer describe them: the scan is taken).
+#[test]
+fn raster_ranges_are_the_scan_of_the_fragments() {
+    let sets = ["scene.width=40".to_string(), "scene.height=32".to_string()];
+    let mut nonempty = 0;
+    for path in bundled() {
+        let l = crate::config::load(&path, &sets).unwrap();
+        let mut p = prepare(&l).unwrap();
+        let ntri = p.scene.mesh.triangles.len();
+        let scan = front::triangle_ranges(&p.raster.fragments, ntri);
+        assert_eq!(
+            front::raster_ranges(&p.raster, ntri),
+            scan,
+            "{}",
+            path.display()
+        );
+        nonempty += scan.iter().filter(|r| !r.is_empty()).count();
+        let half = p.raster.fragments.len() / 2;
+        p.raster.fragments.truncate(half);
+        let scan = front::triangle_ranges(&p.raster.fragments, ntri);
+        assert_eq!(
+            front::raster_ranges(&p.raster, ntri),
+            scan,
+            "{} (half)",
+            path.display()
+        );
+    }
+    assert!(nonempty > 1000, "{nonempty}");
+}
