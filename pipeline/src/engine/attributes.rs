@@ -465,6 +465,49 @@ pub fn weighted_lane(
     int.cast(sum, bits, enc.quant, enc.overflow)
 }
 
+/// [`weighted_lane`] of one encoding and weight width, planned once: an `i64` sum is cast by a
+/// [`bumpsim_hw::arith::Writer`] (a multiply, shifts and a range test where `Format::cast`
+/// matches on the rounding and overflow modes per value); a sum beyond `i64` by
+/// `weighted_lane` itself. The same words (`Writer::write` is `Acc::to_code`, which for a
+/// fixed-point encoding is `Format::cast`).
+pub struct WeightedCast {
+    enc: Encoding,
+    int: bumpsim_hw::Format,
+    bits: u32,
+    write: bumpsim_hw::arith::Writer,
+}
+
+impl WeightedCast {
+    pub fn new(enc: &Encoding, bits: u32) -> Self {
+        let int = bumpsim_hw::Format {
+            frac: 0,
+            ..enc.format
+        };
+        let int_enc = Encoding {
+            format: int,
+            codec: bumpsim_hw::Codec::Fixed,
+            ..*enc
+        };
+        WeightedCast {
+            enc: *enc,
+            int,
+            bits,
+            write: bumpsim_hw::arith::Writer::new(bits, &int_enc),
+        }
+    }
+    /// [`weighted_lane`] of the vertex codes `c` under the weights `w`.
+    #[inline]
+    pub fn lane(&self, c: [i64; 3], w: [i64; 3]) -> i64 {
+        let narrow = (0..3).try_fold(0i64, |s, k| {
+            w[k].checked_mul(c[k]).and_then(|p| s.checked_add(p))
+        });
+        match narrow {
+            Some(sum) => self.write.write(sum),
+            None => weighted_lane(&self.enc, self.int, c, w, self.bits),
+        }
+    }
+}
+
 /// Gates of the fixed-point interpolator for `attrs` (per-vertex ones): per lane, two
 /// multipliers and adders in the form `c0 + q1 (c1 - c0) + q2 (c2 - c0)` and an output
 /// register.
@@ -547,6 +590,64 @@ mod tests {
     fn weight_by_round(b: f64, bits: u32) -> i64 {
         let one = 1i64 << bits;
         (b * one as f64).round().clamp(0.0, one as f64) as i64
+    }
+
+    /// The planned cast is `weighted_lane`: every rounding and overflow mode, signed and
+    /// unsigned widths 1 to 40, weights of 1 to 62 bits, codes over the format's range and
+    /// beyond it (sums past every range, and past `i64`).
+    #[test]
+    fn the_planned_weighted_cast_is_weighted_lane() {
+        let mut x = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x
+        };
+        let mut checked = 0;
+        for quant in Quant::ALL {
+            for overflow in Overflow::ALL {
+                for width in 1..=40u8 {
+                    for signed in [false, true] {
+                        let enc = Encoding {
+                            format: Format {
+                                signed,
+                                width,
+                                frac: width / 2,
+                            },
+                            codec: Codec::Fixed,
+                            quant,
+                            overflow,
+                        };
+                        let int = Format {
+                            frac: 0,
+                            ..enc.format
+                        };
+                        for bits in [1u32, 4, 8, 16, 24, 31, 47, 62] {
+                            let cast = WeightedCast::new(&enc, bits);
+                            let one = 1i64 << bits;
+                            for _ in 0..40 {
+                                let r = next();
+                                let span = 1i64 << (width as u32 + 1 + (r % 4) as u32 * 6).min(62);
+                                let c: [i64; 3] = std::array::from_fn(|_| {
+                                    (next() % (2 * span as u64)) as i64 - span
+                                });
+                                let q0 = (next() % (one as u64 + 1)) as i64;
+                                let q1 = (next() % ((one - q0) as u64 + 1)) as i64;
+                                let w = [q0, q1, one - q0 - q1];
+                                assert_eq!(
+                                    cast.lane(c, w),
+                                    weighted_lane(&enc, int, c, w, bits),
+                                    "{enc:?} bits {bits} codes {c:?} weights {w:?}"
+                                );
+                                checked += 1;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert_eq!(checked, 8 * 4 * 40 * 2 * 8 * 40);
     }
 
     #[test]

@@ -230,17 +230,13 @@ impl Front<'_> {
                 self.attribute_each(a, attr, frags, cols);
                 continue;
             }
-            let (e, codes) = (&attr.enc, &codes[a]);
-            let int = bumpsim_hw::Format {
-                frac: 0,
-                ..e.format
-            };
+            let cast = attributes::WeightedCast::new(&attr.enc, bits);
+            let codes = &codes[a];
             let lanes = attr.source.lanes() as usize;
             for (l, col) in cols.slots[a].iter_mut().enumerate() {
                 for (k, (w, v)) in weights.iter().zip(verts).enumerate() {
                     col[k] = if l < lanes {
-                        let v = v.map(|i| codes[i as usize][l]);
-                        attributes::weighted_lane(e, int, v, *w, bits)
+                        cast.lane(v.map(|i| codes[i as usize][l]), *w)
                     } else {
                         0
                     };
