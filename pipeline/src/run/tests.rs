@@ -183,7 +183,6 @@ fn frames_of_one_scene_share_their_keys_and_only_they() {
 fn batched_fill_is_the_fill_of_every_fragment() {
     use crate::sim::Fill;
     let paths = bundled();
-    let sets = ["scene.width=40".to_string(), "scene.height=32".to_string()];
     let bits = |t: &Token| {
         let lanes = t.slots.iter().flat_map(|w| w.lanes.iter());
         let words: Vec<(i64, u64)> = lanes.map(|s| (s.raw, s.x.to_bits())).collect();
@@ -191,21 +190,7 @@ fn batched_fill_is_the_fill_of_every_fragment() {
     };
     let mut batched = 0;
     let mut weighted = 0;
-    // every config with its own interpolator, and with the fixed-point one
-    let fixed = "engine.interpolator=Fixed(weight_bits: 16)".to_string();
-    let variants = paths.iter().flat_map(|p| [(p, false), (p, true)]);
-    for (path, with_fixed) in variants {
-        let name = format!(
-            "{} (fixed-point interpolator: {with_fixed})",
-            path.display()
-        );
-        let sets: Vec<String> = sets
-            .iter()
-            .chain(with_fixed.then_some(&fixed))
-            .cloned()
-            .collect();
-        let l = crate::config::load(path, &sets).unwrap_or_else(|e| panic!("{name}: {e}"));
-        let p = prepare(&l).unwrap_or_else(|e| panic!("{name}: {e}"));
+    for (name, with_fixed, p) in small_variants(&paths) {
         weighted += usize::from(with_fixed && p.front(Mode::BitAccurate, true).fixed.is_some());
         for mode in [Mode::BitAccurate, Mode::Exact] {
             let front = p.front(mode, true);
@@ -245,6 +230,27 @@ fn batched_fill_is_the_fill_of_every_fragment() {
     assert_eq!(weighted, paths.len());
 }
 
+/// Every config of `paths` at 40x32, with its own interpolator and with the fixed-point one:
+/// (a name for messages, whether the fixed-point one was set, the prepared frame).
+fn small_variants(
+    paths: &[std::path::PathBuf],
+) -> impl Iterator<Item = (String, bool, Prepared)> + '_ {
+    let variants = paths.iter().flat_map(|p| [(p, false), (p, true)]);
+    variants.map(|(path, with_fixed)| {
+        let name = format!(
+            "{} (fixed-point interpolator: {with_fixed})",
+            path.display()
+        );
+        let mut sets = vec!["scene.width=40".to_string(), "scene.height=32".to_string()];
+        if with_fixed {
+            sets.push("engine.interpolator=Fixed(weight_bits: 16)".to_string());
+        }
+        let l = crate::config::load(path, &sets).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let p = prepare(&l).unwrap_or_else(|e| panic!("{name}: {e}"));
+        (name, with_fixed, p)
+    })
+}
+
 /// The bundled top-level configs, sorted.
 fn bundled() -> Vec<std::path::PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../configs");
@@ -265,55 +271,40 @@ fn bundled() -> Vec<std::path::PathBuf> {
 /// pass, with its own interpolator and with the fixed-point one.
 #[test]
 fn columns_are_the_tokens_of_every_fragment() {
-    let sets = ["scene.width=40".to_string(), "scene.height=32".to_string()];
-    let fixed = "engine.interpolator=Fixed(weight_bits: 16)".to_string();
     let (mut compared, mut killed) = (0usize, 0usize);
-    for path in bundled() {
-        for with_fixed in [false, true] {
-            let name = format!(
-                "{} (fixed-point interpolator: {with_fixed})",
-                path.display()
-            );
-            let sets: Vec<String> = sets
-                .iter()
-                .chain(with_fixed.then_some(&fixed))
-                .cloned()
-                .collect();
-            let l = crate::config::load(&path, &sets).unwrap_or_else(|e| panic!("{name}: {e}"));
-            let p = prepare(&l).unwrap_or_else(|e| panic!("{name}: {e}"));
-            let mode = Mode::BitAccurate;
-            let front = p.front(mode, false);
-            let fill = front::FrontFill {
-                front: &front,
-                attrs: &p.engine.attributes,
-                mode,
-            };
-            let n = front.frags.len();
-            let outputs =
-                std::iter::once(&p.engine.output).chain(p.engine.passes.iter().map(|q| &q.output));
-            for out in outputs {
-                let stages = &p.engine.stages;
-                let slots = p.engine.slots();
-                let tokens = sim::evaluate(stages, mode, out.wire, n, slots, &fill);
-                let cols = sim::evaluate_lanes(stages, mode, out.wire, &out.spec, n, slots, &fill);
-                let lanes = out.spec.lanes as usize;
-                for (f, t) in tokens.iter().enumerate() {
-                    let bits = |w: &Word| -> Vec<(i64, u64)> {
-                        w.lanes[..lanes]
-                            .iter()
-                            .map(|s| (s.raw, s.x.to_bits()))
-                            .collect()
-                    };
-                    let c = cols.word(f);
-                    assert_eq!(
-                        t.as_ref().map(bits),
-                        c.as_ref().map(bits),
-                        "{name} fragment {f}"
-                    );
-                    killed += usize::from(t.is_none());
-                }
-                compared += n;
+    for (name, _, p) in small_variants(&bundled()) {
+        let mode = Mode::BitAccurate;
+        let front = p.front(mode, false);
+        let fill = front::FrontFill {
+            front: &front,
+            attrs: &p.engine.attributes,
+            mode,
+        };
+        let n = front.frags.len();
+        let outputs =
+            std::iter::once(&p.engine.output).chain(p.engine.passes.iter().map(|q| &q.output));
+        for out in outputs {
+            let stages = &p.engine.stages;
+            let slots = p.engine.slots();
+            let tokens = sim::evaluate(stages, mode, out.wire, n, slots, &fill);
+            let cols = sim::evaluate_lanes(stages, mode, out.wire, &out.spec, n, slots, &fill);
+            let lanes = out.spec.lanes as usize;
+            for (f, t) in tokens.iter().enumerate() {
+                let bits = |w: &Word| -> Vec<(i64, u64)> {
+                    w.lanes[..lanes]
+                        .iter()
+                        .map(|s| (s.raw, s.x.to_bits()))
+                        .collect()
+                };
+                let c = cols.word(f);
+                assert_eq!(
+                    t.as_ref().map(bits),
+                    c.as_ref().map(bits),
+                    "{name} fragment {f}"
+                );
+                killed += usize::from(t.is_none());
             }
+            compared += n;
         }
     }
     assert!(compared > 80_000, "{compared}");
