@@ -12,7 +12,7 @@
 //! where a unit without a batch datapath reads it.
 
 use crate::format::Encoding;
-use crate::unit::{PortSpec, Sample, Word, MAX_LANES};
+use crate::unit::{PortSpec, Word, MAX_LANES};
 
 /// Fragments in a batch.
 pub const BATCH: usize = 64;
@@ -91,14 +91,7 @@ impl Columns {
 /// reads lanes past a port's, and a batch datapath need not write them).
 #[inline]
 pub(crate) fn decoded(raws: [i64; MAX_LANES], enc: &Encoding, lanes: usize) -> Word {
-    let mut w = Word::default();
-    for (s, raw) in w.lanes.iter_mut().zip(raws).take(lanes) {
-        *s = Sample {
-            x: enc.decode(raw),
-            raw,
-        };
-    }
-    w
+    Word::from_raw(enc, &raws[..lanes.min(MAX_LANES)])
 }
 
 /// Fragment `k`'s word of an input port read through `c`, decoded in `port`'s encoding.
